@@ -1,0 +1,49 @@
+//! Pair physics of soft, frictionless spheres for event-driven and force-based
+//! simulation, after Müller & Pöschel, "Event-driven molecular dynamics of soft
+//! particles" (2013).
+//!
+//! Pure functions and small value types, no I/O:
+//! - [`ForceLaw`] (per material) and [`PairLaw`] (per pair): the linear dashpot and the
+//!   viscoelastic Hertz law, clipped so they never attract, with the analytic
+//!   central-impact helpers of Schwager & Pöschel 2007;
+//! - [`Sphere`] and [`PairProperties`]: l, m_eff and R_eff;
+//! - [`Impact`]: the normal and tangential speed at contact;
+//! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
+//! - [`ParameterBox`] and [`RectBounds`]: the rectangularised coordinates (a, b, c) in
+//!   both directions, with the paper's Tab. I and Tab. II as presets.
+//!
+//! ```
+//! use emdstar_contact::*;
+//! let sphere = Sphere::from_density(0.1, 1140.0)?;
+//! let pair = PairProperties::spheres(&sphere, &sphere);
+//! let law = PairLaw::same_material(&ForceLaw::Linear(LinearDashpot::new(2000.0, 0.0)?), pair.r_eff)?;
+//! let impact = Impact::from_speed_eccentricity(5.0, 0.3)?;
+//! let scaled = scale(&law, &pair, &impact)?;
+//! assert!(scaled.params.l_tilde > 1.0);
+//! # Ok::<(), ContactError>(())
+//! ```
+
+mod error;
+mod impact;
+mod law;
+mod pair;
+mod rect;
+mod scaled;
+
+pub use error::{ContactError, Result};
+pub use impact::Impact;
+pub use law::{
+    CentralImpact, ForceLaw, LinearDashpot, Model, PairLaw, ViscoelasticHertz,
+    hertz_elastic_scaled_duration,
+};
+pub use pair::{PairProperties, Sphere};
+pub use rect::{HertzBox, LinearBox, ParameterBox, Range, RectBounds, RectCoords};
+pub use scaled::{ScaledImpact, ScaledParams, l_tilde_exponent, scale};
+
+/// A 3-vector in the laboratory frame.
+pub type Vec3 = nalgebra::Vector3<f64>;
+
+/// Input checks shared with the other crates of the workspace.
+pub mod check {
+    pub use crate::error::{finite, non_negative, positive};
+}

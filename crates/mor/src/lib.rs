@@ -1,0 +1,14 @@
+//! The matrix of restitution (MoR) of Müller & Pöschel 2013 and the eMD* collision rule.
+//!
+//! - [`solve`] integrates the scaled two-body collision ODE, Eqs. (42) and (54), and
+//!   returns the [`Mor`] {ε_r, 1−ε_r, ε_ṙ, ε_φ, ε_t} of Eqs. (16)-(21).
+//! - [`rule`] applies a MoR to two spheres in the laboratory frame, Sec. IV,
+//!   Eqs. (25)-(39), and splits it into the E^φ and E^v events of Sec. VI B.
+//!
+//! Both are pure functions: no tables, no engines, no I/O.
+
+mod dop853;
+pub mod rule;
+mod solver;
+
+pub use solver::{Mor, SolveError, SolveStats, SolverOptions, solve, solve_with};

@@ -1,0 +1,1 @@
+//! eMD* collision rule (being implemented).
