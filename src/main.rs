@@ -1,1 +1,36 @@
-fn main() {}
+//! `emdstar`: event-driven molecular dynamics of soft spheres (eMD*, Müller & Pöschel
+//! 2013), checked against force-based MD. See `emdstar --help`.
+
+mod cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Event-driven simulation of soft, frictionless spheres (eMD*, Müller & Pöschel 2013),
+/// its matrix-of-restitution tables, and its cross-validation against force-based MD.
+#[derive(Parser)]
+#[command(name = "emdstar", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Matrix of restitution of one collision, solved exactly (or from a table).
+    Mor(cmd::mor::MorArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Mor(args) => cmd::mor::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,3 @@
+//! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
+
+pub mod mor;
