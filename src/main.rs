@@ -19,12 +19,21 @@ struct Cli {
 enum Command {
     /// Matrix of restitution of one collision, solved exactly (or from a table).
     Mor(cmd::mor::MorArgs),
+    /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
+    Pair(cmd::pair::PairArgs),
+    /// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
+    Run(cmd::run::RunArgs),
+    /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
+    Bench(cmd::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
+        Command::Pair(args) => cmd::pair::run(&args),
+        Command::Run(args) => cmd::run::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,3 +1,7 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
+pub mod bench;
+pub mod engine;
 pub mod mor;
+pub mod pair;
+pub mod run;

@@ -1,6 +1,6 @@
 //! Half Verlet lists built from a cell grid, with periodic image codes.
 
-use emdstar_system::{CellGrid, SimBox};
+use emdstar_system::{CellGrid, SimBox, Stencil};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -8,7 +8,8 @@ pub const INDEX_BITS: u32 = 27;
 pub const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 
 /// A half neighbour list: every pair closer than R_i + R_j + skin appears once, under
-/// its lower index, as `j | code << INDEX_BITS`; the neighbour's image sits at
+/// its higher index (so that a single sweep in index order meets each pair after both
+/// particles), as `j | code << INDEX_BITS`; the neighbour's image sits at
 /// x_j + `shifts[code]`.
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
@@ -95,7 +96,7 @@ impl NeighbourList {
             for i in a..b {
                 let xi = positions[i];
                 let ri = radius[i] + skin;
-                grid.for_each_neighbour(c, true, |other, shift| {
+                grid.for_each_neighbour(c, Stencil::Backward, |other, shift| {
                     let code = (shift[0] + 1) as usize
                         + 3 * (shift[1] + 1) as usize
                         + 9 * (shift[2] + 1) as usize;
@@ -104,8 +105,8 @@ impl NeighbourList {
                         grid.cell_start[other] as usize,
                         grid.cell_start[other + 1] as usize,
                     );
-                    let from = if other == c_index { i + 1 } else { oa };
-                    for j in from..ob {
+                    let to = if other == c_index { i } else { ob };
+                    for j in oa..to {
                         let d = [
                             xi[0] - positions[j][0] - s[0],
                             xi[1] - positions[j][1] - s[1],

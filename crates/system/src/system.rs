@@ -1,7 +1,7 @@
 //! A complete, validated system: particles, species, the material, box, walls, gravity.
 
 use crate::error::{Result, SystemError, invalid};
-use crate::geometry::{CellGrid, SimBox, Wall};
+use crate::geometry::{CellGrid, SimBox, Stencil, Wall};
 use crate::state::{Particles, Species};
 use emdstar_contact::{ForceLaw, PairLaw, PairProperties};
 
@@ -91,7 +91,7 @@ impl System {
         let mut worst: Option<(usize, usize, f64, f64)> = None;
         for i in 0..p.len() {
             let c = grid.coords(p.position[i]);
-            grid.for_each_neighbour(c, false, |cell, _| {
+            grid.for_each_neighbour(c, Stencil::Full, |cell, _| {
                 for &j in grid.items(cell) {
                     let j = j as usize;
                     if j <= i {
