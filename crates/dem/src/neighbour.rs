@@ -96,7 +96,9 @@ impl NeighbourList {
             for i in a..b {
                 let xi = positions[i];
                 let ri = radius[i] + skin;
-                grid.for_each_neighbour(c, Stencil::Backward, |other, shift| {
+                // The full stencil, keeping j < i: a half stencil would list some pairs
+                // that meet through a periodic wrap under their lower index.
+                grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
                     let code = (shift[0] + 1) as usize
                         + 3 * (shift[1] + 1) as usize
                         + 9 * (shift[2] + 1) as usize;
@@ -105,8 +107,7 @@ impl NeighbourList {
                         grid.cell_start[other] as usize,
                         grid.cell_start[other + 1] as usize,
                     );
-                    let to = if other == c_index { i } else { ob };
-                    for j in oa..to {
+                    for j in oa..ob.min(i) {
                         let d = [
                             xi[0] - positions[j][0] - s[0],
                             xi[1] - positions[j][1] - s[1],
