@@ -87,7 +87,7 @@ fn run_md(args: &RunArgs, threads: usize) -> Result<()> {
     let mut traj = XyzWriter::create(&traj_path)?;
     let mut log = ThermoLog::create(&log_path)?;
     let first = md.thermo();
-    write_outputs(&md, &first, &mut traj, &mut log, true)?;
+    write_outputs(&md, &first, (&mut traj, true), (&mut log, true))?;
 
     let bar = if args.quiet {
         ProgressBar::hidden()
@@ -124,7 +124,7 @@ fn run_md(args: &RunArgs, threads: usize) -> Result<()> {
                 "T = {:.3e} J, contacts {}",
                 last.granular_temperature, last.contacts
             ));
-            write_outputs(&md, &last, &mut traj, &mut log, at_traj)?;
+            write_outputs(&md, &last, (&mut traj, at_traj), (&mut log, at_log))?;
         }
     }
     let wall = start.elapsed().as_secs_f64();
@@ -170,11 +170,12 @@ fn next_multiple(done: u64, every: u64) -> u64 {
 fn write_outputs(
     md: &Md,
     th: &Thermo,
-    traj: &mut XyzWriter,
-    log: &mut ThermoLog,
-    frame: bool,
+    (traj, frame): (&mut XyzWriter, bool),
+    (log, line): (&mut ThermoLog, bool),
 ) -> Result<()> {
-    log.write(th)?;
+    if line {
+        log.write(th)?;
+    }
     if frame {
         let s = md.system();
         traj.write_frame(th.t, &s.particles, s.sim_box.as_ref())?;
