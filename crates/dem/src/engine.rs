@@ -193,6 +193,19 @@ impl Md {
                 v2_max = max_nan(v2_max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
             }
             self.v_max = v2_max.sqrt();
+            if self.v_max.is_nan() {
+                let p = &self.system.particles;
+                let bad = (0..p.len()).find(|&i| {
+                    !p.velocity[i]
+                        .iter()
+                        .chain(&p.position[i])
+                        .all(|c| c.is_finite())
+                });
+                return Err(MdError::BlewUp {
+                    id: bad.map_or(0, |i| p.id[i]),
+                    t: self.time(),
+                });
+            }
         }
         Ok(())
     }
@@ -275,6 +288,8 @@ impl Md {
         let mut velocity = std::mem::take(&mut self.system.particles.velocity);
         let mut buffers = std::mem::take(&mut self.buffers);
         let ctx = self.contacts(h);
+        let start = &self.list.start;
+        let walls = !self.system.walls.is_empty();
         let mut v2_max: f64 = 0.0;
         let n = position.len();
         for (c, buf) in buffers.iter_mut().enumerate() {
@@ -285,8 +300,14 @@ impl Md {
                 let y = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
                 velocity[i] = w;
                 position[i] = y;
-                v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-                ctx.particle(i, y, w, &position, &velocity, buf);
+                let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                // NaN is ignored here; a blown-up particle is caught at the next rebuild.
+                if w2 > v2_max {
+                    v2_max = w2;
+                }
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, y, w, &position, &velocity, buf);
+                }
             }
         }
         self.system.particles.position = position;
@@ -310,11 +331,14 @@ impl Md {
                     let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
                     *x = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
                     *v = w;
-                    v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+                    let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                    if w2 > v2_max {
+                        v2_max = w2;
+                    }
                 }
                 v2_max
             })
-            .reduce(|| 0.0, max_nan);
+            .reduce(|| 0.0, f64::max);
         let mut buffers = std::mem::take(&mut self.buffers);
         let ctx = self.contacts(h);
         let (position, velocity) = (
@@ -322,10 +346,13 @@ impl Md {
             &self.system.particles.velocity,
         );
         let n = position.len();
+        let (start, walls) = (&self.list.start, !self.system.walls.is_empty());
         buffers.par_iter_mut().enumerate().for_each(|(c, buf)| {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                ctx.particle(i, position[i], velocity[i], position, velocity, buf);
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, position[i], velocity[i], position, velocity, buf);
+                }
             }
         });
         self.buffers = buffers;

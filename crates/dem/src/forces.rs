@@ -62,7 +62,7 @@ impl Contacts<'_> {
     /// Pushes the wall forces of particle `i` and the forces of the pairs listed under
     /// it, in list order. Reads `position[j]`, `velocity[j]` of listed j < i only, and
     /// `xi`, `vi` for particle i itself, so a sweep may drift particle i just before.
-    #[inline(always)]
+    #[inline(never)]
     pub fn particle(
         &self,
         i: usize,
