@@ -1,6 +1,6 @@
 //! Half Verlet lists built from a cell grid, with periodic image codes.
 
-use emdstar_system::{CellGrid, SimBox, Stencil};
+use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -40,7 +40,10 @@ impl NeighbourList {
     ) -> Result<Vec<u32>, BoxTooSmall> {
         let (lo, extent, periodic) = match sim_box {
             Some(b) => (b.lo, b.size, b.periodic),
-            None => bounding_box(positions),
+            None => {
+                let (lo, extent) = bounding_box(positions);
+                (lo, extent, [false; 3])
+            }
         };
         let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
         let cell = min_cell.max((target_per_cell * volume / positions.len().max(1) as f64).cbrt());
@@ -129,20 +132,4 @@ impl NeighbourList {
     pub fn of(&self, i: usize) -> &[u32] {
         &self.entries[self.start[i] as usize..self.start[i + 1] as usize]
     }
-}
-
-fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3], [bool; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for x in positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    (
-        lo,
-        std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)),
-        [false; 3],
-    )
 }

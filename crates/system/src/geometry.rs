@@ -60,6 +60,20 @@ impl SimBox {
     }
 }
 
+/// The lower corner and extent of the smallest box holding `positions` (zero extent
+/// and infinite corner if there are none).
+pub fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    (lo, std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)))
+}
+
 /// A plane wall: an infinitely heavy flat partner filling the half-space behind it.
 ///
 /// Particles live on the side the unit `normal` points to; a sphere of radius R at

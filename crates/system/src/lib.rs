@@ -25,7 +25,7 @@ pub use config::{
     ParticleConfig, WallConfig,
 };
 pub use error::{Result, SystemError};
-pub use geometry::{CellGrid, SimBox, Stencil, Wall};
+pub use geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 pub use init::cubic_box;
 pub use state::{Particles, Species, permute};
 pub use system::System;

@@ -1,7 +1,7 @@
 //! A complete, validated system: particles, species, the material, box, walls, gravity.
 
 use crate::error::{Result, SystemError, invalid};
-use crate::geometry::{CellGrid, SimBox, Stencil, Wall};
+use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 use crate::state::{Particles, Species};
 use emdstar_contact::{ForceLaw, PairLaw, PairProperties};
 
@@ -124,19 +124,8 @@ impl System {
         match &self.sim_box {
             Some(b) => (b.lo, b.size, b.periodic),
             None => {
-                let mut lo = [f64::INFINITY; 3];
-                let mut hi = [f64::NEG_INFINITY; 3];
-                for x in &self.particles.position {
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(x[k]);
-                        hi[k] = hi[k].max(x[k]);
-                    }
-                }
-                (
-                    lo,
-                    std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)),
-                    [false; 3],
-                )
+                let (lo, extent) = bounding_box(&self.particles.position);
+                (lo, extent, [false; 3])
             }
         }
     }
