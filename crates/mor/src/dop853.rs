@@ -172,7 +172,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             cont[2][n] = bspl;
             cont[3][n] = dy - h * k[12][n] - bspl;
             for (i, row) in D.iter().enumerate() {
-                cont[4 + i][n] = h * row.iter().map(|&(j, d)| d * k[j][n]).sum::<f64>();
+                cont[4 + i][n] = h * dot(k, row, n);
             }
         }
         Ok(Dense { t0, h, cont })
@@ -204,10 +204,14 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     fn trial(&mut self, h: f64) -> Option<([f64; N], f64)> {
         let (t, y) = (self.t, self.y);
         self.k[0] = self.f;
-        for i in 1..12 {
-            let yi = combine(&y, h, &self.k, A[i]);
-            self.k[i] = self.eval(t + C[i] * h, &yi)?;
+        // Unrolled, so that each row of the tableau is a compile-time constant.
+        macro_rules! stages {
+            ($($i:literal)*) => {$(
+                let yi = combine(&y, h, &self.k, A[$i]);
+                self.k[$i] = self.eval(t + C[$i] * h, &yi)?;
+            )*};
         }
+        stages!(1 2 3 4 5 6 7 8 9 10 11);
         let y1 = combine(&y, h, &self.k, A[12]);
         if y1.iter().any(|v| !v.is_finite()) {
             return Some((y1, f64::INFINITY));
@@ -230,7 +234,13 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         {
             let scale = (self.tol.atol_monitored + self.tol.rtol * q0.abs().max(q1.abs()))
                 .max(f64::MIN_POSITIVE);
-            let project = |e: &[f64; N]| (0..N).map(|n| grad[n] * e[n]).sum::<f64>();
+            let project = |e: &[f64; N]| {
+                let mut sum = 0.0;
+                for n in 0..N {
+                    sum += grad[n] * e[n];
+                }
+                sum
+            };
             err5 += (project(&e5s) / scale).powi(2);
             err3 += (project(&e3s) / scale).powi(2);
             count += 1.0;
@@ -243,10 +253,14 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     }
 }
 
-/// Σ_j a_j k_j for component n.
+/// Σ_j a_j k_j for component n (plain loops: with the row a constant they unroll).
 #[inline(always)]
 fn dot<const N: usize>(k: &[[f64; N]; 16], row: &[(usize, f64)], n: usize) -> f64 {
-    row.iter().map(|&(j, a)| a * k[j][n]).sum()
+    let mut sum = 0.0;
+    for &(j, a) in row {
+        sum += a * k[j][n];
+    }
+    sum
 }
 
 /// y + h·Σ_j a_j k_j.
@@ -257,7 +271,11 @@ fn combine<const N: usize>(
     k: &[[f64; N]; 16],
     row: &[(usize, f64)],
 ) -> [f64; N] {
-    std::array::from_fn(|n| y[n] + h * dot(k, row, n))
+    let mut out = *y;
+    for (n, v) in out.iter_mut().enumerate() {
+        *v += h * dot(k, row, n);
+    }
+    out
 }
 
 /// The 7th-order continuous extension of one step (Hairer's `contd8`).

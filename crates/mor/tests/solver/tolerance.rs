@@ -67,3 +67,28 @@ proptest! {
         prop_assert!(after <= before * (1.0 + 1e-12), "{} > {}", after, before);
     }
 }
+
+/// A fixed workload for instruction counts (`perf stat -e instructions <test binary>
+/// --ignored workload_linear`), a noise-free proxy of speed on a shared machine.
+#[test]
+#[ignore]
+fn workload_linear() {
+    let points = uniform_in_rect(Model::Linear, 256, 42);
+    for _ in 0..20 {
+        for p in &points {
+            std::hint::black_box(solve(Model::Linear, p).unwrap());
+        }
+    }
+}
+
+/// As [`workload_linear`], for the Hertz rectangle.
+#[test]
+#[ignore]
+fn workload_hertz() {
+    let points = uniform_in_rect(Model::Hertz, 256, 42);
+    for _ in 0..20 {
+        for p in &points {
+            std::hint::black_box(solve(Model::Hertz, p).unwrap());
+        }
+    }
+}
