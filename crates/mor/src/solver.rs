@@ -129,9 +129,26 @@ pub fn solve_with(
     check_params(p)?;
     check_options(opts)?;
     let scales = Scales::new(model, p);
+    let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
     match model {
-        Model::Linear => integrate(&LinearDashpot { p: *p }, p, &scales, opts),
-        Model::Hertz => integrate(&HertzRegularised { p: *p }, p, &scales, opts),
+        Model::Linear => integrate(
+            &LinearDashpot {
+                p: *p,
+                bracket_form,
+            },
+            p,
+            &scales,
+            opts,
+        ),
+        Model::Hertz => integrate(
+            &HertzRegularised {
+                p: *p,
+                bracket_form,
+            },
+            p,
+            &scales,
+            opts,
+        ),
     }
 }
 
@@ -156,8 +173,9 @@ struct Scales {
     rate: f64,
     /// Scale of φ: Ξ·c_φ/l̃².
     phase: f64,
-    /// Scale of |h'| at the end, |u| + c_dis·c_φ²/r³: an error δh moves the end by δh/|h'|.
-    end_slope: f64,
+    /// Absolute scale of h near the end: Ξ·|h'|, with |h'| ≈ |u| + c_dis·c_φ²/r³ there
+    /// (an error δh moves the end by δh/|h'|).
+    bracket: f64,
 }
 
 impl Scales {
@@ -171,11 +189,12 @@ impl Scales {
         let centrifugal = p.l_tilde.powi(3) / (2.0 * p.c_phi * p.c_phi);
         let overlap = damped.min(centrifugal).min(p.l_tilde);
         let rate = (overlap / p.c_dis).min(1.0);
+        let end_slope = rate + p.c_dis * (p.c_phi / p.l_tilde).powi(2) / p.l_tilde;
         Self {
             overlap,
             rate,
             phase: overlap * p.c_phi / (p.l_tilde * p.l_tilde),
-            end_slope: rate + p.c_dis * (p.c_phi / p.l_tilde).powi(2) / p.l_tilde,
+            bracket: overlap * end_slope,
         }
     }
 }
@@ -189,7 +208,7 @@ fn integrate<F: Formulation<N>, const N: usize>(
     let tol = Tolerances {
         rtol: opts.rtol,
         atol: sys.atol(opts.atol, scales),
-        atol_monitored: opts.atol * scales.overlap * scales.end_slope,
+        atol_monitored: opts.atol * scales.bracket,
     };
     let mut ode =
         Dop853::new(sys, 0.0, sys.start(), tol, sys.first_step(scales)).map_err(failure)?;
@@ -247,17 +266,38 @@ fn integrate<F: Formulation<N>, const N: usize>(
     ))
 }
 
-/// Eq. (42) in (ξ, u, φ) and t.
+/// Above this c_dis the second state component is the bracket h instead of u.
+const BRACKET_FORM_FROM: f64 = 1.0;
+
+/// The rate u and the bracket h = ξ + c_dis·u from the second state component `v`, which
+/// is u (`bracket_form` false) or h (true).
+#[inline(always)]
+fn rate_and_bracket(bracket_form: bool, c_dis: f64, xi: f64, v: f64) -> (f64, f64) {
+    if bracket_form {
+        ((v - xi) / c_dis, v)
+    } else {
+        (v, xi + c_dis * v)
+    }
+}
+
+/// Eq. (42) in (ξ, v, φ) and t, v = u or v = h.
 struct LinearDashpot {
     p: ScaledParams,
+    bracket_form: bool,
 }
 
 impl System<3> for LinearDashpot {
     fn rhs(&self, _t: f64, y: &[f64; 3]) -> Option<[f64; 3]> {
-        let [xi, u, _] = *y;
-        let force = xi + self.p.c_dis * u;
+        let [xi, v, _] = *y;
+        let (u, h) = rate_and_bracket(self.bracket_form, self.p.c_dis, xi, v);
         let (centrifugal, phi_dot) = centrifugal(&self.p, self.p.l_tilde - xi)?;
-        Some([u, -centrifugal - force, phi_dot])
+        let du = -centrifugal - h;
+        let dv = if self.bracket_form {
+            u + self.p.c_dis * du
+        } else {
+            du
+        };
+        Some([u, dv, phi_dot])
     }
 
     fn magnitude(&self, y: &[f64; 3]) -> [f64; 3] {
@@ -265,20 +305,22 @@ impl System<3> for LinearDashpot {
         [y[0].abs().min(r.abs()), y[1].abs(), y[2].abs()]
     }
 
-    /// The bracket h = ξ + c_dis·u: near the end it is a small difference of ξ and c_dis·u,
-    /// and its error sets the error of τ.
+    /// In the u-form, the bracket h = ξ + c_dis·u: near the end it is a small difference
+    /// of ξ and c_dis·u, and its error sets the error of τ.
     fn monitored(&self, y: &[f64; 3]) -> Option<(f64, [f64; 3])> {
-        Some((y[0] + self.p.c_dis * y[1], [1.0, self.p.c_dis, 0.0]))
+        (!self.bracket_form).then(|| (y[0] + self.p.c_dis * y[1], [1.0, self.p.c_dis, 0.0]))
     }
 }
 
 impl Formulation<3> for LinearDashpot {
     fn start(&self) -> [f64; 3] {
-        [0.0, 1.0, 0.0]
+        let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
+        [0.0, v, 0.0]
     }
 
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 3] {
-        [atol * s.overlap, atol * s.rate, atol * s.phase]
+        let v = if self.bracket_form { s.bracket } else { s.rate };
+        [atol * s.overlap, atol * v, atol * s.phase]
     }
 
     fn first_step(&self, s: &Scales) -> f64 {
@@ -286,26 +328,36 @@ impl Formulation<3> for LinearDashpot {
     }
 
     fn physical(&self, t: f64, y: &[f64; 3]) -> [f64; 4] {
-        [t, y[0], y[1], y[2]]
+        let (u, _) = rate_and_bracket(self.bracket_form, self.p.c_dis, y[0], y[1]);
+        [t, y[0], u, y[2]]
     }
 
     fn event(&self, y: &[f64; 3]) -> f64 {
-        y[0] + self.p.c_dis * y[1]
+        rate_and_bracket(self.bracket_form, self.p.c_dis, y[0], y[1]).1
     }
 }
 
-/// Eq. (54) in (w, u, φ, t), w = √ξ, and the regularising time σ, dt/dσ = w.
+/// Eq. (54) in (w, v, φ, t), w = √ξ, v = u or v = h, and the regularising time σ,
+/// dt/dσ = w.
 struct HertzRegularised {
     p: ScaledParams,
+    bracket_form: bool,
 }
 
 impl System<4> for HertzRegularised {
     fn rhs(&self, _sigma: f64, y: &[f64; 4]) -> Option<[f64; 4]> {
-        let [w, u, _, _] = *y;
+        let [w, v, _, _] = *y;
         let xi = w * w;
-        let bracket = xi + self.p.c_dis * u;
+        let (u, h) = rate_and_bracket(self.bracket_form, self.p.c_dis, xi, v);
         let (centrifugal, phi_dot) = centrifugal(&self.p, self.p.l_tilde - xi)?;
-        Some([0.5 * u, -w * (centrifugal + w * bracket), w * phi_dot, w])
+        let du = -w * (centrifugal + w * h);
+        // d(w²)/dσ = 2w·w' = w·u.
+        let dv = if self.bracket_form {
+            w * u + self.p.c_dis * du
+        } else {
+            du
+        };
+        Some([0.5 * u, dv, w * phi_dot, w])
     }
 
     fn magnitude(&self, y: &[f64; 4]) -> [f64; 4] {
@@ -315,22 +367,24 @@ impl System<4> for HertzRegularised {
         [w.min(r / (2.0 * w)), y[1].abs(), y[2].abs(), y[3].abs()]
     }
 
-    /// The bracket h = w² + c_dis·u, as for the linear dashpot.
+    /// In the u-form, the bracket h = w² + c_dis·u, as for the linear dashpot.
     fn monitored(&self, y: &[f64; 4]) -> Option<(f64, [f64; 4])> {
         let [w, u, _, _] = *y;
-        Some((w * w + self.p.c_dis * u, [2.0 * w, self.p.c_dis, 0.0, 0.0]))
+        (!self.bracket_form).then(|| (w * w + self.p.c_dis * u, [2.0 * w, self.p.c_dis, 0.0, 0.0]))
     }
 }
 
 impl Formulation<4> for HertzRegularised {
     fn start(&self) -> [f64; 4] {
-        [0.0, 1.0, 0.0, 0.0]
+        let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
+        [0.0, v, 0.0, 0.0]
     }
 
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 4] {
+        let v = if self.bracket_form { s.bracket } else { s.rate };
         [
             atol * s.overlap.sqrt(),
-            atol * s.rate,
+            atol * v,
             atol * s.phase,
             atol * s.overlap,
         ]
@@ -342,15 +396,22 @@ impl Formulation<4> for HertzRegularised {
     }
 
     fn physical(&self, _sigma: f64, y: &[f64; 4]) -> [f64; 4] {
-        [y[3], y[0] * y[0], y[1], y[2]]
+        let xi = y[0] * y[0];
+        let (u, _) = rate_and_bracket(self.bracket_form, self.p.c_dis, xi, y[1]);
+        [y[3], xi, u, y[2]]
     }
 
-    /// w + sign(u)·√(c_dis·|u|), which has the sign of h = w² + c_dis·u where w > 0 and
-    /// u < 0, but keeps a simple root where h only touches zero (w = 0 for c_dis = 0) or
-    /// would turn positive again (w < 0 beyond the end).
+    /// The h-form uses h itself (for c_dis ≥ 1 the end comes at ξ = c_dis·|u|, far from
+    /// w = 0). The u-form uses w + sign(u)·√(c_dis·|u|), which has the sign of
+    /// h = w² + c_dis·u where w > 0 and u < 0, but keeps a simple root where h only
+    /// touches zero (w = 0 for c_dis = 0) or would turn positive again (w < 0 beyond the end).
     fn event(&self, y: &[f64; 4]) -> f64 {
-        let [w, u, _, _] = *y;
-        w + (self.p.c_dis * u.abs()).sqrt().copysign(u)
+        let [w, v, _, _] = *y;
+        if self.bracket_form {
+            v
+        } else {
+            w + (self.p.c_dis * v.abs()).sqrt().copysign(v)
+        }
     }
 }
 

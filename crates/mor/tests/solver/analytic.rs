@@ -91,6 +91,28 @@ fn linear_dashpot_matches_schwager_poeschel_in_every_damping_regime() {
 }
 
 #[test]
+fn strongly_overdamped_central_impacts_stay_accurate() {
+    // β ≫ ω0: t_c = ln((β+Ω)/(β−Ω))/Ω with β − Ω = ω0²/(β + Ω) to avoid cancellation.
+    for c_dis in [1e2, 1e4, 1e6, 1e8f64] {
+        let beta = c_dis / 2.0;
+        let big = (beta * beta - 1.0).sqrt();
+        let t_c = ((beta + big) * (beta + big)).ln() / big;
+        let eps = (-beta * t_c).exp();
+        let m = solve(Model::Linear, &params(1e4, 0.0, c_dis)).unwrap();
+        assert!(
+            rel(m.eps_t, t_c) < 1e-9,
+            "c_dis = {c_dis}: τ {} vs {t_c}",
+            m.eps_t
+        );
+        assert!(
+            rel(-m.eps_rdot, eps) < 1e-9,
+            "c_dis = {c_dis}: ε {} vs {eps}",
+            -m.eps_rdot
+        );
+    }
+}
+
+#[test]
 fn hertz_central_restitution_matches_the_table_and_the_small_delta_series() {
     let table = [
         (0.1, 0.892859),

@@ -92,3 +92,44 @@ fn workload_hertz() {
         }
     }
 }
+
+#[test]
+fn extreme_inputs_give_a_physical_result_or_a_clear_error() {
+    let cases = [
+        params(0.5, 1e-6, 0.0),
+        params(0.5, 1e-12, 0.1),
+        params(1e-3, 1e-4, 0.0),
+        params(1e12, 1e11, 1.0),
+        params(1e12, 0.0, 1e15),
+        params(10.0, 1.0, 1e15),
+        params(10.0, 100.0, 1e-300),
+        params(10.0, 1e-300, 1e-3),
+        params(f64::MAX, 1.0, 1.0),
+    ];
+    for model in [Model::Linear, Model::Hertz] {
+        for p in cases {
+            match solve_with(model, &p, &SolverOptions::default()) {
+                Ok((m, s)) => {
+                    eprintln!("{model} {p:?}: {m:?} {s:?}");
+                    assert!(m.eps_t > 0.0 && m.eps_t.is_finite(), "{model} {p:?}: {m:?}");
+                    assert!(
+                        m.eps_rdot < 0.0 && m.eps_rdot >= -1.0 - 1e-9,
+                        "{model} {p:?}: {m:?}"
+                    );
+                    assert!(
+                        (0.0..=1.0).contains(&m.one_minus_eps_r),
+                        "{model} {p:?}: {m:?}"
+                    );
+                    assert!(
+                        m.eps_phi >= 0.0 && m.eps_phi.is_finite(),
+                        "{model} {p:?}: {m:?}"
+                    );
+                }
+                Err(e) => {
+                    eprintln!("{model} {p:?}: error {e}");
+                    assert!(!e.to_string().is_empty());
+                }
+            }
+        }
+    }
+}
