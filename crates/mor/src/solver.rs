@@ -370,7 +370,8 @@ impl System<4> for HertzRegularised {
     /// In the u-form, the bracket h = w² + c_dis·u, as for the linear dashpot.
     fn monitored(&self, y: &[f64; 4]) -> Option<(f64, [f64; 4])> {
         let [w, u, _, _] = *y;
-        (!self.bracket_form).then(|| (w * w + self.p.c_dis * u, [2.0 * w, self.p.c_dis, 0.0, 0.0]))
+        (!self.bracket_form)
+            .then_some((w * w + self.p.c_dis * u, [2.0 * w, self.p.c_dis, 0.0, 0.0]))
     }
 }
 
