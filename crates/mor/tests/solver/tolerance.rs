@@ -74,7 +74,7 @@ proptest! {
 #[ignore]
 fn workload_linear() {
     let points = uniform_in_rect(Model::Linear, 256, 42);
-    for _ in 0..20 {
+    for _ in 0..100 {
         for p in &points {
             std::hint::black_box(solve(Model::Linear, p).unwrap());
         }
@@ -86,7 +86,7 @@ fn workload_linear() {
 #[ignore]
 fn workload_hertz() {
     let points = uniform_in_rect(Model::Hertz, 256, 42);
-    for _ in 0..20 {
+    for _ in 0..100 {
         for p in &points {
             std::hint::black_box(solve(Model::Hertz, p).unwrap());
         }
