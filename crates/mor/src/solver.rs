@@ -28,8 +28,10 @@
 //!   instead of u (u = (h − ξ)/c_dis). Near the end h is a tiny difference of ξ and c_dis·u
 //!   and crosses zero with slope h' = u − c_dis·c_φ²/r³, tiny for central impacts; computed
 //!   from (ξ, u), its rounding error ε·ξ would shift τ by ~ε·c_dis² relative (1e-7 at
-//!   c_dis = 1e5), while as a state it keeps its own relative precision.
-//!
+//!   c_dis = 1e5), while as a state it keeps its own relative precision. For Hertz, h then
+//!   relaxes over many e-foldings to a slowly drifting negative asymptote h_∞; that tail is
+//!   handed over to q = ln(h − h_∞), which falls about linearly ([`HertzTail`]): 3× fewer
+//!   steps in the stiff corner.
 //! # End of the collision
 //! The collision ends where r̃' > 0 and F = 0 (Eq. 10): h crosses zero from above with
 //! u < 0; for c_dis = 0 that is ξ = 0 (w = 0 for Hertz), skipping the trivial root at t = 0.
@@ -49,7 +51,7 @@
 //! monitored combination in the u-form) with atol·Ξ·|h'|, |h'| ≈ min(1, Ξ/c_dis) +
 //! c_dis·c_φ²/l̃³ the estimated slope at the end.
 
-use crate::dop853::{Dop853, StepFailure, System, Tolerances};
+use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
 use emdstar_contact::{Model, ScaledParams};
 use std::fmt;
 
@@ -141,35 +143,77 @@ pub fn solve_with(
     check_options(opts)?;
     let scales = Scales::new(model, p);
     let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
-    match model {
-        Model::Linear => integrate(
-            &LinearDashpot {
+    let mut run = Progress::default();
+    let end = match model {
+        Model::Linear => {
+            let sys = LinearDashpot {
                 p: *p,
                 bracket_form,
-            },
-            p,
-            &scales,
-            opts,
-        ),
-        Model::Hertz => integrate(
-            &HertzRegularised {
+            };
+            integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
+        }
+        Model::Hertz => {
+            let sys = HertzRegularised {
                 p: *p,
                 bracket_form,
-            },
-            p,
-            &scales,
-            opts,
-        ),
-    }
+            };
+            match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
+                Outcome::HandOver(start) => {
+                    integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)?
+                }
+                end => end,
+            }
+        }
+    };
+    let Outcome::End([tau, xi, u, phi]) = end else {
+        return Err(SolveError::StepSizeUnderflow { t: f64::NAN });
+    };
+    let (xi, u) = if p.c_dis == 0.0 {
+        (0.0, u)
+    } else if xi / run.xi_max < u.abs() {
+        (-p.c_dis * u, u)
+    } else {
+        (xi, -xi / p.c_dis)
+    };
+    let one_minus_eps_r = xi / p.l_tilde;
+    Ok((
+        Mor {
+            eps_r: 1.0 - one_minus_eps_r,
+            one_minus_eps_r,
+            eps_rdot: u,
+            eps_phi: phi,
+            eps_t: tau,
+        },
+        run.stats,
+    ))
+}
+
+/// Where an integration starts: independent variable, state and first trial step.
+type Start<const N: usize> = (f64, [f64; N], f64);
+
+/// What one formulation's integration ends with.
+enum Outcome {
+    /// (τ, ξ, u, φ) at the end of the collision.
+    End([f64; 4]),
+    /// The start of the Hertz tail formulation.
+    HandOver(Start<4>),
+}
+
+/// Work and the peak overlap, accumulated over formulations.
+#[derive(Default)]
+struct Progress {
+    stats: SolveStats,
+    xi_max: f64,
 }
 
 /// One formulation of the collision ODE: its state, scales and the physical quantities.
 trait Formulation<const N: usize>: System<N> {
-    fn start(&self) -> [f64; N];
     /// Absolute tolerances for `opts.atol`.
     fn atol(&self, atol: f64, s: &Scales) -> [f64; N];
-    /// A first trial step of the independent variable.
-    fn first_step(&self, s: &Scales) -> f64;
+    /// The start of another formulation to continue with from the state `y` at `x`.
+    fn hand_over(&self, _x: f64, _y: &[f64; N], _step: f64) -> Option<Start<4>> {
+        None
+    }
     /// (t, ξ, u, φ) of a state at the independent variable `x`.
     fn physical(&self, x: f64, y: &[f64; N]) -> [f64; 4];
     /// A function that crosses zero from above where the collision ends.
@@ -215,23 +259,23 @@ fn integrate<F: Formulation<N>, const N: usize>(
     p: &ScaledParams,
     scales: &Scales,
     opts: &SolverOptions,
-) -> Result<(Mor, SolveStats), SolveError> {
+    (x0, y0, h0): Start<N>,
+    run: &mut Progress,
+) -> Result<Outcome, SolveError> {
     let tol = Tolerances {
         rtol: opts.rtol,
         atol: sys.atol(opts.atol, scales),
         atol_monitored: opts.atol * scales.bracket,
     };
-    let mut ode =
-        Dop853::new(sys, 0.0, sys.start(), tol, sys.first_step(scales)).map_err(failure)?;
-    let mut xi_max = 0.0f64;
-    loop {
-        if ode.counters.accepted >= opts.max_steps {
+    let mut ode = Dop853::new(sys, x0, y0, tol, h0).map_err(failure)?;
+    let outcome = loop {
+        if run.stats.accepted_steps + ode.counters.accepted >= opts.max_steps {
             return Err(SolveError::TooManySteps(opts.max_steps));
         }
         ode.step().map_err(failure)?;
         let y = *ode.y();
         let [t, xi, u, _] = sys.physical(ode.t(), &y);
-        xi_max = xi_max.max(xi);
+        run.xi_max = run.xi_max.max(xi);
         if p.c_phi == 0.0 && xi >= p.l_tilde && u > 0.0 {
             return Err(SolveError::InvalidParams(format!(
                 "central impact (c_phi = 0) with l_tilde = {} not larger than the overlap it \
@@ -241,40 +285,24 @@ fn integrate<F: Formulation<N>, const N: usize>(
             )));
         }
         if sys.event(&y) <= 0.0 && u < 0.0 {
-            break;
+            let dense = ode.dense().map_err(failure)?;
+            let (x_a, y_a) = ode.last_start();
+            let x_end = illinois(
+                |x| sys.event(&dense.eval(x)),
+                (x_a, sys.event(y_a)),
+                (ode.t(), sys.event(&y)),
+            );
+            break Outcome::End(sys.physical(x_end, &dense.eval(x_end)));
         }
-    }
-    let dense = ode.dense().map_err(failure)?;
-    let (x_a, y_a) = ode.last_start();
-    let x_end = illinois(
-        |x| sys.event(&dense.eval(x)),
-        (x_a, sys.event(y_a)),
-        (ode.t(), sys.event(ode.y())),
-    );
-    let [tau, xi, u, phi] = sys.physical(x_end, &dense.eval(x_end));
-    let (xi, u) = if p.c_dis == 0.0 {
-        (0.0, u)
-    } else if xi / xi_max < u.abs() {
-        (-p.c_dis * u, u)
-    } else {
-        (xi, -xi / p.c_dis)
+        if let Some(start) = sys.hand_over(ode.t(), &y, ode.next_step()) {
+            break Outcome::HandOver(start);
+        }
     };
-    let one_minus_eps_r = xi / p.l_tilde;
     let c = ode.counters;
-    Ok((
-        Mor {
-            eps_r: 1.0 - one_minus_eps_r,
-            one_minus_eps_r,
-            eps_rdot: u,
-            eps_phi: phi,
-            eps_t: tau,
-        },
-        SolveStats {
-            accepted_steps: c.accepted,
-            rejected_steps: c.rejected,
-            rhs_evaluations: c.evaluations,
-        },
-    ))
+    run.stats.accepted_steps += c.accepted;
+    run.stats.rejected_steps += c.rejected;
+    run.stats.rhs_evaluations += c.evaluations;
+    Ok(outcome)
 }
 
 /// Above this c_dis the second state component is the bracket h instead of u.
@@ -323,19 +351,22 @@ impl System<3> for LinearDashpot {
     }
 }
 
-impl Formulation<3> for LinearDashpot {
-    fn start(&self) -> [f64; 3] {
+impl LinearDashpot {
+    /// ξ = 0, u = 1 (h = c_dis), φ = 0 at t = 0, and a first trial step.
+    fn start(&self) -> Start<3> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
-        [0.0, v, 0.0]
+        (
+            0.0,
+            [0.0, v, 0.0],
+            0.01 * Scales::new(Model::Linear, &self.p).overlap,
+        )
     }
+}
 
+impl Formulation<3> for LinearDashpot {
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 3] {
         let v = if self.bracket_form { s.bracket } else { s.rate };
         [atol * s.overlap, atol * v, atol * s.phase]
-    }
-
-    fn first_step(&self, s: &Scales) -> f64 {
-        0.01 * s.overlap
     }
 
     fn physical(&self, t: f64, y: &[f64; 3]) -> [f64; 4] {
@@ -386,12 +417,17 @@ impl System<4> for HertzRegularised {
     }
 }
 
-impl Formulation<4> for HertzRegularised {
-    fn start(&self) -> [f64; 4] {
+impl HertzRegularised {
+    /// w = 0, u = 1 (h = c_dis), φ = 0, t = 0 at σ = 0, and a first trial step (t = σ²/4
+    /// near the start).
+    fn start(&self) -> Start<4> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
-        [0.0, v, 0.0, 0.0]
+        let overlap = Scales::new(Model::Hertz, &self.p).overlap;
+        (0.0, [0.0, v, 0.0, 0.0], 0.02 * overlap.sqrt())
     }
+}
 
+impl Formulation<4> for HertzRegularised {
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 4] {
         let v = if self.bracket_form { s.bracket } else { s.rate };
         [
@@ -400,11 +436,6 @@ impl Formulation<4> for HertzRegularised {
             atol * s.phase,
             atol * s.overlap,
         ]
-    }
-
-    fn first_step(&self, s: &Scales) -> f64 {
-        // t = σ²/4 near the start.
-        0.02 * s.overlap.sqrt()
     }
 
     fn physical(&self, _sigma: f64, y: &[f64; 4]) -> [f64; 4] {
@@ -425,6 +456,113 @@ impl Formulation<4> for HertzRegularised {
             w + (self.p.c_dis * v.abs()).sqrt().copysign(v)
         }
     }
+
+    /// Hands the exponential tail of a strongly damped collision (the creeping end of the
+    /// approach and the release) over to [`HertzTail`], once the relaxation of h is fast
+    /// against the drift of its asymptote.
+    fn hand_over(&self, sigma: f64, y: &[f64; 4], step: f64) -> Option<Start<4>> {
+        let [w, h, phi, t] = *y;
+        if !self.bracket_form || h <= 0.0 {
+            return None;
+        }
+        let tail = HertzTail { p: self.p };
+        let a = tail.asymptote(w)?;
+        // Stiff (c_dis·w ≫ 1/c_dis keeps h_∞ regular while w shrinks a little more), at
+        // least 5 e-foldings of h − h_∞ left, and h_∞ drifting little per e-folding.
+        let drift = (a.slope * 0.5 * (h - w * w) / self.p.c_dis).abs() / a.rate;
+        let stiff = self.p.c_dis * self.p.c_dis * w >= 100.0;
+        let folds = ((h - a.value) / -a.value).ln();
+        (stiff && folds >= 5.0 && drift <= 1e-3 * a.value.abs()).then_some((
+            sigma,
+            [w, (h - a.value).ln(), phi, t],
+            step,
+        ))
+    }
+}
+
+/// The exponential tail of a strongly damped Hertz collision, in (w, q, φ, t) with
+/// q = ln(h − h_∞(w)) and the time σ of [`HertzRegularised`].
+///
+/// There dh/dσ = −λ·(h − h_∞) with λ = w·(c_dis·w − 1/c_dis) and the quasi-static
+/// h_∞ = −(w²/c_dis + c_dis·c_φ²/r³)/(c_dis·w − 1/c_dis) < 0 drifting only slowly with w:
+/// h decays over many e-foldings, which an explicit method resolved in h follows with
+/// λ·Δσ ≈ 1/4 per step, but q just decreases about linearly. The end h = 0 is
+/// e^q = −h_∞, a simple root.
+struct HertzTail {
+    p: ScaledParams,
+}
+
+/// h_∞, dh_∞/dw and λ at one w.
+struct Asymptote {
+    value: f64,
+    slope: f64,
+    rate: f64,
+}
+
+impl HertzTail {
+    fn asymptote(&self, w: f64) -> Option<Asymptote> {
+        let c = self.p.c_dis;
+        let r = self.p.l_tilde - w * w;
+        let (centrifugal, _) = centrifugal(&self.p, r)?;
+        let den = c * w - 1.0 / c;
+        if den <= 0.0 || w <= 0.0 {
+            return None;
+        }
+        let num = w * w / c + c * centrifugal;
+        // d(c_φ²/r³)/dw = 6w·c_φ²/r⁴.
+        let dnum = 2.0 * w / c + 6.0 * c * w * centrifugal / r;
+        Some(Asymptote {
+            value: -num / den,
+            slope: -(dnum * den - num * c) / (den * den),
+            rate: w * den,
+        })
+    }
+
+    /// (h, u) of a state.
+    fn bracket_and_rate(&self, a: &Asymptote, y: &[f64; 4]) -> (f64, f64) {
+        let h = a.value + y[1].exp();
+        (h, (h - y[0] * y[0]) / self.p.c_dis)
+    }
+}
+
+impl System<4> for HertzTail {
+    fn rhs(&self, _sigma: f64, y: &[f64; 4]) -> Option<[f64; 4]> {
+        let [w, q, _, _] = *y;
+        let a = self.asymptote(w)?;
+        let (h, u) = self.bracket_and_rate(&a, y);
+        let (centrifugal, phi_dot) = centrifugal(&self.p, self.p.l_tilde - w * w)?;
+        let dw = 0.5 * u;
+        let dh = w * u - self.p.c_dis * w * (centrifugal + w * h);
+        Some([dw, (dh - a.slope * dw) * (-q).exp(), w * phi_dot, w])
+    }
+
+    fn magnitude(&self, y: &[f64; 4]) -> [f64; 4] {
+        // q is a logarithm: its absolute error is the relative error of h − h_∞.
+        [y[0].abs(), 1.0, y[2].abs(), y[3].abs()]
+    }
+}
+
+impl Formulation<4> for HertzTail {
+    fn atol(&self, atol: f64, s: &Scales) -> [f64; 4] {
+        [
+            atol * s.overlap.sqrt(),
+            0.0,
+            atol * s.phase,
+            atol * s.overlap,
+        ]
+    }
+
+    fn physical(&self, _sigma: f64, y: &[f64; 4]) -> [f64; 4] {
+        let u = self
+            .asymptote(y[0])
+            .map_or(f64::NAN, |a| self.bracket_and_rate(&a, y).1);
+        [y[3], y[0] * y[0], u, y[2]]
+    }
+
+    fn event(&self, y: &[f64; 4]) -> f64 {
+        self.asymptote(y[0])
+            .map_or(f64::NAN, |a| self.bracket_and_rate(&a, y).0)
+    }
 }
 
 /// (c_φ²/r³, c_φ/r²), or `None` if r ≤ 0 with c_φ > 0 (a trial stage beyond the centre).
@@ -439,47 +577,6 @@ fn centrifugal(p: &ScaledParams, r: f64) -> Option<(f64, f64)> {
     let w = p.c_phi / r;
     let phi_dot = w / r;
     Some((w * phi_dot, phi_dot))
-}
-
-/// Root of f in [a, b] with f(a) > 0 ≥ f(b), by the Illinois variant of regula falsi.
-fn illinois(
-    f: impl Fn(f64) -> f64,
-    (mut a, mut fa): (f64, f64),
-    (mut b, mut fb): (f64, f64),
-) -> f64 {
-    let mut side = 0i8;
-    let mut c = b;
-    for _ in 0..200 {
-        if fb == 0.0 {
-            return b;
-        }
-        let mut next = (a * fb - b * fa) / (fb - fa);
-        if !(next > a && next < b) {
-            next = 0.5 * (a + b);
-        }
-        let converged = (next - c).abs() <= 4.0 * f64::EPSILON * next.abs();
-        c = next;
-        if converged || b - a <= 4.0 * f64::EPSILON * b.abs() {
-            break;
-        }
-        let fc = f(c);
-        if fc > 0.0 {
-            a = c;
-            fa = fc;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
-        } else {
-            b = c;
-            fb = fc;
-            if side == 1 {
-                fa *= 0.5;
-            }
-            side = 1;
-        }
-    }
-    c
 }
 
 fn failure(f: StepFailure) -> SolveError {
