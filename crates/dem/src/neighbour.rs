@@ -96,20 +96,27 @@ impl NeighbourList {
                 (c_index / grid.dims[0]) % grid.dims[1],
                 c_index / (grid.dims[0] * grid.dims[1]),
             ];
+            // The full stencil, keeping j < i: a half stencil would list some pairs
+            // that meet through a periodic wrap under their lower index.
+            let mut cells = [(0usize, 0usize, [0.0; 3], 0u32); 27];
+            let mut n_cells = 0;
+            grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+                let code = (shift[0] + 1) as usize
+                    + 3 * (shift[1] + 1) as usize
+                    + 9 * (shift[2] + 1) as usize;
+                let (oa, ob) = (
+                    grid.cell_start[other] as usize,
+                    grid.cell_start[other + 1] as usize,
+                );
+                if oa < ob {
+                    cells[n_cells] = (oa, ob, self.shifts[code], (code as u32) << INDEX_BITS);
+                    n_cells += 1;
+                }
+            });
             for i in a..b {
                 let xi = positions[i];
                 let ri = radius[i] + skin;
-                // The full stencil, keeping j < i: a half stencil would list some pairs
-                // that meet through a periodic wrap under their lower index.
-                grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
-                    let code = (shift[0] + 1) as usize
-                        + 3 * (shift[1] + 1) as usize
-                        + 9 * (shift[2] + 1) as usize;
-                    let s = self.shifts[code];
-                    let (oa, ob) = (
-                        grid.cell_start[other] as usize,
-                        grid.cell_start[other + 1] as usize,
-                    );
+                for &(oa, ob, s, code) in &cells[..n_cells] {
                     for j in oa..ob.min(i) {
                         let d = [
                             xi[0] - positions[j][0] - s[0],
@@ -118,10 +125,10 @@ impl NeighbourList {
                         ];
                         let cut = ri + radius[j];
                         if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                            self.entries.push(j as u32 | (code as u32) << INDEX_BITS);
+                            self.entries.push(j as u32 | code);
                         }
                     }
-                });
+                }
                 self.start.push(self.entries.len() as u32);
             }
         }

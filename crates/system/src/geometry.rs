@@ -218,6 +218,8 @@ impl CellGrid {
     ) {
         let half = stencil != Stencil::Full;
         let sign = if stencil == Stencil::Backward { -1 } else { 1 };
+        // Duplicates only arise along periodic axes with fewer than 3 cells.
+        let dedup = !half && (0..3).any(|k| self.periodic[k] && self.dims[k] < 3);
         let mut seen = [usize::MAX; 27];
         let mut n_seen = 0;
         for dz in -1i64..=1 {
@@ -247,7 +249,7 @@ impl CellGrid {
                         continue;
                     }
                     let idx = self.index(cc);
-                    if !half {
+                    if dedup {
                         if seen[..n_seen].contains(&idx) {
                             continue;
                         }
