@@ -142,21 +142,14 @@ pub fn solve_with(
     check_params(p)?;
     check_options(opts)?;
     let scales = Scales::new(model, p);
-    let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
     let mut run = Progress::default();
     let end = match model {
         Model::Linear => {
-            let sys = LinearDashpot {
-                p: *p,
-                bracket_form,
-            };
+            let sys = LinearDashpot::new(p);
             integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
         }
         Model::Hertz => {
-            let sys = HertzRegularised {
-                p: *p,
-                bracket_form,
-            };
+            let sys = HertzRegularised::new(p);
             match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
                 Outcome::HandOver(start) => {
                     integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)?
@@ -352,14 +345,19 @@ impl System<3> for LinearDashpot {
 }
 
 impl LinearDashpot {
+    fn new(p: &ScaledParams) -> Self {
+        let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
+        Self {
+            p: *p,
+            bracket_form,
+        }
+    }
+
     /// ξ = 0, u = 1 (h = c_dis), φ = 0 at t = 0, and a first trial step.
     fn start(&self) -> Start<3> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
-        (
-            0.0,
-            [0.0, v, 0.0],
-            0.01 * Scales::new(Model::Linear, &self.p).overlap,
-        )
+        let step = 0.01 * Scales::new(Model::Linear, &self.p).overlap;
+        (0.0, [0.0, v, 0.0], step)
     }
 }
 
@@ -420,6 +418,14 @@ impl System<4> for HertzRegularised {
 impl HertzRegularised {
     /// w = 0, u = 1 (h = c_dis), φ = 0, t = 0 at σ = 0, and a first trial step (t = σ²/4
     /// near the start).
+    fn new(p: &ScaledParams) -> Self {
+        let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
+        Self {
+            p: *p,
+            bracket_form,
+        }
+    }
+
     fn start(&self) -> Start<4> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
         let overlap = Scales::new(Model::Hertz, &self.p).overlap;
