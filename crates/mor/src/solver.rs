@@ -149,12 +149,19 @@ pub fn solve_with(
             integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
         }
         Model::Hertz => {
-            let sys = HertzRegularised::new(p);
-            match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
+            let mut sys = HertzRegularised::new(p);
+            let end = match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
                 Outcome::HandOver(start) => {
-                    integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)?
+                    integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)
                 }
-                end => end,
+                end => Ok(end),
+            };
+            // Should the tail form ever fail, the h-form alone still gets there.
+            if end.is_err() {
+                sys.tail = false;
+                integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
+            } else {
+                end?
             }
         }
     };
@@ -382,6 +389,8 @@ impl Formulation<3> for LinearDashpot {
 struct HertzRegularised {
     p: ScaledParams,
     bracket_form: bool,
+    /// Whether the exponential tail may be handed over to [`HertzTail`].
+    tail: bool,
 }
 
 impl System<4> for HertzRegularised {
@@ -423,6 +432,7 @@ impl HertzRegularised {
         Self {
             p: *p,
             bracket_form,
+            tail: bracket_form,
         }
     }
 
@@ -468,7 +478,7 @@ impl Formulation<4> for HertzRegularised {
     /// against the drift of its asymptote.
     fn hand_over(&self, sigma: f64, y: &[f64; 4], step: f64) -> Option<Start<4>> {
         let [w, h, phi, t] = *y;
-        if !self.bracket_form || h <= 0.0 {
+        if !self.tail || h <= 0.0 {
             return None;
         }
         let tail = HertzTail { p: self.p };
