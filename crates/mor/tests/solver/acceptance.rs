@@ -1,5 +1,5 @@
 //! Acceptance run (ignored in CI; run it with
-//! `cargo test -p emdstar-mor --test solver --release -- --ignored --nocapture acceptance`):
+//! `cargo test -p emdstar-mor --test solver -- --ignored --nocapture acceptance`, ~15 s):
 //! worst relative MoR error of the default options per component and per box, against
 //! (1) the solver at rtol = atol = 1e-14, (2) the overlap-form oracle and (3) the Cartesian
 //! oracle (τ̃ and ε_φ only where it resolves them), over 10^4 impacts log-uniform in the
