@@ -75,5 +75,7 @@ pub fn solve_with(
     _p: &ScaledParams,
     _opts: &SolverOptions,
 ) -> Result<(Mor, SolveStats), SolveError> {
-    Err(SolveError::InvalidParams("solver not implemented yet".into()))
+    Err(SolveError::InvalidParams(
+        "solver not implemented yet".into(),
+    ))
 }
