@@ -1,9 +1,257 @@
-//! `emdstar mor` (being implemented).
+//! `emdstar mor`: the matrix of restitution of one collision.
 
-/// Arguments of `emdstar mor`.
-#[derive(clap::Args)]
-pub struct MorArgs {}
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use emdstar_contact::{
+    ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, ParameterBox, RectBounds,
+    ScaledParams, Sphere, ViscoelasticHertz, scale,
+};
+use emdstar_mor::{Mor, solve};
+use serde_json::{Value, json};
 
-pub fn run(_args: &MorArgs) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+/// Force model on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ModelArg {
+    /// Linear spring-dashpot: F = kξ + γξ̇ (needs --stiffness, --damping).
+    Linear,
+    /// Viscoelastic Hertz: F = ρ_el ξ^{3/2} + (3/2)Aρ_el √ξ ξ̇ (needs --young, --poisson,
+    /// --dissipation).
+    Hertz,
+}
+
+impl From<ModelArg> for Model {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Linear => Model::Linear,
+            ModelArg::Hertz => Model::Hertz,
+        }
+    }
+}
+
+/// Matrix of restitution (MoR) of one collision, Müller & Pöschel 2013.
+///
+/// Give either physical parameters (two spheres of one material, equal unless
+/// --radius2 is set, meeting at relative speed --speed with eccentricity --eccentricity
+/// = d/l) or the three scaled parameters with --scaled.
+///
+/// Examples:
+///   emdstar mor --model linear --stiffness 2000 --damping 0 --radius 0.1 --density 1140 --speed 5 --eccentricity 0.3
+///   emdstar mor --model hertz --young 1e9 --poisson 0.4 --dissipation 1e-4 --radius 0.01 --density 2500 --speed 1 --eccentricity 0.5 --json
+///   emdstar mor --model hertz --scaled 100 50 0.1
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct MorArgs {
+    /// Force model.
+    #[arg(long, value_enum)]
+    pub model: ModelArg,
+    /// Spring constant k in N/m (linear).
+    #[arg(long, value_name = "K")]
+    pub stiffness: Option<f64>,
+    /// Dashpot constant γ in kg/s (linear).
+    #[arg(long, value_name = "GAMMA")]
+    pub damping: Option<f64>,
+    /// Young's modulus Y in Pa (hertz).
+    #[arg(long, value_name = "Y")]
+    pub young: Option<f64>,
+    /// Poisson's ratio ν (hertz).
+    #[arg(long, value_name = "NU")]
+    pub poisson: Option<f64>,
+    /// Dissipative constant A in s (hertz), the A of Brilliantov et al. 1996.
+    #[arg(long, value_name = "A")]
+    pub dissipation: Option<f64>,
+    /// Sphere radius R in m (both spheres unless --radius2 is given).
+    #[arg(long, value_name = "R")]
+    pub radius: Option<f64>,
+    /// Radius of the second sphere in m, same material.
+    #[arg(long, value_name = "R2")]
+    pub radius2: Option<f64>,
+    /// Material density ρ in kg/m³; each sphere has mass (4/3)πR³ρ.
+    #[arg(long, value_name = "RHO")]
+    pub density: Option<f64>,
+    /// Magnitude of the relative velocity at contact in m/s.
+    #[arg(long, value_name = "V")]
+    pub speed: Option<f64>,
+    /// Eccentricity e = d/l in [0, 1): 0 is a central impact.
+    #[arg(long, value_name = "E")]
+    pub eccentricity: Option<f64>,
+    /// Scaled parameters l̃, c_φ, c_dis instead of physical ones.
+    #[arg(long, num_args = 3, value_names = ["L_TILDE", "C_PHI", "C_DIS"], allow_negative_numbers = true)]
+    pub scaled: Option<Vec<f64>>,
+    /// Print JSON instead of a readable summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What was computed, in the shape of the JSON output.
+struct Answer {
+    model: Model,
+    params: ScaledParams,
+    /// (T, X) in s and m, for physical input.
+    scales: Option<(f64, f64)>,
+    mor: Mor,
+}
+
+pub fn run(args: &MorArgs) -> Result<()> {
+    let model = Model::from(args.model);
+    let (params, scales) = match &args.scaled {
+        Some(v) => {
+            reject_physical(args)?;
+            let p = ScaledParams::new(v[0], v[1], v[2]).context("bad --scaled parameters")?;
+            (p, None)
+        }
+        None => {
+            let s = physical_scaling(args, model)?;
+            (s.params, Some((s.time, s.length)))
+        }
+    };
+    let mor = solve(model, &params).context("the collision ODE could not be solved")?;
+    let answer = Answer {
+        model,
+        params,
+        scales,
+        mor,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&answer.to_json())?);
+    } else {
+        print!("{}", answer.summary());
+    }
+    Ok(())
+}
+
+fn reject_physical(args: &MorArgs) -> Result<()> {
+    let given = [
+        ("--stiffness", args.stiffness),
+        ("--damping", args.damping),
+        ("--young", args.young),
+        ("--poisson", args.poisson),
+        ("--dissipation", args.dissipation),
+        ("--radius", args.radius),
+        ("--radius2", args.radius2),
+        ("--density", args.density),
+        ("--speed", args.speed),
+        ("--eccentricity", args.eccentricity),
+    ];
+    if let Some((name, _)) = given.iter().find(|(_, v)| v.is_some()) {
+        bail!("{name} cannot be combined with --scaled: give either physical or scaled parameters");
+    }
+    Ok(())
+}
+
+fn required(value: Option<f64>, flag: &str, model: Model) -> Result<f64> {
+    value.with_context(|| format!("--model {model} needs {flag}"))
+}
+
+fn physical_scaling(args: &MorArgs, model: Model) -> Result<emdstar_contact::ScaledImpact> {
+    let (needed, foreign): (&[&str], Vec<(&str, Option<f64>)>) = match model {
+        Model::Linear => (
+            &["--stiffness", "--damping"],
+            vec![
+                ("--young", args.young),
+                ("--poisson", args.poisson),
+                ("--dissipation", args.dissipation),
+            ],
+        ),
+        Model::Hertz => (
+            &["--young", "--poisson", "--dissipation"],
+            vec![("--stiffness", args.stiffness), ("--damping", args.damping)],
+        ),
+    };
+    if let Some((flag, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
+        bail!(
+            "{flag} does not belong to --model {model}, which takes {}",
+            needed.join(", ")
+        );
+    }
+    let law = match model {
+        Model::Linear => ForceLaw::Linear(LinearDashpot::new(
+            required(args.stiffness, "--stiffness", model)?,
+            required(args.damping, "--damping", model)?,
+        )?),
+        Model::Hertz => ForceLaw::Hertz(ViscoelasticHertz::new(
+            required(args.young, "--young", model)?,
+            required(args.poisson, "--poisson", model)?,
+            required(args.dissipation, "--dissipation", model)?,
+        )?),
+    };
+    let density = required(args.density, "--density", model)?;
+    let r1 = required(args.radius, "--radius", model)?;
+    let s1 = Sphere::from_density(r1, density)?;
+    let s2 = match args.radius2 {
+        Some(r2) => Sphere::from_density(r2, density).context("bad --radius2")?,
+        None => s1,
+    };
+    let pair = PairProperties::spheres(&s1, &s2);
+    let pair_law = PairLaw::same_material(&law, pair.r_eff)?;
+    let impact = Impact::from_speed_eccentricity(
+        required(args.speed, "--speed", model)?,
+        required(args.eccentricity, "--eccentricity", model)?,
+    )?;
+    Ok(scale(&pair_law, &pair, &impact)?)
+}
+
+impl Answer {
+    /// The paper's rectangle for this model, if the point lies inside it.
+    fn rect(&self) -> Option<(emdstar_contact::RectCoords, RectBounds)> {
+        let bounds = ParameterBox::paper(self.model).bounds().ok()?;
+        let x = bounds.to_rect(&self.params);
+        bounds.contains(&x).then_some((x, bounds))
+    }
+
+    fn to_json(&self) -> Value {
+        let (t, x) = match self.scales {
+            Some((t, x)) => (json!(t), json!(x)),
+            None => (Value::Null, Value::Null),
+        };
+        let rect = match self.rect() {
+            Some((r, _)) => json!({"a": r.a, "b": r.b, "c": r.c}),
+            None => Value::Null,
+        };
+        let m = &self.mor;
+        json!({
+            "model": self.model.name(),
+            "source": "exact",
+            "scaled": {"l": self.params.l_tilde, "c_phi": self.params.c_phi,
+                       "c_dis": self.params.c_dis, "T": t, "X": x},
+            "rect": rect,
+            "mor": {"eps_r": m.eps_r, "one_minus_eps_r": m.one_minus_eps_r,
+                    "eps_rdot": m.eps_rdot, "eps_phi": m.eps_phi, "eps_t": m.eps_t},
+        })
+    }
+
+    fn summary(&self) -> String {
+        let p = &self.params;
+        let m = &self.mor;
+        let mut s = format!(
+            "{} collision, exact solve of the scaled ODE (Müller & Pöschel 2013)\n\
+             scaled parameters   l̃ = {:.6e}   c_φ = {:.6e}   c_dis = {:.6e}\n",
+            self.model, p.l_tilde, p.c_phi, p.c_dis
+        );
+        if let Some((t, x)) = self.scales {
+            s += &format!("scales              T = {t:.6e} s   X = {x:.6e} m\n");
+        }
+        match self.rect() {
+            Some((r, _)) => {
+                s += &format!(
+                    "paper-box coords    a = {:.6}   b = {:.6}   c = {:.6}\n",
+                    r.a, r.b, r.c
+                )
+            }
+            None => s += "paper-box coords    outside the paper's box for this model\n",
+        }
+        s += &format!(
+            "matrix of restitution\n  ε_r   = {:.12}   (1 − ε_r = {:.6e})\n  ε_ṙ   = {:.12}   (normal restitution ε_n = {:.12})\n  ε_φ   = {:.12} rad = {:.6}°\n  ε_t   = {:.12}   (scaled contact duration)\n",
+            m.eps_r,
+            m.one_minus_eps_r,
+            m.eps_rdot,
+            -m.eps_rdot,
+            m.eps_phi,
+            m.eps_phi.to_degrees(),
+            m.eps_t
+        );
+        if let Some((t, _)) = self.scales {
+            s += &format!("contact duration    τ = ε_t·T = {:.6e} s\n", m.eps_t * t);
+        }
+        s
+    }
 }
