@@ -29,6 +29,9 @@ pub enum TableError {
         min: f64,
         max: f64,
     },
+    /// The point lies in a limit region that the table does not cover (near-central
+    /// impacts whose c_φ → 0 limit does not exist there).
+    NotTabulated(String),
     /// The scaled or physical input itself is invalid.
     Input(String),
     /// A caller-supplied exact-solve fallback failed.
@@ -74,6 +77,10 @@ impl fmt::Display for TableError {
                 f,
                 "point outside the table's box: {axis} = {value} is not in [{min}, {max}]; \
                  use a table built for a larger box (see tables/README.md) or an exact-solve fallback"
+            ),
+            Self::NotTabulated(why) => write!(
+                f,
+                "not tabulated: {why}; use an exact-solve fallback for such impacts"
             ),
             Self::Input(why) => write!(f, "invalid lookup input: {why}"),
             Self::Fallback(why) => write!(f, "the exact-solve fallback failed: {why}"),

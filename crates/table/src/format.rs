@@ -230,13 +230,18 @@ impl Table {
         let elastic = floats("elastic", &[na, nb, NQ])?;
         let central = floats("central", &[nb, nc, NQ])?;
         let central_elastic = floats("central_elastic", &[nb, NQ])?;
-        for (name, v) in [
-            ("values", &main),
-            ("elastic", &elastic),
-            ("central", &central),
-            ("central_elastic", &central_elastic),
+        // NaN marks central-limit nodes without a limit (see `Table`); nothing else may
+        // be non-finite.
+        for (name, v, nan_ok) in [
+            ("values", &main, false),
+            ("elastic", &elastic, false),
+            ("central", &central, true),
+            ("central_elastic", &central_elastic, true),
         ] {
-            if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            if let Some(i) = v
+                .iter()
+                .position(|x| !(x.is_finite() || (nan_ok && x.is_nan())))
+            {
                 return Err(TableError::Corrupt(format!(
                     "{name} holds a non-finite value at flat index {i}"
                 )));

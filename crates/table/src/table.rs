@@ -73,7 +73,10 @@ pub struct PhysicalLookup {
 /// - both at once use the (b)-line of central elastic impacts, bilinearly in (s², u).
 ///
 /// Anything beyond the upper ends of a, b or c, or below b = 0, is a
-/// [`TableError::OutOfBox`]; [`WithFallback`] turns that into a counted exact solve.
+/// [`TableError::OutOfBox`]. Where the central limit does not exist (strongly damped
+/// Hertz impacts that end only thanks to the centrifugal force: the generator's solve
+/// at c_φ → 0 does not finish), the central slice holds NaN and a < 0 lookups there are
+/// [`TableError::NotTabulated`]. [`WithFallback`] turns both into a counted exact solve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
     pub(crate) model: Model,
@@ -172,6 +175,17 @@ impl Table {
     pub fn node_value(&self, i: usize, j: usize, k: usize, q: usize) -> f64 {
         let [_, nb, nc] = self.axes.map(|a| a.n);
         self.main[((i * nb + j) * nc + k) * NQ + q]
+    }
+
+    /// The same data interpolated with other stencils (points per axis), e.g. to
+    /// compare orders without regenerating.
+    pub fn with_order(&self, order: [usize; 3]) -> Result<Self, TableError> {
+        let mut t = self.clone();
+        for (ax, o) in t.axes.iter_mut().zip(order) {
+            ax.order = o;
+            ax.check().map_err(TableError::Input)?;
+        }
+        Ok(t)
     }
 
     /// Fails with [`TableError::WrongModel`] unless the table is for `model`.
@@ -290,6 +304,13 @@ impl Table {
             let qe = interp3(&self.elastic, [na, nb, 1], &[sa, sb, one]);
             q = lerp(qe, q, tc);
         }
+        if q.iter().any(|v| v.is_nan()) {
+            return Err(TableError::NotTabulated(format!(
+                "near-central impact at (a, b, c) = ({}, {}, {}), where the central limit \
+                 c_phi -> 0 has no finite collision (strong damping)",
+                x.a, x.b, x.c
+            )));
+        }
         if central {
             q[2] += x.a + self.bounds.g.min;
         }
@@ -334,7 +355,7 @@ where
     pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<(TableMor, Source), TableError> {
         match self.table.lookup_scaled(p) {
             Ok(m) => Ok((m, Source::Table)),
-            Err(TableError::OutOfBox { .. }) => {
+            Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) => {
                 self.fallbacks
                     .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                 let m = (self.solve)(self.table.model, p).map_err(TableError::Fallback)?;

@@ -19,7 +19,7 @@ fn logs(bounds: &RectBounds, x: &RectCoords) -> [f64; NQ] {
     [x.c + a.ln(), -0.01 * u * b, ln_s + c.ln(), d.ln()]
 }
 
-fn synthetic_table(n: [usize; 3], order: [usize; 3]) -> Table {
+pub fn synthetic_table(n: [usize; 3], order: [usize; 3]) -> Table {
     let bounds = ParameterBox::paper_table_1().bounds().unwrap();
     let [ax, bx, cx] = grid_axes(&bounds, n, order);
     let mut main = vec![];
@@ -222,4 +222,150 @@ fn an_independent_npz_reader_sees_the_same_arrays() {
     let b: Array1<f64> = npz.by_name("axis_b").unwrap();
     assert_eq!(b.len(), 7);
     assert_eq!(b[6], t.axes()[1].max);
+}
+
+mod rejections {
+    use super::synthetic_table;
+    use emdstar_contact::{ForceLaw, Impact, PairLaw, PairProperties, Sphere, ViscoelasticHertz};
+    use emdstar_table::npz::{Array, Data, read_npz, write_npz};
+    use emdstar_table::{Table, TableError};
+
+    fn rewrite(bytes: &[u8], edit: impl Fn(&str, &mut Array)) -> Vec<u8> {
+        let mut members = read_npz(bytes).unwrap();
+        for (name, a) in members.iter_mut() {
+            edit(name, a);
+        }
+        let refs: Vec<(&str, Array)> = members
+            .iter()
+            .map(|(n, a)| (n.as_str(), a.clone()))
+            .collect();
+        write_npz(&refs)
+    }
+
+    /// Recomputes the content checksum after an edit, so that only the edit is wrong.
+    fn reseal(bytes: &[u8]) -> Vec<u8> {
+        let members = read_npz(bytes).unwrap();
+        let npys: Vec<Vec<u8>> = members[..members.len() - 1]
+            .iter()
+            .map(|(_, a)| a.to_npy())
+            .collect();
+        let refs: Vec<&[u8]> = npys.iter().map(Vec::as_slice).collect();
+        let sum = emdstar_table::fnv1a64(&refs);
+        rewrite(bytes, |name, a| {
+            if name == "checksum" {
+                *a = Array::u64_scalar(sum);
+            }
+        })
+    }
+
+    fn message(r: Result<Table, TableError>) -> String {
+        r.expect_err("must be rejected").to_string()
+    }
+
+    #[test]
+    fn wrong_model() {
+        let t = synthetic_table([6, 6, 6], [4; 3]);
+        let s = Sphere::from_density(0.01, 2000.0).unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        let law = PairLaw::same_material(
+            &ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-5).unwrap()),
+            pair.r_eff,
+        )
+        .unwrap();
+        let err = t
+            .lookup(
+                &law,
+                &pair,
+                &Impact::from_speed_eccentricity(1.0, 0.5).unwrap(),
+            )
+            .unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "wrong model: the table is for the linear model but the hertz model was requested; \
+             load a hertz table"
+        );
+    }
+
+    #[test]
+    fn truncated_file() {
+        let bytes = synthetic_table([6, 6, 6], [4; 3]).to_bytes();
+        for cut in [bytes.len() - 1, bytes.len() / 2, 100] {
+            let msg = message(Table::from_bytes(&bytes[..cut]));
+            assert!(
+                msg.starts_with("the table file is truncated"),
+                "{cut}: {msg}"
+            );
+        }
+        let msg = message(Table::from_bytes(b"hello"));
+        assert!(msg.starts_with("not an emdstar MoR table"), "{msg}");
+    }
+
+    #[test]
+    fn checksum_mismatch() {
+        let bytes = synthetic_table([6, 6, 6], [4; 3]).to_bytes();
+        // Flip one bit in the middle of the data (inside the `values` member).
+        let mut bad = bytes.clone();
+        let i = bytes.len() / 2;
+        bad[i] ^= 0x10;
+        let msg = message(Table::from_bytes(&bad));
+        assert!(
+            msg.starts_with("checksum mismatch") && msg.contains("CRC-32"),
+            "{msg}"
+        );
+        // A consistent archive whose content checksum does not match.
+        let edited = rewrite(&bytes, |name, a| {
+            if name == "values"
+                && let Data::F64(v) = &mut a.data
+            {
+                v[7] += 1e-3;
+            }
+        });
+        let msg = message(Table::from_bytes(&edited));
+        assert!(
+            msg.starts_with("checksum mismatch") && msg.contains("content checksum stored"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn corrupt_data() {
+        let bytes = synthetic_table([6, 6, 6], [4; 3]).to_bytes();
+        let nan = reseal(&rewrite(&bytes, |name, a| {
+            if name == "values"
+                && let Data::F64(v) = &mut a.data
+            {
+                v[11] = f64::NAN;
+            }
+        }));
+        let msg = message(Table::from_bytes(&nan));
+        assert!(
+            msg.contains("corrupt table data: values holds a non-finite value at flat index 11"),
+            "{msg}"
+        );
+        let shape = reseal(&rewrite(&bytes, |name, a| {
+            if name == "elastic" {
+                a.shape = vec![a.len()];
+            }
+        }));
+        let msg = message(Table::from_bytes(&shape));
+        assert!(
+            msg.contains("corrupt table data: elastic should be a float64 array"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn unknown_version() {
+        let bytes = synthetic_table([6, 6, 6], [4; 3]).to_bytes();
+        let v2 = rewrite(&bytes, |name, a| {
+            if name == "format_version" {
+                *a = Array::i64(vec![], vec![2]);
+            }
+        });
+        assert_eq!(
+            message(Table::from_bytes(&v2)),
+            "unknown table format version 2 (this reader supports version 1); use a matching \
+             emdstar release or rebuild the table"
+        );
+    }
 }

@@ -36,7 +36,13 @@ pub struct ComponentError {
 pub struct CheckReport {
     pub samples: usize,
     pub components: Vec<ComponentError>,
+    /// Largest relative error over all components in each of [`BINS`] equal bins of
+    /// the a, b and c axes (where the table falls short).
+    pub by_axis: [[f64; BINS]; 3],
 }
+
+/// Bins per axis of [`CheckReport::by_axis`].
+pub const BINS: usize = 8;
 
 fn relative_errors(t: &TableMor, e: &TableMor) -> [f64; 4] {
     let rel = |a: f64, b: f64| if a == b { 0.0 } else { ((a - b) / b).abs() };
@@ -85,14 +91,16 @@ pub fn check(
         .par_iter()
         .map(|x| {
             let p: ScaledParams = table.bounds().from_rect(x);
-            let exact = solve(table.model(), &p).map_err(|e| format!("exact solve at {x:?}: {e}"))?;
+            let exact =
+                solve(table.model(), &p).map_err(|e| format!("exact solve at {x:?}: {e}"))?;
             let got = table.lookup_rect(x).map_err(|e| e.to_string())?;
             Ok(relative_errors(&got, &exact))
         })
         .collect::<Result<_, String>>()?;
     let components = (0..4)
         .map(|q| {
-            let mut v: Vec<(f64, usize)> = errors.iter().enumerate().map(|(i, e)| (e[q], i)).collect();
+            let mut v: Vec<(f64, usize)> =
+                errors.iter().enumerate().map(|(i, e)| (e[q], i)).collect();
             v.sort_by(|x, y| x.0.total_cmp(&y.0));
             let (max, worst) = *v.last().expect("at least one sample");
             let p99 = v[((v.len() as f64 * 0.99).ceil() as usize).clamp(1, v.len()) - 1].0;
@@ -104,8 +112,23 @@ pub fn check(
             }
         })
         .collect();
+    let mut by_axis = [[0.0f64; BINS]; 3];
+    let [ax, bx, cx] = *table.axes();
+    for (x, e) in points.iter().zip(&errors) {
+        let worst = e.iter().fold(0.0f64, |m, v| m.max(*v));
+        for (k, (v, r)) in [(x.a, ax), (x.b, bx), (x.c, cx)].into_iter().enumerate() {
+            let (lo, hi) = match (k, region) {
+                (0, Region::Central) => (r.min - 6.0, r.min),
+                (2, Region::Elastic) => (r.min - 10.0, r.min),
+                _ => (r.min, r.max),
+            };
+            let bin = (((v - lo) / (hi - lo) * BINS as f64) as usize).min(BINS - 1);
+            by_axis[k][bin] = by_axis[k][bin].max(worst);
+        }
+    }
     Ok(CheckReport {
         samples: n,
         components,
+        by_axis,
     })
 }

@@ -69,9 +69,17 @@ pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], S
         c_dis: if elastic { 0.0 } else { at_face.c_dis },
         ..at_face
     };
-    let m = solve(spec.model, &p).map_err(|e| {
-        format!("solve failed at node {k} (a = {a}, b = {b}, c = {c}, scaled {p:?}): {e}")
-    })?;
+    let m = match solve(spec.model, &p) {
+        Ok(m) => m,
+        // No central limit here (e.g. strongly overdamped Hertz impacts that only end
+        // thanks to the centrifugal force): stored as NaN, looked up as NotTabulated.
+        Err(_) if central => return Ok([f64::NAN; NQ]),
+        Err(e) => {
+            return Err(format!(
+                "solve failed at node {k} (a = {a}, b = {b}, c = {c}, scaled {p:?}): {e}"
+            ));
+        }
+    };
     let mut q = m.to_logs();
     if elastic {
         // (1−ε_r)/u → c_dis/(u·l̃) as c_dis → 0 (the collision ends at ξ̃ = c_dis·ṙ̃ with
@@ -82,7 +90,7 @@ pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], S
     if central {
         q[2] -= a + bounds.g.min;
     }
-    if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+    if let Some(i) = q.iter().position(|x| !x.is_finite() && !central) {
         return Err(format!(
             "node {k} (a = {a}, b = {b}, c = {c}) gave a non-finite stored value {} from {m:?}",
             emdstar_table::QUANTITIES[i]
@@ -183,7 +191,9 @@ pub fn build_shard(
     progress: bool,
 ) -> Result<Vec<u8>, String> {
     if n == 0 || i >= n {
-        return Err(format!("shard {i}/{n} is invalid: use --shard I/N with 0 <= I < N"));
+        return Err(format!(
+            "shard {i}/{n} is invalid: use --shard I/N with 0 <= I < N"
+        ));
     }
     let range = shard_range(spec, i, n);
     let values = solve_range(spec, solve, range.clone(), progress)?;
@@ -212,9 +222,12 @@ pub fn merge(parts: &[Vec<u8>]) -> Result<Table, String> {
                 .map(|(_, a)| &a.data)
                 .ok_or_else(|| format!("part {} is not a shard file (no {name})", p + 1))
         };
-        let (Data::Str(spec), Data::I64(shard), Data::I64(range), Data::F64(values)) =
-            (find("spec")?, find("shard")?, find("range")?, find("values")?)
-        else {
+        let (Data::Str(spec), Data::I64(shard), Data::I64(range), Data::F64(values)) = (
+            find("spec")?,
+            find("shard")?,
+            find("range")?,
+            find("values")?,
+        ) else {
             return Err(format!("part {} has malformed members", p + 1));
         };
         match &spec_text {
@@ -224,7 +237,13 @@ pub fn merge(parts: &[Vec<u8>]) -> Result<Table, String> {
             }
             _ => {}
         }
-        pieces.push((shard[0], shard[1], range[0] as usize, range[1] as usize, values.clone()));
+        pieces.push((
+            shard[0],
+            shard[1],
+            range[0] as usize,
+            range[1] as usize,
+            values.clone(),
+        ));
     }
     let spec = Spec::parse(spec_text.as_deref().ok_or("no parts given")?)?;
     pieces.sort_by_key(|p| p.0);
@@ -242,7 +261,10 @@ pub fn merge(parts: &[Vec<u8>]) -> Result<Table, String> {
         values.extend(v);
     }
     if next != node_count(&spec) {
-        return Err(format!("the parts stop at node {next} of {}: a shard is missing", node_count(&spec)));
+        return Err(format!(
+            "the parts stop at node {next} of {}: a shard is missing",
+            node_count(&spec)
+        ));
     }
     assemble(&spec, values)
 }

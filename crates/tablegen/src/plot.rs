@@ -40,7 +40,10 @@ fn colour(v: f64) -> RGBColor {
 /// Registers a TrueType font for the labels (plotters draws no text without one).
 pub fn register_font(path: &Path) -> Result<(), String> {
     let bytes = std::fs::read(path).map_err(|e| {
-        format!("cannot read font {}: {e}; pass --font FILE.ttf", path.display())
+        format!(
+            "cannot read font {}: {e}; pass --font FILE.ttf",
+            path.display()
+        )
     })?;
     let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
     plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
@@ -48,13 +51,21 @@ pub fn register_font(path: &Path) -> Result<(), String> {
 }
 
 /// Writes one PNG per c-slice into `dir` and returns their paths.
-pub fn plot(table: &Table, c_slices: &[f64], dir: &Path, res: usize) -> Result<Vec<PathBuf>, String> {
+pub fn plot(
+    table: &Table,
+    c_slices: &[f64],
+    dir: &Path,
+    res: usize,
+) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let [ax, bx, cx] = *table.axes();
     let mut written = Vec::new();
     for (s, &c) in c_slices.iter().enumerate() {
         if !(cx.min..=cx.max).contains(&c) {
-            return Err(format!("c-slice {c} lies outside the table's c range [{}, {}]", cx.min, cx.max));
+            return Err(format!(
+                "c-slice {c} lies outside the table's c range [{}, {}]",
+                cx.min, cx.max
+            ));
         }
         let path = dir.join(format!("{}_slice{s}.png", table.model()));
         let root = BitMapBackend::new(&path, (1800, 470)).into_drawing_area();
@@ -93,7 +104,10 @@ pub fn plot(table: &Table, c_slices: &[f64], dir: &Path, res: usize) -> Result<V
                 .y_desc("b = ln(l/l_min)")
                 .draw()
                 .map_err(|e| e.to_string())?;
-            let (da, db) = ((ax.max - ax.min) / res as f64, (bx.max - bx.min) / res as f64);
+            let (da, db) = (
+                (ax.max - ax.min) / res as f64,
+                (bx.max - bx.min) / res as f64,
+            );
             chart
                 .draw_series(pts.iter().map(|&(a, b, v)| {
                     Rectangle::new(

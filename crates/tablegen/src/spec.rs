@@ -102,7 +102,14 @@ impl Spec {
 
 fn box_from_ranges(model: Model, map: &BTreeMap<String, [f64; 2]>) -> Result<ParameterBox, String> {
     let names: &[&str] = match model {
-        Model::Linear => &["stiffness", "radius", "density", "damping", "speed", "eccentricity"],
+        Model::Linear => &[
+            "stiffness",
+            "radius",
+            "density",
+            "damping",
+            "speed",
+            "eccentricity",
+        ],
         Model::Hertz => &[
             "young",
             "poisson",
@@ -165,12 +172,30 @@ mod tests {
     #[test]
     fn bad_specs_say_what_is_wrong() {
         let cases = [
-            ("model='foo'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]", "model must be"),
-            ("model='hertz'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]", "belongs to"),
-            ("model='linear'\nbox='nope'\nnodes=[6,6,6]\norder=[4,4,4]", "unknown box preset"),
-            ("model='linear'\nbox='paper_table_1'\nnodes=[3,6,6]\norder=[4,4,4]", "at least 4"),
-            ("model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[5,4,4]", "one of 2, 4"),
-            ("model='linear'\nnodes=[6,6,6]\norder=[4,4,4]\n[box]\nk=[1.0,2.0]", "unknown box"),
+            (
+                "model='foo'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "model must be",
+            ),
+            (
+                "model='hertz'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "belongs to",
+            ),
+            (
+                "model='linear'\nbox='nope'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "unknown box preset",
+            ),
+            (
+                "model='linear'\nbox='paper_table_1'\nnodes=[3,6,6]\norder=[4,4,4]",
+                "at least 4",
+            ),
+            (
+                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[5,4,4]",
+                "one of 2, 4",
+            ),
+            (
+                "model='linear'\nnodes=[6,6,6]\norder=[4,4,4]\n[box]\nk=[1.0,2.0]",
+                "unknown box",
+            ),
         ];
         for (text, want) in cases {
             let err = Spec::parse(text).unwrap_err();
