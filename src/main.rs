@@ -19,12 +19,15 @@ struct Cli {
 enum Command {
     /// Matrix of restitution of one collision, solved exactly (or from a table).
     Mor(cmd::mor::MorArgs),
+    /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
+    Table(cmd::table::TableArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
+        Command::Table(args) => cmd::table::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
