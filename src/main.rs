@@ -21,6 +21,12 @@ enum Command {
     Mor(cmd::mor::MorArgs),
     /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
     Table(cmd::table::TableArgs),
+    /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
+    Pair(cmd::pair::PairArgs),
+    /// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
+    Run(cmd::run::RunArgs),
+    /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
+    Bench(cmd::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -28,6 +34,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
         Command::Table(args) => cmd::table::run(&args),
+        Command::Pair(args) => cmd::pair::run(&args),
+        Command::Run(args) => cmd::run::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,4 +1,8 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
+pub mod bench;
+pub mod engine;
 pub mod mor;
+pub mod pair;
+pub mod run;
 pub mod table;

@@ -1,0 +1,507 @@
+//! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
+
+use crate::forces::{Contacts, PairForce, WALL};
+use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
+use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, shortest_contact_time};
+use emdstar_contact::PairLaw;
+use emdstar_system::{Particles, System, Thermo, permute};
+use rayon::prelude::*;
+
+/// Particles per chunk of the force loop. Fixed, so that the order in which forces are
+/// summed does not depend on the number of threads.
+const CHUNK: usize = 1024;
+/// Particles per cell the neighbour grid aims at (cells never get smaller than the
+/// list cut-off).
+const PER_CELL: f64 = 2.0;
+
+/// A force-based simulation of one [`System`].
+pub struct Md {
+    system: System,
+    opts: MdOptions,
+    skin: f64,
+    steps: u64,
+    t_start: f64,
+    inv_mass: Vec<f64>,
+    /// Contact (pair and wall) accelerations at the current time; gravity is added
+    /// where they are used. Non-zero only for the particles listed in `touched`.
+    contact_acc: Vec<[f64; 3]>,
+    touched: Vec<u32>,
+    pair_laws: Vec<PairLaw>,
+    wall_laws: Vec<PairLaw>,
+    list: NeighbourList,
+    buffers: Vec<Vec<PairForce>>,
+    drift_bound: f64,
+    /// Largest speed after the last sweep.
+    v_max: f64,
+    rebuilds: u64,
+}
+
+/// max(a, b) that lets a NaN through (so that a blow-up is noticed).
+#[inline(always)]
+fn max_nan(a: f64, b: f64) -> f64 {
+    if b > a || b.is_nan() { b } else { a }
+}
+
+fn p_max_speed(p: &Particles) -> f64 {
+    p.velocity
+        .iter()
+        .map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        .fold(0.0, max_nan)
+        .sqrt()
+}
+
+impl Md {
+    /// Prepares `system` for integration with `opts` up to `t_end` (which only enters
+    /// the check of the time step against the shortest expected contact time).
+    pub fn new(mut system: System, opts: MdOptions, t_end: f64) -> Result<Self, MdError> {
+        system.validate()?;
+        if !(opts.dt.is_finite() && opts.dt > 0.0) {
+            return Err(MdError::BadDt(opts.dt));
+        }
+        if let Some(tc) = shortest_contact_time(&system, t_end)? {
+            let bound = MAX_DT_FRACTION * tc;
+            if opts.dt > bound {
+                return Err(MdError::DtTooCoarse {
+                    dt: opts.dt,
+                    contact_time: tc,
+                    bound,
+                });
+            }
+        }
+        let skin = opts.skin.unwrap_or_else(|| system.max_radius());
+        if !(skin.is_finite() && skin >= 0.0) {
+            return Err(MdError::BadSkin(skin));
+        }
+        let ns = system.species.len();
+        let mut pair_laws = Vec::with_capacity(ns * ns);
+        for a in 0..ns {
+            for b in 0..ns {
+                pair_laws.push(system.pair(a, b)?.0);
+            }
+        }
+        let wall_laws = (0..ns)
+            .map(|a| system.wall_pair(a).map(|p| p.0))
+            .collect::<Result<_, _>>()?;
+        // Every particle starts on the right side of closed axes; wrap periodic ones.
+        if let Some(b) = system.sim_box {
+            for x in &mut system.particles.position {
+                *x = b.wrap(*x);
+            }
+        }
+        let n = system.particles.len();
+        let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
+        let mut md = Self {
+            system,
+            opts,
+            skin,
+            steps: 0,
+            t_start: 0.0,
+            inv_mass,
+            contact_acc: vec![[0.0; 3]; n],
+            touched: Vec::new(),
+            pair_laws,
+            wall_laws,
+            list: NeighbourList::default(),
+            buffers: vec![Vec::new(); n.div_ceil(CHUNK)],
+            drift_bound: 0.0,
+            v_max: 0.0,
+            rebuilds: 0,
+        };
+        md.rebuild()?;
+        // Forces at t = 0 with the velocities themselves (h = 0).
+        let ctx = md.contacts(0.0);
+        let p = &md.system.particles;
+        let mut buffers = vec![Vec::new(); md.buffers.len()];
+        for (c, buf) in buffers.iter_mut().enumerate() {
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                ctx.particle(
+                    i,
+                    p.position[i],
+                    p.velocity[i],
+                    &p.position,
+                    &p.velocity,
+                    buf,
+                );
+            }
+        }
+        md.buffers = buffers;
+        md.apply_forces();
+        md.v_max = p_max_speed(&md.system.particles);
+        Ok(md)
+    }
+
+    /// Time in s.
+    pub fn time(&self) -> f64 {
+        self.t_start + self.steps as f64 * self.opts.dt
+    }
+
+    /// Steps done.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Neighbour-list rebuilds done (the first included).
+    pub fn rebuilds(&self) -> u64 {
+        self.rebuilds
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &MdOptions {
+        &self.opts
+    }
+
+    /// The Verlet-list skin in use, in m.
+    pub fn skin(&self) -> f64 {
+        self.skin
+    }
+
+    /// The system; particles are in the engine's (cell-sorted) order, see
+    /// [`Particles::id`].
+    pub fn system(&self) -> &System {
+        &self.system
+    }
+
+    /// The particles in config order.
+    pub fn particles_in_config_order(&self) -> Particles {
+        let mut p = self.system.particles.clone();
+        let mut order = vec![0u32; p.len()];
+        for (k, &id) in p.id.iter().enumerate() {
+            order[id as usize] = k as u32;
+        }
+        p.permute(&order);
+        p
+    }
+
+    /// Advances `n` steps of velocity Verlet (see the crate docs). Velocities are
+    /// synchronised with positions before and after.
+    pub fn advance(&mut self, n: u64) -> Result<(), MdError> {
+        let dt = self.opts.dt;
+        for s in 0..n {
+            // The first half-kick of this step fused with the last one of the previous.
+            self.step(if s == 0 { 0.5 * dt } else { dt }, dt)?;
+        }
+        if n > 0 {
+            self.kick_contacts(0.5 * dt);
+            let g = self.system.gravity;
+            let mut v2_max: f64 = 0.0;
+            for v in &mut self.system.particles.velocity {
+                *v = [
+                    v[0] + g[0] * 0.5 * dt,
+                    v[1] + g[1] * 0.5 * dt,
+                    v[2] + g[2] * 0.5 * dt,
+                ];
+                v2_max = max_nan(v2_max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            }
+            self.v_max = v2_max.sqrt();
+            if self.v_max.is_nan() {
+                let p = &self.system.particles;
+                let bad = (0..p.len()).find(|&i| {
+                    !p.velocity[i]
+                        .iter()
+                        .chain(&p.position[i])
+                        .all(|c| c.is_finite())
+                });
+                return Err(MdError::BlewUp {
+                    id: bad.map_or(0, |i| p.id[i]),
+                    t: self.time(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// One step: v += a·kick, x += v·dt, forces at the new positions.
+    ///
+    /// The neighbour list is rebuilt *before* the drift when the particles might
+    /// otherwise have moved by more than half the skin by its end; the speed bound
+    /// uses the largest speed of the last sweep, the kicked particles in contact and
+    /// gravity, so it holds for every particle.
+    fn step(&mut self, kick: f64, dt: f64) -> Result<(), MdError> {
+        let touched_v2 = self.kick_contacts(kick);
+        let g = self.system.gravity;
+        let g_kick = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * kick;
+        let v_bound = max_nan(self.v_max, touched_v2.sqrt()) + g_kick;
+        // Written so that NaN (a blow-up) rebuilds, where it is reported.
+        let list_holds = 2.0 * (self.drift_bound + v_bound * dt) <= self.skin;
+        if !list_holds {
+            self.rebuild()?;
+            let step_fits = 2.0 * v_bound * dt <= self.skin;
+            if !step_fits {
+                return Err(MdError::SkinTooThin {
+                    skin: self.skin,
+                    step: v_bound * dt,
+                });
+            }
+        }
+        let gk = [g[0] * kick, g[1] * kick, g[2] * kick];
+        self.steps += 1;
+        let h = 0.5 * self.opts.dt;
+        let v2 = if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
+            self.sweep_fused(gk, dt, h)
+        } else {
+            self.sweep_parallel(gk, dt, h)
+        };
+        self.v_max = v2.sqrt();
+        self.drift_bound += self.v_max * dt;
+        self.apply_forces();
+        Ok(())
+    }
+
+    /// v += a_contact·kick for the particles in contact; returns their largest |v|².
+    fn kick_contacts(&mut self, kick: f64) -> f64 {
+        let v = &mut self.system.particles.velocity;
+        let mut v2_max: f64 = 0.0;
+        for &i in &self.touched {
+            let (i, a) = (i as usize, self.contact_acc[i as usize]);
+            let w = [
+                v[i][0] + a[0] * kick,
+                v[i][1] + a[1] * kick,
+                v[i][2] + a[2] * kick,
+            ];
+            v[i] = w;
+            v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        }
+        v2_max
+    }
+
+    /// The force context of the current step.
+    fn contacts(&self, h: f64) -> Contacts<'_> {
+        Contacts {
+            contact_acc: &self.contact_acc,
+            radius: &self.system.particles.radius,
+            species: &self.system.particles.species,
+            list: &self.list,
+            pair_laws: &self.pair_laws,
+            n_species: self.system.species.len(),
+            wall_laws: &self.wall_laws,
+            walls: &self.system.walls,
+            gravity: self.system.gravity,
+            h,
+            contact_end: self.opts.contact_end,
+        }
+    }
+
+    /// One pass in particle order: kick and drift particle i, then find its contacts
+    /// (its listed partners j < i have already moved). Returns max |v|².
+    fn sweep_fused(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let mut position = std::mem::take(&mut self.system.particles.position);
+        let mut velocity = std::mem::take(&mut self.system.particles.velocity);
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let ctx = self.contacts(h);
+        let start = &self.list.start;
+        let walls = !self.system.walls.is_empty();
+        let mut v2_max: f64 = 0.0;
+        let n = position.len();
+        // Without gravity the velocities need not be written back (less memory traffic).
+        let kick = gk != [0.0; 3];
+        for (c, buf) in buffers.iter_mut().enumerate() {
+            buf.clear();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let (v, x) = (velocity[i], position[i]);
+                let w = if kick {
+                    [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
+                } else {
+                    v
+                };
+                let y = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                if kick {
+                    velocity[i] = w;
+                }
+                position[i] = y;
+                let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                // NaN is ignored here; a blown-up particle is caught at the next rebuild.
+                if w2 > v2_max {
+                    v2_max = w2;
+                }
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, y, w, &position, &velocity, buf);
+                }
+            }
+        }
+        self.system.particles.position = position;
+        self.system.particles.velocity = velocity;
+        self.buffers = buffers;
+        v2_max
+    }
+
+    /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
+    /// drift everything, then find the contacts. Same numbers, same order.
+    fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let kick = gk != [0.0; 3];
+        let p = &mut self.system.particles;
+        let v2 = p
+            .position
+            .par_chunks_mut(CHUNK)
+            .zip(p.velocity.par_chunks_mut(CHUNK))
+            .map(|(x, v)| {
+                let mut v2_max: f64 = 0.0;
+                for (x, v) in x.iter_mut().zip(v.iter_mut()) {
+                    // Copies: re-reading just-stored components stalls the CPU.
+                    let w = if kick {
+                        [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
+                    } else {
+                        *v
+                    };
+                    *x = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                    if kick {
+                        *v = w;
+                    }
+                    let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                    if w2 > v2_max {
+                        v2_max = w2;
+                    }
+                }
+                v2_max
+            })
+            .reduce(|| 0.0, f64::max);
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let ctx = self.contacts(h);
+        let (position, velocity) = (
+            &self.system.particles.position,
+            &self.system.particles.velocity,
+        );
+        let n = position.len();
+        let (start, walls) = (&self.list.start, !self.system.walls.is_empty());
+        buffers.par_iter_mut().enumerate().for_each(|(c, buf)| {
+            buf.clear();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, position[i], velocity[i], position, velocity, buf);
+                }
+            }
+        });
+        self.buffers = buffers;
+        v2
+    }
+
+    /// Replaces the contact accelerations by the forces just found, chunk by chunk and
+    /// pair by pair (a fixed order).
+    fn apply_forces(&mut self) {
+        for &i in &self.touched {
+            self.contact_acc[i as usize] = [0.0; 3];
+        }
+        self.touched.clear();
+        for buf in &self.buffers {
+            for pf in buf {
+                let i = pf.i as usize;
+                let mi = self.inv_mass[i];
+                for k in 0..3 {
+                    self.contact_acc[i][k] += pf.f[k] * mi;
+                }
+                self.touched.push(pf.i);
+                if pf.j != WALL {
+                    let j = pf.j as usize;
+                    let mj = self.inv_mass[j];
+                    for k in 0..3 {
+                        self.contact_acc[j][k] -= pf.f[k] * mj;
+                    }
+                    self.touched.push(pf.j);
+                }
+            }
+        }
+        self.touched.sort_unstable();
+        self.touched.dedup();
+    }
+
+    /// Checks the state, wraps periodic positions, sorts particles by cell and
+    /// rebuilds the neighbour list.
+    fn rebuild(&mut self) -> Result<(), MdError> {
+        let t = self.time();
+        let min_cell = 2.0 * self.system.max_radius() + self.skin;
+        let p = &mut self.system.particles;
+        for i in 0..p.len() {
+            let (x, v) = (p.position[i], p.velocity[i]);
+            if !x.iter().chain(&v).all(|c| c.is_finite()) {
+                return Err(MdError::BlewUp { id: p.id[i], t });
+            }
+            if let Some(b) = &self.system.sim_box {
+                if let Some(k) = b.outside_closed_axis(x) {
+                    return Err(MdError::LeftBox {
+                        id: p.id[i],
+                        axis: ["x", "y", "z"][k],
+                        t,
+                        position: x,
+                    });
+                }
+                p.position[i] = b.wrap(x);
+            }
+        }
+        let order = self
+            .list
+            .sort_order(
+                &p.position,
+                self.system.sim_box.as_ref(),
+                min_cell,
+                PER_CELL,
+            )
+            .map_err(|e| MdError::BoxTooSmall {
+                axis: ["x", "y", "z"][e.axis],
+                length: e.length,
+                cell: e.cell,
+            })?;
+        p.permute(&order);
+        permute(&mut self.inv_mass, &order);
+        permute(&mut self.contact_acc, &order);
+        self.touched.clear();
+        for (i, a) in self.contact_acc.iter().enumerate() {
+            if *a != [0.0; 3] {
+                self.touched.push(i as u32);
+            }
+        }
+        self.list.build(&p.position, &p.radius, self.skin);
+        self.drift_bound = 0.0;
+        self.rebuilds += 1;
+        Ok(())
+    }
+
+    /// Energies, temperature, momentum and contacts now. The potential energy is the
+    /// elastic energy of the contacts, ∫F_el dξ: ½kξ² (linear) or (2/5)ρ_el ξ^{5/2}
+    /// (Hertz, Müller & Pöschel 2013, Eq. 51), plus −Σ m g·x.
+    pub fn thermo(&self) -> Thermo {
+        let p = &self.system.particles;
+        let ns = self.system.species.len();
+        let mut potential = 0.0;
+        let mut contacts = 0;
+        for i in 0..p.len() {
+            let xi = p.position[i];
+            for &entry in self.list.of(i) {
+                let j = (entry & INDEX_MASK) as usize;
+                let s = self.list.shifts[(entry >> INDEX_BITS) as usize];
+                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
+                let overlap =
+                    p.radius[i] + p.radius[j] - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                if overlap > 0.0 {
+                    contacts += 1;
+                    let law = &self.pair_laws[p.species[i] as usize * ns + p.species[j] as usize];
+                    potential += elastic_energy(law, overlap);
+                }
+            }
+            for w in &self.system.walls {
+                let overlap = p.radius[i] - w.distance(xi);
+                if overlap > 0.0 {
+                    contacts += 1;
+                    potential += elastic_energy(&self.wall_laws[p.species[i] as usize], overlap);
+                }
+            }
+            let g = self.system.gravity;
+            potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
+        }
+        Thermo {
+            t: self.time(),
+            step: self.steps,
+            kinetic_energy: p.kinetic_energy(),
+            potential_energy: potential,
+            granular_temperature: p.granular_temperature(),
+            momentum: p.momentum(),
+            contacts,
+        }
+    }
+}
+
+/// Elastic energy stored at overlap ξ: ½kξ² or (2/5)ρ_el ξ^{5/2}.
+fn elastic_energy(law: &PairLaw, overlap: f64) -> f64 {
+    match *law {
+        PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
+        PairLaw::Hertz { rho_el, .. } => 0.4 * rho_el * overlap * overlap * overlap.sqrt(),
+    }
+}
