@@ -19,6 +19,8 @@ struct Cli {
 enum Command {
     /// Matrix of restitution of one collision, solved exactly (or from a table).
     Mor(cmd::mor::MorArgs),
+    /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
+    Table(cmd::table::TableArgs),
     /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
     Pair(cmd::pair::PairArgs),
     /// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
+        Command::Table(args) => cmd::table::run(&args),
         Command::Pair(args) => cmd::pair::run(&args),
         Command::Run(args) => cmd::run::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),

@@ -5,3 +5,4 @@ pub mod engine;
 pub mod mor;
 pub mod pair;
 pub mod run;
+pub mod table;
