@@ -2,7 +2,9 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use emdstar_dem::{ContactEnd, DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
+use emdstar_dem::{
+    ContactEnd, DEFAULT_DT_FRACTION, Md, MdOptions, default_skin, shortest_contact_time,
+};
 use emdstar_system::Config;
 use serde_json::{Value, json};
 use std::path::PathBuf;
@@ -41,9 +43,10 @@ pub struct BenchArgs {
     /// takes each case's best round.
     #[arg(long, default_value_t = 1)]
     pub repeat: usize,
-    /// Verlet skin in units of R.
-    #[arg(long, default_value_t = 1.0)]
-    pub skin: f64,
+    /// Verlet skin in units of R [default: the engine's, R at η = 0.01, R/2 at η = 0.1];
+    /// LAMMPS gets the same.
+    #[arg(long)]
+    pub skin: Option<f64>,
     /// Also run this LAMMPS input (tools/lammps/hertz_gas.in) with `lmp` on one core.
     #[arg(long, value_name = "SCRIPT")]
     pub lammps: Option<PathBuf>,
@@ -74,10 +77,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         let system = config.build()?;
         let tc = shortest_contact_time(&system, 0.0)?.context("the gas moves")?;
         let dt = DEFAULT_DT_FRACTION * tc;
+        let skin = args
+            .skin
+            .map_or_else(|| default_skin(&system), |s| s * RADIUS);
         let opts = MdOptions {
             dt,
             contact_end: ContactEnd::ForceZero,
-            skin: Some(args.skin * RADIUS),
+            skin: Some(skin),
         };
         let box_side = system.sim_box.expect("gas has a box").size[0];
         for round in 0..args.repeat {
@@ -95,7 +101,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let cpu = cpu_seconds() - cpu0;
                 let th = md.thermo();
                 Ok(json!({
-                    "code": "emdstar", "eta": eta, "n": n, "threads": threads, "dt": dt, "round": round,
+                    "code": "emdstar", "eta": eta, "n": n, "threads": threads, "dt": dt, "skin": skin, "round": round,
                     "steps": md.steps() - steps0, "rebuilds": md.rebuilds() - rebuilds0,
                     "contacts_at_end": th.contacts, "wall_time_s": wall, "cpu_time_s": cpu,
                     "particle_steps_per_s": n as f64 * args.steps as f64 / wall,
@@ -106,7 +112,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 rows.push(row);
             }
             if let Some(script) = &args.lammps {
-                let mut row = run_lammps(args, script, side, box_side / side as f64, dt, eta)?;
+                let mut row =
+                    run_lammps(args, script, side, box_side / side as f64, dt, skin, eta)?;
                 row["round"] = json!(round);
                 println!("{row}");
                 rows.push(row);
@@ -147,6 +154,7 @@ fn run_lammps(
     side: usize,
     spacing: f64,
     dt: f64,
+    skin: f64,
     eta: f64,
 ) -> Result<Value> {
     let n = side * side * side;
@@ -166,7 +174,7 @@ fn run_lammps(
     vars.extend(var("density", format!("{DENSITY:e}")));
     vars.extend(var("temp", format!("{temp:e}")));
     vars.extend(var("dt", format!("{dt:e}")));
-    vars.extend(var("skin", format!("{:e}", args.skin * RADIUS)));
+    vars.extend(var("skin", format!("{skin:e}")));
     vars.extend(var("warmup", (args.steps / 10).max(1).to_string()));
     vars.extend(var("steps", args.steps.to_string()));
     let out_file = std::env::temp_dir().join(format!("emdstar_lammps_{}.txt", std::process::id()));
@@ -201,7 +209,7 @@ fn run_lammps(
         .context("no '% CPU use' line in the LAMMPS output")?;
     let cpu = wall * cpu_share / 100.0;
     Ok(json!({
-        "code": "lammps", "eta": eta, "n": n, "threads": 1, "dt": dt, "steps": steps,
+        "code": "lammps", "eta": eta, "n": n, "threads": 1, "dt": dt, "skin": skin, "steps": steps,
         "wall_time_s": wall, "cpu_time_s": cpu, "particle_steps_per_s": n as f64 * steps / wall,
         "particle_steps_per_cpu_s": n as f64 * steps / cpu,
     }))

@@ -2,7 +2,7 @@
 
 use crate::forces::{Contacts, PairForce, WALL};
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
-use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, shortest_contact_time};
+use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, default_skin, shortest_contact_time};
 use emdstar_contact::PairLaw;
 use emdstar_system::{Particles, System, Thermo, permute};
 use rayon::prelude::*;
@@ -68,7 +68,7 @@ impl Md {
                 });
             }
         }
-        let skin = opts.skin.unwrap_or_else(|| system.max_radius());
+        let skin = opts.skin.unwrap_or_else(|| default_skin(&system));
         if !(skin.is_finite() && skin >= 0.0) {
             return Err(MdError::BadSkin(skin));
         }

@@ -52,5 +52,6 @@ mod options;
 pub use engine::Md;
 pub use forces::unclipped_force;
 pub use options::{
-    ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, shortest_contact_time,
+    ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
+    shortest_contact_time,
 };

@@ -38,7 +38,7 @@ pub struct MdOptions {
     /// contact time.
     pub dt: f64,
     pub contact_end: ContactEnd,
-    /// Verlet-list skin in m; `None` means the largest radius.
+    /// Verlet-list skin in m; `None` means [`default_skin`].
     pub skin: Option<f64>,
 }
 
@@ -138,4 +138,27 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
         t_min = t_min.min(t);
     }
     Ok(Some(t_min))
+}
+
+/// The default Verlet skin: the largest radius R in free space and in dilute boxes,
+/// shrinking as R·½·(0.1/η)^{1/3} above the packing fraction η = 0.0125, so that the
+/// lists stay short in denser gases (measured best on the benchmark gas: skin R at
+/// η = 0.01, R/2 at η = 0.1).
+pub fn default_skin(system: &System) -> f64 {
+    let r_max = system.max_radius();
+    let Some(b) = &system.sim_box else {
+        return r_max;
+    };
+    let p = &system.particles;
+    let solid: f64 = p
+        .radius
+        .iter()
+        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+        .sum();
+    let eta = solid / b.volume();
+    if eta > 0.0 {
+        r_max * (0.5 * (0.1 / eta).cbrt()).min(1.0)
+    } else {
+        r_max
+    }
 }
