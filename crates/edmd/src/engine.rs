@@ -1,0 +1,467 @@
+//! The event loop: per-particle next events in a swappable queue, stale events found
+//! by collision counters, cells with crossing events, and delayed (lazy) particle
+//! updates — each particle's state is stored at the time of its last event and moved
+//! on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
+
+use crate::cells::{CellGrid, NONE};
+use crate::detect::{sphere_sphere, sphere_wall};
+use crate::error::{EngineError, Result};
+use crate::queue::{EventQueue, IndexedHeap};
+use crate::rules::HertzRestitution;
+use crate::setup::{Physics, Wall};
+use crate::stats::Stats;
+
+/// What [`Engine::step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// A pair collision (for eMD*: its E^φ event, or the eMD fallback).
+    Collision(u32, u32),
+    /// A collision with wall `w`.
+    Wall(u32, u32),
+    /// An eMD* E^v event: the particle took its post-collision velocity.
+    Velocity(u32),
+    /// A particle moved into another cell.
+    Crossing(u32),
+    /// A stale prediction was discarded and the particle re-predicted.
+    Stale(u32),
+    /// An interfering collision whose pair stopped approaching once the pending E^v
+    /// events ran (eMD* exception b); nothing else happened.
+    Resolved(u32, u32),
+}
+
+/// The event-driven engine for hard spheres, eMD and eMD*.
+pub struct Engine<Q: EventQueue = IndexedHeap> {
+    pub(crate) pos: Vec<[f64; 3]>,
+    pub(crate) vel: Vec<[f64; 3]>,
+    /// Time at which `pos` and `vel` are valid (delayed update).
+    pub(crate) stamp: Vec<f64>,
+    pub(crate) radius: Vec<f64>,
+    pub(crate) mass: Vec<f64>,
+    pub(crate) species: Vec<u32>,
+    /// Incremented whenever a particle's velocity or position jumps.
+    pub(crate) counter: Vec<u32>,
+    // The particle's own next events.
+    pub(crate) coll_time: Vec<f64>,
+    /// Partner index, or `n + w` for wall w.
+    pub(crate) coll_partner: Vec<u32>,
+    pub(crate) coll_counter: Vec<u32>,
+    pub(crate) cross_time: Vec<f64>,
+    /// axis·2 + (1 if moving up).
+    pub(crate) cross_face: Vec<u8>,
+    // eMD* transient: pending E^v time and velocity, and the partner it shares the
+    // transient with (`n + w` for a wall, NONE otherwise).
+    pub(crate) pending_time: Vec<f64>,
+    pub(crate) pending_vel: Vec<[f64; 3]>,
+    pub(crate) partner: Vec<u32>,
+    pub(crate) grid: CellGrid,
+    pub(crate) queue: Q,
+    pub(crate) time: f64,
+    pub(crate) walls: Vec<Wall>,
+    pub(crate) gravity: [f64; 3],
+    pub(crate) has_gravity: bool,
+    pub(crate) physics: Physics,
+    pub(crate) hertz: HertzRestitution,
+    pub(crate) stats: Stats,
+    /// Consecutive events at one instant (an inelastic collapse never ends).
+    pub(crate) zero_streak: u64,
+}
+
+#[inline]
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Time until a coordinate at `d` = x − face, moving with `v` under `g`, crosses the
+/// face in direction `dir` (±1); 0 if it is already beyond it and moving outwards.
+#[inline]
+fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
+    if d * dir >= 0.0 && v * dir > 0.0 {
+        return 0.0;
+    }
+    if g == 0.0 {
+        if v * dir <= 0.0 {
+            return f64::INFINITY;
+        }
+        return (-d / v).max(0.0);
+    }
+    if v * v - 2.0 * g * d < 0.0 {
+        return f64::INFINITY;
+    }
+    let (t1, t2) = crate::detect::quadratic_roots(0.5 * g, v, d);
+    let mut best = f64::INFINITY;
+    for t in [t1, t2] {
+        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
+            best = t;
+        }
+    }
+    best
+}
+
+impl<Q: EventQueue> Engine<Q> {
+    const MAX_ZERO_TIME_EVENTS: u64 = 10_000_000;
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// True without particles.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Current simulation time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Event and exception counters.
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
+    #[inline]
+    pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
+        let dt = t - self.stamp[j];
+        let (p, v) = (self.pos[j], self.vel[j]);
+        if self.has_gravity {
+            let g = self.gravity;
+            (
+                std::array::from_fn(|k| p[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
+                std::array::from_fn(|k| v[k] + g[k] * dt),
+            )
+        } else {
+            (std::array::from_fn(|k| p[k] + v[k] * dt), v)
+        }
+    }
+
+    /// Moves particle `i` on to time `t` (the delayed update).
+    #[inline]
+    pub(crate) fn advance(&mut self, i: usize, t: f64) {
+        if self.stamp[i] != t {
+            let (p, v) = self.state_at(i, t);
+            self.pos[i] = p;
+            self.vel[i] = v;
+            self.stamp[i] = t;
+        }
+    }
+
+    /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions
+    /// kept inside the box guarantee).
+    #[inline]
+    pub(crate) fn min_image(&self, mut d: [f64; 3]) -> [f64; 3] {
+        for (k, dk) in d.iter_mut().enumerate() {
+            if self.grid.periodic[k] {
+                let l = self.grid.size[k];
+                if *dk > 0.5 * l {
+                    *dk -= l;
+                } else if *dk < -0.5 * l {
+                    *dk += l;
+                }
+            }
+        }
+        d
+    }
+
+    /// Wraps a position into the box along periodic axes.
+    #[inline]
+    pub(crate) fn wrap(&self, mut p: [f64; 3]) -> [f64; 3] {
+        for (k, x) in p.iter_mut().enumerate() {
+            if self.grid.periodic[k] {
+                let (lo, l) = (self.grid.lo[k], self.grid.size[k]);
+                if *x < lo {
+                    *x += l;
+                } else if *x >= lo + l {
+                    *x -= l;
+                }
+            }
+        }
+        p
+    }
+
+    /// Whether `i` and the particle or wall `j` (≥ n for walls) share an eMD*
+    /// transient. Such partners move together at their centre-of-mass velocity
+    /// between E^φ and E^v, overlapping by l(1 − ε_r), and are never tested against
+    /// each other until one of them has taken its post-collision velocity: round-off
+    /// in their common velocity must not trigger a spurious stabilising collision.
+    #[inline]
+    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
+        self.partner[i] == j as u32 && (j >= self.len() || self.partner[j] == i as u32)
+    }
+
+    /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
+    /// keeping the earliest collision.
+    #[inline]
+    fn scan_cells(&mut self, i: usize, cells: &[u32]) {
+        let now = self.time;
+        let (pi, vi) = (self.pos[i], self.vel[i]);
+        let ri = self.radius[i];
+        let mut best = self.coll_time[i];
+        let mut best_j = NONE;
+        for &cell in cells {
+            let mut j = self.grid.first(cell);
+            while j != NONE {
+                let ju = j as usize;
+                if ju != i && !self.in_shared_transient(i, ju) {
+                    let (pj, vj) = self.state_at(ju, now);
+                    let r = self.min_image(sub(pi, pj));
+                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.radius[ju]);
+                    if now + dt < best {
+                        best = now + dt;
+                        best_j = j;
+                    }
+                }
+                j = self.grid.next(j);
+            }
+        }
+        if best_j != NONE {
+            self.coll_time[i] = best;
+            self.coll_partner[i] = best_j;
+            self.coll_counter[i] = self.counter[best_j as usize];
+        }
+    }
+
+    /// Earliest cell crossing of `i` (advanced to now).
+    #[inline]
+    fn predict_crossing(&mut self, i: usize) {
+        let c = self.grid.coords[i];
+        let (p, v) = (self.pos[i], self.vel[i]);
+        let mut best = f64::INFINITY;
+        let mut face = 0u8;
+        for k in 0..3 {
+            let (low, high) = self.grid.faces(k, c[k]);
+            let g = self.gravity[k];
+            if high.is_finite() {
+                let t = time_to_face(p[k] - high, v[k], g, 1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k + 1) as u8;
+                }
+            }
+            if low.is_finite() {
+                let t = time_to_face(p[k] - low, v[k], g, -1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k) as u8;
+                }
+            }
+        }
+        self.cross_time[i] = self.time + best;
+        self.cross_face[i] = face;
+    }
+
+    /// Pushes the particle's earliest own event to the queue.
+    #[inline]
+    pub(crate) fn schedule(&mut self, i: usize) {
+        let t = self.coll_time[i]
+            .min(self.cross_time[i])
+            .min(self.pending_time[i]);
+        self.queue.set(i, t);
+    }
+
+    /// Full prediction for particle `i` at the current time: all neighbours, walls and
+    /// the next cell crossing.
+    pub(crate) fn predict(&mut self, i: usize) {
+        let now = self.time;
+        self.advance(i, now);
+        self.coll_time[i] = f64::INFINITY;
+        self.coll_partner[i] = NONE;
+        let cells = self.grid.neighbourhood(self.grid.coords[i]);
+        self.scan_cells(i, cells.as_slice());
+        let n = self.len();
+        for w in 0..self.walls.len() {
+            if self.in_shared_transient(i, n + w) {
+                continue;
+            }
+            let wall = self.walls[w];
+            let h = dot(wall.normal, sub(self.pos[i], wall.point));
+            let dt = sphere_wall(
+                h,
+                dot(wall.normal, self.vel[i]),
+                dot(wall.normal, self.gravity),
+                self.radius[i],
+            );
+            if now + dt < self.coll_time[i] {
+                self.coll_time[i] = now + dt;
+                self.coll_partner[i] = (n + w) as u32;
+            }
+        }
+        self.predict_crossing(i);
+        self.schedule(i);
+    }
+
+    /// Processes the next event.
+    pub fn step(&mut self) -> Result<Event> {
+        let (i, t) = self.queue.peek();
+        if !t.is_finite() {
+            return Err(EngineError::Invalid(
+                "no event is left: every particle flies freely for ever (an empty or \
+                 fully separating system); run for a fixed time instead"
+                    .into(),
+            ));
+        }
+        if t == self.time {
+            self.zero_streak += 1;
+            if self.zero_streak > Self::MAX_ZERO_TIME_EVENTS {
+                return Err(EngineError::Invalid(format!(
+                    "more than {} events at time {t} without time advancing: an inelastic \
+                     collapse (Bannerman et al. 2014, Sec. 5); event-driven dynamics cannot \
+                     go on, use a force-based engine or less dissipation",
+                    Self::MAX_ZERO_TIME_EVENTS
+                )));
+            }
+        } else {
+            self.zero_streak = 0;
+        }
+        self.time = t;
+        self.stats.events += 1;
+        if self.pending_time[i] <= t {
+            self.velocity_event(i);
+            return Ok(Event::Velocity(i as u32));
+        }
+        if self.cross_time[i] < self.coll_time[i] {
+            self.crossing(i);
+            return Ok(Event::Crossing(i as u32));
+        }
+        let j = self.coll_partner[i] as usize;
+        let n = self.len();
+        if j >= n {
+            self.wall_collision(i, j - n)?;
+            return Ok(Event::Wall(i as u32, (j - n) as u32));
+        }
+        if self.counter[j] != self.coll_counter[i] {
+            self.stats.stale += 1;
+            self.predict(i);
+            return Ok(Event::Stale(i as u32));
+        }
+        if self.pair_collision(i, j)? {
+            Ok(Event::Collision(i as u32, j as u32))
+        } else {
+            Ok(Event::Resolved(i as u32, j as u32))
+        }
+    }
+
+    /// A cell crossing: move the particle to its new cell and test the new layer.
+    fn crossing(&mut self, i: usize) {
+        self.stats.crossings += 1;
+        let now = self.time;
+        self.advance(i, now);
+        let face = self.cross_face[i] as usize;
+        let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
+        let mut c = self.grid.coords[i];
+        let (next, shift) = self.grid.step(axis, c[axis], dir);
+        c[axis] = next;
+        self.pos[i][axis] += shift;
+        self.grid.relocate(i, c);
+        let layer = self.grid.new_layer(c, axis, dir);
+        self.scan_cells(i, layer.as_slice());
+        self.predict_crossing(i);
+        self.schedule(i);
+    }
+
+    /// An E^v event at its scheduled time.
+    fn velocity_event(&mut self, i: usize) {
+        self.stats.velocity_events += 1;
+        self.finish_transient(i);
+        self.predict(i);
+    }
+
+    /// Applies `i`'s pending post-collision velocity now (at its E^v time, or early
+    /// for exception b), ending its transient.
+    pub(crate) fn finish_transient(&mut self, i: usize) {
+        let now = self.time;
+        self.advance(i, now);
+        // The stored velocity includes gravity up to the E^v time; undo the rest.
+        let early = self.pending_time[i] - now;
+        let g = self.gravity;
+        let v = self.pending_vel[i];
+        self.vel[i] = std::array::from_fn(|k| v[k] - g[k] * early);
+        self.pending_time[i] = f64::INFINITY;
+        self.partner[i] = NONE;
+        self.counter[i] = self.counter[i].wrapping_add(1);
+    }
+
+    /// Runs until time `t_end` (all events before it), leaving every particle's
+    /// stored state at its last event.
+    pub fn run_until(&mut self, t_end: f64) -> Result<()> {
+        while self.queue.peek().1 <= t_end {
+            self.step()?;
+        }
+        self.time = self.time.max(t_end);
+        Ok(())
+    }
+
+    /// Runs until `count` more pair and wall collisions have been executed.
+    pub fn run_collisions(&mut self, count: u64) -> Result<()> {
+        let target = self.stats.collisions() + count;
+        while self.stats.collisions() < target {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Brings every particle to the current time (for output and measurements).
+    pub fn sync(&mut self) {
+        let now = self.time;
+        for i in 0..self.len() {
+            self.advance(i, now);
+        }
+    }
+
+    /// Positions at the current time (call [`Engine::sync`] first).
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.pos
+    }
+
+    /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
+    /// eMD* transient show their centre-of-mass velocity.
+    pub fn velocities(&self) -> &[[f64; 3]] {
+        &self.vel
+    }
+
+    /// Velocity of `i` now, counting a pending E^v as done (what the particle will
+    /// have once its collision is over; use for energy and momentum balances).
+    pub fn settled_velocity(&self, i: usize) -> [f64; 3] {
+        if self.pending_time[i].is_finite() {
+            let early = self.pending_time[i] - self.time;
+            let v = self.pending_vel[i];
+            std::array::from_fn(|k| v[k] - self.gravity[k] * early)
+        } else {
+            self.state_at(i, self.time).1
+        }
+    }
+
+    /// Kinetic energy Σ ½ m v² with pending E^v velocities applied.
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.mass[i] * dot(self.settled_velocity(i), self.settled_velocity(i)))
+            .sum()
+    }
+
+    /// Momentum Σ m v with pending E^v velocities applied.
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for i in 0..self.len() {
+            let v = self.settled_velocity(i);
+            for k in 0..3 {
+                p[k] += self.mass[i] * v[k];
+            }
+        }
+        p
+    }
+
+    /// Radii and masses, in particle order.
+    pub fn radii(&self) -> &[f64] {
+        &self.radius
+    }
+
+    pub fn masses(&self) -> &[f64] {
+        &self.mass
+    }
+}
