@@ -25,10 +25,14 @@ pub struct CellGrid {
     pub coords: Vec<[u32; 3]>,
 }
 
-/// Up to 27 distinct cells.
+/// Up to 27 neighbour cells, each with the shift that brings its particles next to
+/// the centre cell (±size along a periodic axis where the stencil wraps). A cell may
+/// appear more than once with different shifts when an axis has fewer than three
+/// cells: every periodic image within reach is then visited.
 #[derive(Debug, Clone, Copy)]
 pub struct CellSet {
     pub cells: [u32; 27],
+    pub shifts: [[f64; 3]; 27],
     pub len: usize,
 }
 
@@ -36,6 +40,15 @@ impl CellSet {
     #[inline]
     pub fn as_slice(&self) -> &[u32] {
         &self.cells[..self.len]
+    }
+
+    /// (cell, shift) pairs.
+    #[inline]
+    pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + '_ {
+        self.cells[..self.len]
+            .iter()
+            .copied()
+            .zip(self.shifts[..self.len].iter().copied())
     }
 }
 
@@ -140,39 +153,42 @@ impl CellGrid {
         self.next[i as usize]
     }
 
-    /// Distinct neighbour coordinates along axis `k` of cell coordinate `c` with the
-    /// offsets `offsets`, dropping those off a closed axis.
+    /// Neighbour coordinates along axis `k` of coordinate `c` at the offsets
+    /// `offsets`, with their shifts, dropping those beyond a closed axis.
     #[inline]
-    fn axis_neighbours(&self, k: usize, c: u32, offsets: &[i64]) -> ([u32; 3], usize) {
+    fn axis_neighbours(&self, k: usize, c: u32, offsets: &[i64]) -> ([(u32, f64); 3], usize) {
         let n = self.dims[k] as i64;
-        let mut out = [0u32; 3];
+        let mut out = [(0u32, 0.0); 3];
         let mut len = 0;
         for &d in offsets {
-            let mut x = c as i64 + d;
-            if x < 0 || x >= n {
-                if !self.periodic[k] {
-                    continue;
-                }
-                x = x.rem_euclid(n);
+            let x = c as i64 + d;
+            let shift = if x < 0 {
+                -self.size[k]
+            } else if x >= n {
+                self.size[k]
+            } else {
+                0.0
+            };
+            if shift != 0.0 && !self.periodic[k] {
+                continue;
             }
-            let x = x as u32;
-            if !out[..len].contains(&x) {
-                out[len] = x;
-                len += 1;
-            }
+            out[len] = (x.rem_euclid(n) as u32, shift);
+            len += 1;
         }
         (out, len)
     }
 
-    fn product(&self, axes: [([u32; 3], usize); 3]) -> CellSet {
+    fn product(&self, axes: [([(u32, f64); 3], usize); 3]) -> CellSet {
         let mut set = CellSet {
             cells: [0; 27],
+            shifts: [[0.0; 3]; 27],
             len: 0,
         };
-        for &z in &axes[2].0[..axes[2].1] {
-            for &y in &axes[1].0[..axes[1].1] {
-                for &x in &axes[0].0[..axes[0].1] {
+        for &(z, sz) in &axes[2].0[..axes[2].1] {
+            for &(y, sy) in &axes[1].0[..axes[1].1] {
+                for &(x, sx) in &axes[0].0[..axes[0].1] {
                     set.cells[set.len] = self.index([x, y, z]) as u32;
+                    set.shifts[set.len] = [sx, sy, sz];
                     set.len += 1;
                 }
             }
@@ -180,34 +196,23 @@ impl CellGrid {
         set
     }
 
-    /// The cell with coordinates `c` and all its distinct neighbours.
+    /// The cell with coordinates `c` and its neighbours.
     #[inline]
     pub fn neighbourhood(&self, c: [u32; 3]) -> CellSet {
         let all = [-1, 0, 1];
         self.product(std::array::from_fn(|k| self.axis_neighbours(k, c[k], &all)))
     }
 
-    /// The cells that became neighbours when a particle entered cell `c` through its
-    /// face on `axis` moving in direction `dir` (±1): the layer at offset `dir` along
-    /// `axis`. Empty if that layer was a neighbour of the old cell already (fewer than
-    /// four cells along a periodic axis) or lies beyond a closed axis.
+    /// The cells (with shifts) that became neighbours when a particle entered cell `c`
+    /// through its face on `axis` moving in direction `dir` (±1): the layer at offset
+    /// `dir` along `axis`. Along a periodic axis with few cells this is a cell seen
+    /// before, but through another periodic image. Empty beyond a closed axis.
     #[inline]
     pub fn new_layer(&self, c: [u32; 3], axis: usize, dir: i64) -> CellSet {
-        let empty = CellSet {
-            cells: [0; 27],
-            len: 0,
-        };
-        if self.periodic[axis] && self.dims[axis] < 4 {
-            return empty;
-        }
         let all = [-1, 0, 1];
-        let layer = self.axis_neighbours(axis, c[axis], &[dir]);
-        if layer.1 == 0 {
-            return empty;
-        }
         self.product(std::array::from_fn(|k| {
             if k == axis {
-                layer
+                self.axis_neighbours(k, c[k], &[dir])
             } else {
                 self.axis_neighbours(k, c[k], &all)
             }
@@ -272,19 +277,23 @@ mod tests {
     }
 
     #[test]
-    fn neighbourhoods_are_distinct_and_wrap() {
+    fn neighbourhoods_wrap_with_image_shifts() {
         let g = CellGrid::new([0.0; 3], [5.0, 2.0, 3.0], [true, true, false], 1.0, 0);
         assert_eq!(g.dims, [5, 2, 3]);
         let n = g.neighbourhood([0, 0, 0]);
-        // x: 3 cells (wrapping), y: 2 distinct, z: 2 (closed, no −1).
-        assert_eq!(n.len, 12);
-        let mut v = n.as_slice().to_vec();
+        // x: 3 (wrapping), y: 3 images of 2 cells, z: 2 (closed, no −1).
+        assert_eq!(n.len, 18);
+        let mut v: Vec<_> = n.iter().map(|(c, s)| (c, s.map(|x| x as i64))).collect();
         v.sort();
         v.dedup();
-        assert_eq!(v.len(), 12);
+        assert_eq!(v.len(), 18);
+        assert!(
+            n.iter()
+                .any(|(c, s)| c as usize == 4 && s == [-5.0, 0.0, 0.0])
+        );
         // Entering x = 0 moving −x (wrapped from 1): new layer at x = 4.
         let layer = g.new_layer([0, 0, 1], 0, -1);
-        assert_eq!(layer.len, 6);
+        assert_eq!(layer.len, 9);
         assert!(layer.as_slice().iter().all(|&c| c as usize % 5 == 4));
         assert_eq!(g.step(0, 0, -1), (4, 5.0));
         assert_eq!(g.faces(2, 0), (f64::NEG_INFINITY, 1.0));

@@ -198,19 +198,21 @@ impl<Q: EventQueue> Engine<Q> {
     /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
     /// keeping the earliest collision.
     #[inline]
-    fn scan_cells(&mut self, i: usize, cells: &[u32]) {
+    fn scan_cells(&mut self, i: usize, cells: &crate::cells::CellSet) {
         let now = self.time;
         let (pi, vi) = (self.pos[i], self.vel[i]);
         let ri = self.radius[i];
         let mut best = self.coll_time[i];
         let mut best_j = NONE;
-        for &cell in cells {
+        for (cell, shift) in cells.iter() {
+            // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
+            let pi_rel = sub(pi, shift);
             let mut j = self.grid.first(cell);
             while j != NONE {
                 let ju = j as usize;
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
-                    let r = self.min_image(sub(pi, pj));
+                    let r = sub(pi_rel, pj);
                     let dt = sphere_sphere(r, sub(vi, vj), ri + self.radius[ju]);
                     if now + dt < best {
                         best = now + dt;
@@ -273,7 +275,7 @@ impl<Q: EventQueue> Engine<Q> {
         self.coll_time[i] = f64::INFINITY;
         self.coll_partner[i] = NONE;
         let cells = self.grid.neighbourhood(self.grid.coords[i]);
-        self.scan_cells(i, cells.as_slice());
+        self.scan_cells(i, &cells);
         let n = self.len();
         for w in 0..self.walls.len() {
             if self.in_shared_transient(i, n + w) {
@@ -360,7 +362,7 @@ impl<Q: EventQueue> Engine<Q> {
         self.pos[i][axis] += shift;
         self.grid.relocate(i, c);
         let layer = self.grid.new_layer(c, axis, dir);
-        self.scan_cells(i, layer.as_slice());
+        self.scan_cells(i, &layer);
         self.predict_crossing(i);
         self.schedule(i);
     }
