@@ -90,9 +90,17 @@ mod tests {
         let imp = Impact::from_relative(&r, &v).unwrap();
         assert_relative_eq!(imp.eccentricity(), e, max_relative = 1e-14);
         assert_relative_eq!(imp.speed(), 5.0, max_relative = 1e-14);
-        assert_relative_eq!(imp.normal_speed, 5.0 * (1.0 - e * e).sqrt(), max_relative = 1e-14);
+        assert_relative_eq!(
+            imp.normal_speed,
+            5.0 * (1.0 - e * e).sqrt(),
+            max_relative = 1e-14
+        );
         let again = Impact::from_speed_eccentricity(5.0, e).unwrap();
-        assert_relative_eq!(again.tangential_speed, imp.tangential_speed, max_relative = 1e-14);
+        assert_relative_eq!(
+            again.tangential_speed,
+            imp.tangential_speed,
+            max_relative = 1e-14
+        );
     }
 
     #[test]

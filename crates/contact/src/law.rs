@@ -322,7 +322,10 @@ mod tests {
             rho_el: 4.0,
             dissipation: 0.1,
         };
-        assert_relative_eq!(hz.normal_force(0.25, 2.0), 4.0 * 0.125 + 1.5 * 0.1 * 4.0 * 0.5 * 2.0);
+        assert_relative_eq!(
+            hz.normal_force(0.25, 2.0),
+            4.0 * 0.125 + 1.5 * 0.1 * 4.0 * 0.5 * 2.0
+        );
         assert_eq!(hz.normal_force(0.25, -100.0), 0.0);
     }
 
@@ -348,7 +351,10 @@ mod tests {
         let hz2 = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-4).unwrap());
         for (a, b) in [(&lin, &lin2), (&lin, &hz), (&hz, &hz2)] {
             let err = PairLaw::between(a, b, 0.1).unwrap_err();
-            assert!(matches!(err, ContactError::IncompatibleMaterials(_)), "{err}");
+            assert!(
+                matches!(err, ContactError::IncompatibleMaterials(_)),
+                "{err}"
+            );
         }
         // Different Hertz moduli do mix.
         let hz3 = ForceLaw::Hertz(ViscoelasticHertz::new(2e9, 0.2, 0.0).unwrap());

@@ -218,7 +218,11 @@ impl ParameterBox {
                 let m_eff = 2.0 / 3.0 * PI * r.powi(3) * rho;
                 let omega = (k / m_eff).sqrt();
                 // m = ln(lω/v), Eq. (48); third axis ln c_dis = ln(γ/(m_eff ω)), Eq. (43).
-                (g_of(e), (2.0 * r * omega / v).ln(), (gamma / (m_eff * omega)).ln())
+                (
+                    g_of(e),
+                    (2.0 * r * omega / v).ln(),
+                    (gamma / (m_eff * omega)).ln(),
+                )
             }
             Self::Hertz(_) => {
                 let [y, nu, r, rho, a, v, e] = p.try_into().expect("seven Hertz parameters");
@@ -316,7 +320,11 @@ impl RectBounds {
 
 /// ln(1 + eˣ) without overflow or loss of digits.
 fn ln1p_exp(x: f64) -> f64 {
-    if x > 30.0 { x + (-x).exp() } else { x.exp().ln_1p() }
+    if x > 30.0 {
+        x + (-x).exp()
+    } else {
+        x.exp().ln_1p()
+    }
 }
 
 #[cfg(test)]

@@ -122,7 +122,11 @@ mod tests {
             sc.params.l_tilde.ln() - 0.5 * (1.0 / 0.09 - 1.0f64).ln(),
             max_relative = 1e-14
         );
-        assert_relative_eq!(sc.params.c_dis, 0.3 / (s.mass / 2.0 * omega), max_relative = 1e-14);
+        assert_relative_eq!(
+            sc.params.c_dis,
+            0.3 / (s.mass / 2.0 * omega),
+            max_relative = 1e-14
+        );
     }
 
     #[test]
@@ -152,8 +156,7 @@ mod tests {
         // Eq. (59).
         assert_relative_eq!(
             sc.params.c_dis.ln(),
-            (1.5 * a * v / pair.l).ln() + sc.params.l_tilde.ln()
-                - 0.5 * (1.0 + ratio * ratio).ln(),
+            (1.5 * a * v / pair.l).ln() + sc.params.l_tilde.ln() - 0.5 * (1.0 + ratio * ratio).ln(),
             max_relative = 1e-13
         );
     }

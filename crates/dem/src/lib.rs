@@ -1,0 +1,44 @@
+//! Force-based DEM (MD) of soft, frictionless spheres: the reference that eMD* must
+//! reproduce (Müller & Pöschel 2013, Sec. V).
+//!
+//! # Integrator
+//! Velocity Verlet: v(t+dt/2) = v(t) + (dt/2)·a(t); x(t+dt) = x(t) + dt·v(t+dt/2);
+//! a(t+dt) = F(x(t+dt), v*)/m; v(t+dt) = v(t+dt/2) + (dt/2)·a(t+dt). Consecutive
+//! half-kicks are fused into one, so a step streams over the particles twice (kick +
+//! drift, then forces).
+//!
+//! **Velocity-dependent damping.** The dashpot needs v(t+dt), which depends on the
+//! force being computed. The force uses the explicit predictor
+//! v* = v(t+dt/2) + (dt/2)·a(t) = v(t) + dt·a(t), which differs from v(t+dt) by O(dt²),
+//! so the scheme stays second order for smooth forces (the plain choice v(t+dt/2),
+//! used by LAMMPS's `fix nve/sphere`, is off by O(dt) and makes damped runs first
+//! order). At t = 0 the initial velocities are used.
+//!
+//! # Contacts
+//! The normal forces come from [`emdstar_contact::PairLaw`]: clipped to F ≥ 0, so a
+//! contact ends when the force reaches zero ([`ContactEnd::ForceZero`]), or unclipped
+//! until the overlap vanishes ([`ContactEnd::OverlapZero`], LAMMPS's convention).
+//! Walls are infinitely heavy flat partners ([`emdstar_contact::PairProperties::sphere_wall`]).
+//!
+//! # Neighbours
+//! A half Verlet list with a skin, built from a cell grid, and rebuilt only when the
+//! particles may have moved by more than half the skin: the bound Σ_steps max|v|·dt,
+//! no per-particle displacement bookkeeping. On every rebuild the particles are sorted
+//! by cell, for locality.
+//!
+//! # Determinism
+//! The force loop runs on rayon over fixed chunks of particles. Each chunk sets its
+//! particles' gravity and wall forces and records its pair forces; the pair forces
+//! are then added in chunk order. The sums therefore run in the same order whatever
+//! the number of threads, and results are bitwise identical.
+
+mod engine;
+mod forces;
+mod neighbour;
+mod options;
+
+pub use engine::Md;
+pub use forces::unclipped_force;
+pub use options::{
+    ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, shortest_contact_time,
+};

@@ -1,0 +1,341 @@
+//! The TOML config shared by all engines.
+//!
+//! ```toml
+//! t_end = 0.5                      # s
+//! gravity = [0.0, 0.0, -9.81]      # m/s², optional (default none)
+//! [material]
+//! model = "linear"                 # or "hertz"
+//! stiffness = 2000.0               # N/m  (linear)
+//! damping = 0.0                    # kg/s (linear)
+//! # young = 1e9                    # Pa   (hertz)
+//! # poisson = 0.4                  #      (hertz)
+//! # dissipation = 1e-3             # s: A of Brilliantov et al. (hertz)
+//! density = 1140.0                 # kg/m³ (or give `mass` per particle / gas)
+//! [[particles]]                    # an explicit list ...
+//! radius = 0.1
+//! position = [0.03, -0.5, 0.0]
+//! velocity = [1.25, 2.5, 0.0]      # optional, default at rest
+//! # mass = 4.0                     # optional, overrides the density
+//! # [gas]                          # ... or a generated gas
+//! # count = 32768
+//! # radius = 0.1
+//! # arrangement = "lattice"        # or "random" (non-overlapping)
+//! # packing_fraction = 0.01        # sizes a cubic periodic box (omit [box] then)
+//! # rms_speed = 1.0                # m/s, √⟨v²⟩, Maxwell, zero total momentum
+//! # seed = 1
+//! # [box]                          # absent: free space
+//! # size = [2.0, 2.0, 2.0]
+//! # lo = [-1.0, -1.0, -1.0]        # default [0, 0, 0]
+//! # periodic = [true, true, false] # default all periodic
+//! # [[walls]]
+//! # normal = [0.0, 0.0, 1.0]       # towards the particles
+//! # point = [0.0, 0.0, -1.0]
+//! # [output]
+//! # trajectory = "run.xyz"
+//! # trajectory_interval = 0.01     # s
+//! # log = "run.log"
+//! # log_interval = 0.001           # s
+//! # [md]                           # options of the MD engine only
+//! # dt = 1e-5                      # s (default: a fraction of the contact time)
+//! # contact_end = "force"          # or "overlap" (LAMMPS)
+//! # skin = 0.02                    # m
+//! ```
+//!
+//! Engines own their optional sections (`[md]` here); the rest describes the physical
+//! system and is engine-independent.
+
+use crate::error::{Result, SystemError, finite3, invalid, positive};
+use crate::geometry::{SimBox, Wall};
+use crate::init;
+use crate::state::{Particles, Species};
+use crate::system::System;
+use emdstar_contact::{ForceLaw, LinearDashpot, Model, Sphere, ViscoelasticHertz};
+use serde::Deserialize;
+
+/// The whole config file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Config {
+    /// End time in s.
+    pub t_end: f64,
+    /// Uniform acceleration in m/s².
+    pub gravity: Option<[f64; 3]>,
+    pub material: MaterialConfig,
+    #[serde(default)]
+    pub particles: Vec<ParticleConfig>,
+    pub gas: Option<GasConfig>,
+    #[serde(rename = "box")]
+    pub sim_box: Option<BoxConfig>,
+    #[serde(default)]
+    pub walls: Vec<WallConfig>,
+    pub output: Option<OutputConfig>,
+    /// Options of the force-based engine (see `emdstar-dem`).
+    pub md: Option<MdConfig>,
+}
+
+/// `[material]`: the force law and the density.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialConfig {
+    pub model: String,
+    pub stiffness: Option<f64>,
+    pub damping: Option<f64>,
+    pub young: Option<f64>,
+    pub poisson: Option<f64>,
+    pub dissipation: Option<f64>,
+    pub density: Option<f64>,
+}
+
+/// One `[[particles]]` entry.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleConfig {
+    pub radius: f64,
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    pub mass: Option<f64>,
+}
+
+/// How a generated gas is placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Arrangement {
+    /// Simple cubic lattice filling the box.
+    Lattice,
+    /// Uniformly random, without overlaps (random sequential addition).
+    Random,
+}
+
+/// `[gas]`: `count` equal spheres with Maxwell velocities.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasConfig {
+    pub count: usize,
+    pub radius: f64,
+    pub mass: Option<f64>,
+    pub arrangement: Arrangement,
+    pub packing_fraction: Option<f64>,
+    /// Root-mean-square speed √⟨v²⟩ in m/s.
+    pub rms_speed: f64,
+    #[serde(default)]
+    pub seed: u64,
+}
+
+/// `[box]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxConfig {
+    pub size: [f64; 3],
+    #[serde(default)]
+    pub lo: [f64; 3],
+    #[serde(default = "all_periodic")]
+    pub periodic: [bool; 3],
+}
+
+fn all_periodic() -> [bool; 3] {
+    [true; 3]
+}
+
+/// One `[[walls]]` entry.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallConfig {
+    pub normal: [f64; 3],
+    pub point: [f64; 3],
+}
+
+/// `[output]`: file names and intervals (the CLI may override them).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputConfig {
+    pub trajectory: Option<String>,
+    pub trajectory_interval: Option<f64>,
+    pub log: Option<String>,
+    pub log_interval: Option<f64>,
+}
+
+/// `[md]`: options of the force-based engine; the command line overrides them.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MdConfig {
+    /// Time step in s.
+    pub dt: Option<f64>,
+    /// "force" (default, Schwager & Pöschel) or "overlap" (LAMMPS).
+    pub contact_end: Option<String>,
+    /// Verlet-list skin in m.
+    pub skin: Option<f64>,
+}
+
+impl Config {
+    /// Parses TOML text; unknown keys are errors.
+    pub fn from_toml(text: &str) -> Result<Self> {
+        let config: Self = toml::from_str(text).map_err(|e| SystemError::Parse(e.to_string()))?;
+        positive("t_end", config.t_end)?;
+        Ok(config)
+    }
+
+    /// Reads and parses a config file.
+    pub fn from_file(path: &std::path::Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_toml(&text)
+    }
+
+    /// Builds and validates the system the config describes.
+    pub fn build(&self) -> Result<System> {
+        let material = self.material.force_law()?;
+        let gravity = finite3("gravity", self.gravity.unwrap_or([0.0; 3]))?;
+        let walls = self
+            .walls
+            .iter()
+            .enumerate()
+            .map(|(i, w)| w.wall(i))
+            .collect::<Result<Vec<_>>>()?;
+        let mut sim_box = self.sim_box.as_ref().map(BoxConfig::sim_box).transpose()?;
+        let mut species = Vec::new();
+        let mut particles = Particles::default();
+        match (&self.gas, self.particles.is_empty()) {
+            (Some(_), false) => {
+                return invalid!("give either [[particles]] or [gas], not both");
+            }
+            (None, true) => {
+                return invalid!("no particles: add [[particles]] entries or a [gas] section");
+            }
+            (None, false) => {
+                for (i, pc) in self.particles.iter().enumerate() {
+                    let s = self.species_of(&format!("particles[{i}]"), pc.radius, pc.mass)?;
+                    let index = species_index(&mut species, s);
+                    let x = finite3(&format!("particles[{i}].position"), pc.position)?;
+                    let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
+                    particles.push(&species, index, x, v);
+                }
+            }
+            (Some(gas), true) => {
+                let s = self.species_of("gas", gas.radius, gas.mass)?;
+                species.push(s);
+                let b = match (sim_box, gas.packing_fraction) {
+                    (Some(_), Some(_)) => {
+                        return invalid!(
+                            "gas.packing_fraction sizes a cubic periodic box, so it cannot be \
+                             combined with [box]; drop one of them"
+                        );
+                    }
+                    (Some(b), None) => b,
+                    (None, Some(eta)) => init::cubic_box(gas.count, gas.radius, eta)?,
+                    (None, None) => {
+                        return invalid!("a [gas] needs a [box] or a gas.packing_fraction");
+                    }
+                };
+                sim_box = Some(b);
+                init::generate_gas(gas, &species, &b, &mut particles)?;
+            }
+        }
+        let system = System {
+            particles,
+            species,
+            material,
+            sim_box,
+            walls,
+            gravity,
+        };
+        system.validate()?;
+        Ok(system)
+    }
+
+    /// The species of a sphere given by radius and either its own mass or the density.
+    fn species_of(&self, what: &str, radius: f64, mass: Option<f64>) -> Result<Species> {
+        positive(&format!("{what}.radius"), radius)?;
+        let sphere = match (mass, self.material.density) {
+            (Some(m), _) => Sphere::new(radius, positive(&format!("{what}.mass"), m)?)?,
+            (None, Some(rho)) => Sphere::from_density(radius, positive("material.density", rho)?)?,
+            (None, None) => {
+                return invalid!("{what} has no mass: set material.density or {what}.mass");
+            }
+        };
+        Ok(Species {
+            radius: sphere.radius,
+            mass: sphere.mass,
+        })
+    }
+}
+
+fn species_index(species: &mut Vec<Species>, s: Species) -> u32 {
+    match species.iter().position(|t| *t == s) {
+        Some(i) => i as u32,
+        None => {
+            species.push(s);
+            (species.len() - 1) as u32
+        }
+    }
+}
+
+impl MaterialConfig {
+    /// The force law, refusing keys that belong to the other model.
+    pub fn force_law(&self) -> Result<ForceLaw> {
+        let model: Model = self.model.parse().map_err(SystemError::Invalid)?;
+        let need = |name: &str, v: Option<f64>| {
+            v.ok_or_else(|| {
+                SystemError::Invalid(format!(
+                    "material.{name} is required by model = \"{model}\""
+                ))
+            })
+        };
+        let refuse = |name: &str, v: Option<f64>| match v {
+            Some(_) => {
+                invalid!("material.{name} does not belong to model = \"{model}\"; remove it")
+            }
+            None => Ok(()),
+        };
+        Ok(match model {
+            Model::Linear => {
+                refuse("young", self.young)?;
+                refuse("poisson", self.poisson)?;
+                refuse("dissipation", self.dissipation)?;
+                ForceLaw::Linear(LinearDashpot::new(
+                    need("stiffness", self.stiffness)?,
+                    self.damping.unwrap_or(0.0),
+                )?)
+            }
+            Model::Hertz => {
+                refuse("stiffness", self.stiffness)?;
+                refuse("damping", self.damping)?;
+                ForceLaw::Hertz(ViscoelasticHertz::new(
+                    need("young", self.young)?,
+                    need("poisson", self.poisson)?,
+                    self.dissipation.unwrap_or(0.0),
+                )?)
+            }
+        })
+    }
+}
+
+impl BoxConfig {
+    fn sim_box(&self) -> Result<SimBox> {
+        for k in 0..3 {
+            positive(&format!("box.size[{k}]"), self.size[k])?;
+        }
+        Ok(SimBox {
+            lo: finite3("box.lo", self.lo)?,
+            size: self.size,
+            periodic: self.periodic,
+        })
+    }
+}
+
+impl WallConfig {
+    fn wall(&self, i: usize) -> Result<Wall> {
+        let n = finite3(&format!("walls[{i}].normal"), self.normal)?;
+        let point = finite3(&format!("walls[{i}].point"), self.point)?;
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        if len == 0.0 {
+            return invalid!("walls[{i}].normal must not be the zero vector");
+        }
+        Ok(Wall {
+            normal: n.map(|c| c / len),
+            point,
+        })
+    }
+}

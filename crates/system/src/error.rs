@@ -1,0 +1,71 @@
+//! The one error type of system set-up and output.
+
+use emdstar_contact::ContactError;
+
+/// Why a system could not be built, read or written.
+///
+/// Every message names what was wrong and how to fix it.
+#[derive(Debug, thiserror::Error)]
+pub enum SystemError {
+    /// The config text is not valid TOML, or has unknown or mistyped keys.
+    #[error("config: {0}")]
+    Parse(String),
+    /// A value in the config is out of range or inconsistent with another.
+    #[error("config: {0}")]
+    Invalid(String),
+    /// A material or sphere parameter was rejected by the pair physics.
+    #[error("config: {0}")]
+    Contact(#[from] ContactError),
+    /// Two particles overlap at the start.
+    #[error(
+        "particles {i} and {j} overlap at the start: centre distance {distance:.6e} m < \
+         R_{i} + R_{j} = {contact:.6e} m; move them apart (particles are numbered from 0 in \
+         config order)"
+    )]
+    Overlap {
+        i: usize,
+        j: usize,
+        distance: f64,
+        contact: f64,
+    },
+    /// A particle lies outside the box (along a non-periodic axis) or behind a wall.
+    #[error("particle {i} at {position:?} {why}")]
+    Misplaced {
+        i: usize,
+        position: [f64; 3],
+        why: String,
+    },
+    /// A file could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+}
+
+/// Shorthand for results of this crate.
+pub type Result<T> = std::result::Result<T, SystemError>;
+
+/// `Err(Invalid)` with a formatted message.
+macro_rules! invalid {
+    ($($arg:tt)*) => { Err($crate::error::SystemError::Invalid(format!($($arg)*))) };
+}
+pub(crate) use invalid;
+
+/// Each component finite, else an error naming the quantity.
+pub fn finite3(name: &str, v: [f64; 3]) -> Result<[f64; 3]> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(v)
+    } else {
+        invalid!("{name} = {v:?} must have finite components (no NaN or infinity)")
+    }
+}
+
+/// `value` if finite and > 0, else an error naming the quantity.
+pub fn positive(name: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        invalid!("{name} = {value} must be a finite number greater than zero")
+    }
+}

@@ -1,0 +1,278 @@
+//! The simulation box, plane walls and a cell grid for neighbour searches.
+
+/// A cuboid box `[lo, lo + size)`; each axis is periodic or closed.
+///
+/// Along a closed axis particles must stay inside (walls keep them there); along a
+/// periodic axis positions wrap and distances follow the minimum-image convention.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimBox {
+    pub lo: [f64; 3],
+    pub size: [f64; 3],
+    pub periodic: [bool; 3],
+}
+
+impl SimBox {
+    /// The upper corner lo + size.
+    pub fn hi(&self) -> [f64; 3] {
+        std::array::from_fn(|k| self.lo[k] + self.size[k])
+    }
+
+    /// Box volume in m³.
+    pub fn volume(&self) -> f64 {
+        self.size.iter().product()
+    }
+
+    /// `p` with its periodic components wrapped into [lo, lo + size).
+    #[inline]
+    pub fn wrap(&self, mut p: [f64; 3]) -> [f64; 3] {
+        for k in 0..3 {
+            if self.periodic[k] {
+                let l = self.size[k];
+                let mut x = p[k] - self.lo[k];
+                x -= l * (x / l).floor();
+                // Round-off can give x == l for tiny negative inputs.
+                if x >= l {
+                    x -= l;
+                }
+                p[k] = self.lo[k] + x;
+            }
+        }
+        p
+    }
+
+    /// The shortest image of a separation vector `d` (minimum-image convention).
+    #[inline]
+    pub fn min_image(&self, mut d: [f64; 3]) -> [f64; 3] {
+        for k in 0..3 {
+            if self.periodic[k] {
+                let l = self.size[k];
+                d[k] -= l * (d[k] / l).round();
+            }
+        }
+        d
+    }
+
+    /// The closed axes along which `p` lies outside the box, if any.
+    pub fn outside_closed_axis(&self, p: [f64; 3]) -> Option<usize> {
+        (0..3).find(|&k| {
+            !self.periodic[k] && !(p[k] >= self.lo[k] && p[k] <= self.lo[k] + self.size[k])
+        })
+    }
+}
+
+/// A plane wall: an infinitely heavy flat partner filling the half-space behind it.
+///
+/// Particles live on the side the unit `normal` points to; a sphere of radius R at
+/// signed distance d = n·(x − point) overlaps the wall by ξ = R − d.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wall {
+    pub normal: [f64; 3],
+    pub point: [f64; 3],
+}
+
+impl Wall {
+    /// Signed distance of `p` from the wall plane, positive on the particles' side.
+    #[inline]
+    pub fn distance(&self, p: [f64; 3]) -> f64 {
+        (0..3)
+            .map(|k| self.normal[k] * (p[k] - self.point[k]))
+            .sum()
+    }
+}
+
+/// Particles binned into cuboid cells by a counting sort.
+///
+/// Along periodic axes the grid covers the box exactly and wraps; along closed axes it
+/// covers the given extent and positions beyond it fall into the border cells.
+#[derive(Debug, Clone, Default)]
+pub struct CellGrid {
+    pub lo: [f64; 3],
+    pub dims: [usize; 3],
+    pub cell_size: [f64; 3],
+    pub periodic: [bool; 3],
+    /// `cell_items[cell_start[c]..cell_start[c + 1]]` are the particles of cell c.
+    pub cell_start: Vec<u32>,
+    pub cell_items: Vec<u32>,
+    cell_of: Vec<u32>,
+}
+
+impl CellGrid {
+    /// An empty grid over `[lo, lo + extent]` with cells at least `min_cell` wide.
+    pub fn new(lo: [f64; 3], extent: [f64; 3], periodic: [bool; 3], min_cell: f64) -> Self {
+        let dims: [usize; 3] = std::array::from_fn(|k| {
+            let n = (extent[k] / min_cell).floor();
+            if n.is_finite() && n >= 1.0 {
+                (n as usize).min(1 << 20)
+            } else {
+                1
+            }
+        });
+        let cell_size = std::array::from_fn(|k| extent[k] / dims[k] as f64);
+        Self {
+            lo,
+            dims,
+            cell_size,
+            periodic,
+            ..Default::default()
+        }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.dims.iter().product()
+    }
+
+    /// True if the grid has no cells (never, after [`CellGrid::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Integer cell coordinates of a position.
+    #[inline]
+    pub fn coords(&self, p: [f64; 3]) -> [usize; 3] {
+        std::array::from_fn(|k| {
+            let c = ((p[k] - self.lo[k]) / self.cell_size[k]).floor();
+            if c < 0.0 {
+                if self.periodic[k] {
+                    self.dims[k] - 1
+                } else {
+                    0
+                }
+            } else {
+                (c as usize).min(self.dims[k] - 1)
+            }
+        })
+    }
+
+    /// Linear index of cell coordinates (x fastest).
+    #[inline]
+    pub fn index(&self, c: [usize; 3]) -> usize {
+        c[0] + self.dims[0] * (c[1] + self.dims[1] * c[2])
+    }
+
+    /// Bins `positions` (reusing the buffers).
+    pub fn bin(&mut self, positions: &[[f64; 3]]) {
+        let n_cells = self.len();
+        self.cell_start.clear();
+        self.cell_start.resize(n_cells + 1, 0);
+        self.cell_of.clear();
+        for &p in positions {
+            let c = self.index(self.coords(p)) as u32;
+            self.cell_of.push(c);
+            self.cell_start[c as usize + 1] += 1;
+        }
+        for c in 0..n_cells {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cell_items.clear();
+        self.cell_items.resize(positions.len(), 0);
+        let mut fill = self.cell_start.clone();
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            self.cell_items[fill[c as usize] as usize] = i as u32;
+            fill[c as usize] += 1;
+        }
+    }
+
+    /// The particles of cell `c`.
+    #[inline]
+    pub fn items(&self, c: usize) -> &[u32] {
+        &self.cell_items[self.cell_start[c] as usize..self.cell_start[c + 1] as usize]
+    }
+
+    /// Calls `f(cell, shift)` for the cells next to `c` (`c` itself included), where the
+    /// neighbour's particles appear at x + shift·size (periodic images). With `half`,
+    /// only `c` and the 13 cells of the forward half-stencil are visited, so that every
+    /// pair of distinct cells is visited once; that needs at least 3 cells along every
+    /// periodic axis. Without `half`, all distinct neighbour cells are visited once.
+    pub fn for_each_neighbour(&self, c: [usize; 3], half: bool, mut f: impl FnMut(usize, [i8; 3])) {
+        let mut seen = [usize::MAX; 27];
+        let mut n_seen = 0;
+        for dz in -1i64..=1 {
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    if half && (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx < 0)))) {
+                        continue;
+                    }
+                    let d = [dx, dy, dz];
+                    let mut cc = [0usize; 3];
+                    let mut shift = [0i8; 3];
+                    let mut valid = true;
+                    for k in 0..3 {
+                        let n = self.dims[k] as i64;
+                        let mut x = c[k] as i64 + d[k];
+                        if x < 0 || x >= n {
+                            if !self.periodic[k] {
+                                valid = false;
+                                break;
+                            }
+                            shift[k] = if x < 0 { -1 } else { 1 };
+                            x = x.rem_euclid(n);
+                        }
+                        cc[k] = x as usize;
+                    }
+                    if !valid {
+                        continue;
+                    }
+                    let idx = self.index(cc);
+                    if !half {
+                        if seen[..n_seen].contains(&idx) {
+                            continue;
+                        }
+                        seen[n_seen] = idx;
+                        n_seen += 1;
+                    }
+                    f(idx, shift);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_and_min_image() {
+        let b = SimBox {
+            lo: [-1.0, 0.0, 0.0],
+            size: [2.0, 1.0, 1.0],
+            periodic: [true, true, false],
+        };
+        assert_eq!(b.wrap([1.5, -0.25, 3.0]), [-0.5, 0.75, 3.0]);
+        assert_eq!(b.min_image([1.5, 0.75, 0.9]), [-0.5, -0.25, 0.9]);
+        assert_eq!(b.outside_closed_axis([0.0, 0.0, 1.5]), Some(2));
+        assert_eq!(b.outside_closed_axis([5.0, 0.0, 0.5]), None);
+    }
+
+    #[test]
+    fn half_stencil_visits_each_cell_pair_once() {
+        let g = CellGrid::new([0.0; 3], [4.0, 3.0, 5.0], [true, true, false], 1.0);
+        let mut count = std::collections::HashMap::new();
+        for z in 0..5 {
+            for y in 0..3 {
+                for x in 0..4 {
+                    let a = g.index([x, y, z]);
+                    g.for_each_neighbour([x, y, z], true, |b, _| {
+                        *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                    });
+                }
+            }
+        }
+        assert!(count.values().all(|&n| n == 1));
+        // Every full-stencil neighbour pair appears.
+        let mut full = 0;
+        for z in 0..5 {
+            for y in 0..3 {
+                for x in 0..4 {
+                    let a = g.index([x, y, z]);
+                    g.for_each_neighbour([x, y, z], false, |b, _| {
+                        assert!(count.contains_key(&(a.min(b), a.max(b))));
+                        full += 1;
+                    });
+                }
+            }
+        }
+        assert!(full > count.len());
+    }
+}

@@ -1,0 +1,225 @@
+//! Generated initial conditions: lattice or random placement, Maxwell velocities.
+
+use crate::config::{Arrangement, GasConfig};
+use crate::error::{Result, invalid, positive};
+use crate::geometry::SimBox;
+use crate::state::{Particles, Species};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
+
+/// The densest packing fraction of equal spheres, π/(3√2) (Kepler; Hales 2005).
+const CLOSE_PACKING: f64 = 0.740_480_489_693_061;
+
+/// The cubic periodic box holding `count` spheres of radius `radius` at packing
+/// fraction η = N·(4/3)πR³/V.
+pub fn cubic_box(count: usize, radius: f64, eta: f64) -> Result<SimBox> {
+    positive("gas.radius", radius)?;
+    if !(eta > 0.0 && eta < CLOSE_PACKING) {
+        return invalid!(
+            "gas.packing_fraction = {eta} is impossible: it must lie in (0, {CLOSE_PACKING:.4}) \
+             (close packing)"
+        );
+    }
+    let side = (count as f64 * 4.0 / 3.0 * PI * radius.powi(3) / eta).cbrt();
+    Ok(SimBox {
+        lo: [0.0; 3],
+        size: [side; 3],
+        periodic: [true; 3],
+    })
+}
+
+/// Places `gas.count` equal spheres in `sim_box` and gives them Maxwell velocities with
+/// zero total momentum and root-mean-square speed `gas.rms_speed`, reproducibly from
+/// `gas.seed` (ChaCha8).
+pub fn generate_gas(
+    gas: &GasConfig,
+    species: &[Species],
+    sim_box: &SimBox,
+    particles: &mut Particles,
+) -> Result<()> {
+    if gas.count == 0 {
+        return invalid!("gas.count must be at least 1");
+    }
+    let rms = gas.rms_speed;
+    if !(rms.is_finite() && rms >= 0.0) {
+        return invalid!("gas.rms_speed = {rms} must be a finite number ≥ 0");
+    }
+    if gas.count == 1 && rms > 0.0 {
+        return invalid!(
+            "a single particle with zero total momentum cannot move: set gas.rms_speed = 0 or count > 1"
+        );
+    }
+    let eta = gas.count as f64 * 4.0 / 3.0 * PI * gas.radius.powi(3) / sim_box.volume();
+    if eta >= CLOSE_PACKING {
+        return invalid!(
+            "{} spheres of radius {} m do not fit in the box (packing fraction {eta:.3})",
+            gas.count,
+            gas.radius
+        );
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(gas.seed);
+    let positions = match gas.arrangement {
+        Arrangement::Lattice => lattice(gas.count, gas.radius, sim_box)?,
+        Arrangement::Random => random_placement(gas.count, gas.radius, sim_box, &mut rng)?,
+    };
+    let velocities = maxwell_velocities(gas.count, rms, &mut rng);
+    for (x, v) in positions.into_iter().zip(velocities) {
+        particles.push(species, 0, x, v);
+    }
+    Ok(())
+}
+
+/// The first `count` sites of the simple cubic lattice with the coarsest spacing that
+/// holds them, each site in the middle of its lattice cell.
+fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
+    let mut a = (b.volume() / count as f64).cbrt();
+    let dims = loop {
+        let n: [usize; 3] = std::array::from_fn(|k| ((b.size[k] / a).floor() as usize).max(1));
+        if n.iter().product::<usize>() >= count {
+            break n;
+        }
+        a *= 0.999;
+    };
+    let spacing: [f64; 3] = std::array::from_fn(|k| b.size[k] / dims[k] as f64);
+    let min_spacing = spacing.iter().copied().fold(f64::INFINITY, f64::min);
+    if min_spacing < 2.0 * radius {
+        return invalid!(
+            "a simple cubic lattice of {count} spheres of radius {radius} m does not fit in the \
+             box (spacing {min_spacing:.4e} m < diameter); use a bigger box or \
+             arrangement = \"random\""
+        );
+    }
+    Ok((0..count)
+        .map(|i| {
+            let idx = [
+                i % dims[0],
+                (i / dims[0]) % dims[1],
+                i / (dims[0] * dims[1]),
+            ];
+            std::array::from_fn(|k| b.lo[k] + (idx[k] as f64 + 0.5) * spacing[k])
+        })
+        .collect())
+}
+
+/// Random sequential addition: uniform trial positions, rejected if they overlap a
+/// placed sphere (or leave the box along a closed axis).
+fn random_placement(
+    count: usize,
+    radius: f64,
+    b: &SimBox,
+    rng: &mut ChaCha8Rng,
+) -> Result<Vec<[f64; 3]>> {
+    let d = 2.0 * radius;
+    let dims: [usize; 3] = std::array::from_fn(|k| ((b.size[k] / d).floor() as usize).max(1));
+    let cell: [f64; 3] = std::array::from_fn(|k| b.size[k] / dims[k] as f64);
+    let mut cells: Vec<Vec<u32>> = vec![Vec::new(); dims.iter().product()];
+    let mut placed: Vec<[f64; 3]> = Vec::with_capacity(count);
+    let max_attempts = 1000 * count as u64 + 10_000;
+    let mut attempts = 0u64;
+    while placed.len() < count {
+        attempts += 1;
+        if attempts > max_attempts {
+            return invalid!(
+                "random placement stalled after {} of {count} spheres ({attempts} trials): the \
+                 packing fraction is too high for random sequential addition (it jams near \
+                 0.38); use arrangement = \"lattice\" or a bigger box",
+                placed.len()
+            );
+        }
+        let x: [f64; 3] = std::array::from_fn(|k| {
+            let u: f64 = rng.random();
+            if b.periodic[k] {
+                b.lo[k] + u * b.size[k]
+            } else {
+                b.lo[k] + radius + u * (b.size[k] - d).max(0.0)
+            }
+        });
+        let c: [usize; 3] =
+            std::array::from_fn(|k| (((x[k] - b.lo[k]) / cell[k]) as usize).min(dims[k] - 1));
+        let mut free = true;
+        'search: for dz in -1i64..=1 {
+            for dy in -1i64..=1 {
+                for dx in -1i64..=1 {
+                    let off = [dx, dy, dz];
+                    let mut cc = [0usize; 3];
+                    for k in 0..3 {
+                        let v = c[k] as i64 + off[k];
+                        let n = dims[k] as i64;
+                        if !b.periodic[k] && (v < 0 || v >= n) {
+                            continue;
+                        }
+                        cc[k] = v.rem_euclid(n) as usize;
+                    }
+                    for &j in &cells[cc[0] + dims[0] * (cc[1] + dims[1] * cc[2])] {
+                        let y = placed[j as usize];
+                        let r = b.min_image(std::array::from_fn(|k| x[k] - y[k]));
+                        if r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < d * d {
+                            free = false;
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        if free {
+            cells[c[0] + dims[0] * (c[1] + dims[1] * c[2])].push(placed.len() as u32);
+            placed.push(x);
+        }
+    }
+    Ok(placed)
+}
+
+/// Gaussian velocity components (Box–Muller), shifted to zero total momentum (all
+/// masses equal) and scaled to the exact root-mean-square speed `rms`.
+fn maxwell_velocities(count: usize, rms: f64, rng: &mut ChaCha8Rng) -> Vec<[f64; 3]> {
+    let mut gauss = || {
+        let u1: f64 = 1.0 - rng.random::<f64>(); // in (0, 1]
+        let u2: f64 = rng.random();
+        (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
+    };
+    let mut v: Vec<[f64; 3]> = (0..count).map(|_| [gauss(), gauss(), gauss()]).collect();
+    let mean: [f64; 3] =
+        std::array::from_fn(|k| v.iter().map(|x| x[k]).sum::<f64>() / count as f64);
+    let mut sum_sq = 0.0;
+    for x in &mut v {
+        for k in 0..3 {
+            x[k] -= mean[k];
+            sum_sq += x[k] * x[k];
+        }
+    }
+    let scale = if sum_sq > 0.0 {
+        rms / (sum_sq / count as f64).sqrt()
+    } else {
+        0.0
+    };
+    for x in &mut v {
+        for c in x.iter_mut() {
+            *c *= scale;
+        }
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn maxwell_velocities_have_zero_momentum_and_the_rms_speed() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let v = maxwell_velocities(1000, 2.0, &mut rng);
+        let p: [f64; 3] = std::array::from_fn(|k| v.iter().map(|x| x[k]).sum::<f64>());
+        assert!(p.iter().all(|c| c.abs() < 1e-12), "{p:?}");
+        let ms = v
+            .iter()
+            .map(|x| x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+            .sum::<f64>()
+            / 1000.0;
+        assert!((ms.sqrt() - 2.0).abs() < 1e-12);
+        // Gaussian components: kurtosis ⟨v⁴⟩/⟨v²⟩² = 3 within sampling error (~0.3 here).
+        let m2 = v.iter().map(|x| x[0] * x[0]).sum::<f64>() / 1000.0;
+        let m4 = v.iter().map(|x| x[0].powi(4)).sum::<f64>() / 1000.0;
+        assert!((m4 / (m2 * m2) - 3.0).abs() < 0.6, "{}", m4 / (m2 * m2));
+    }
+}

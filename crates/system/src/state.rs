@@ -1,0 +1,154 @@
+//! Particle state as a structure of arrays, and the species it refers to.
+
+use emdstar_contact::Sphere;
+
+/// One kind of sphere: every particle of a species has its radius and mass.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Species {
+    /// Radius in m.
+    pub radius: f64,
+    /// Mass in kg.
+    pub mass: f64,
+}
+
+impl Species {
+    /// The sphere of the pair physics.
+    pub fn sphere(&self) -> Sphere {
+        Sphere {
+            radius: self.radius,
+            mass: self.mass,
+        }
+    }
+}
+
+/// Particle state, one array per field (structure of arrays).
+///
+/// `radius` and `mass` duplicate the species' values so that engines read them
+/// without an indirection; [`Particles::push`] keeps them consistent. `id` is the
+/// particle's number in the config (engines may reorder particles for locality and use
+/// it to report in the original order).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Particles {
+    pub position: Vec<[f64; 3]>,
+    pub velocity: Vec<[f64; 3]>,
+    pub species: Vec<u32>,
+    pub radius: Vec<f64>,
+    pub mass: Vec<f64>,
+    pub id: Vec<u32>,
+}
+
+impl Particles {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    /// True if there are no particles.
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Appends a particle of species number `species_index` (see `species`).
+    pub fn push(
+        &mut self,
+        species: &[Species],
+        species_index: u32,
+        position: [f64; 3],
+        velocity: [f64; 3],
+    ) {
+        let s = species[species_index as usize];
+        self.id.push(self.position.len() as u32);
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.species.push(species_index);
+        self.radius.push(s.radius);
+        self.mass.push(s.mass);
+    }
+
+    /// Reorders every array so that new index k holds old particle `order[k]`.
+    pub fn permute(&mut self, order: &[u32]) {
+        permute(&mut self.position, order);
+        permute(&mut self.velocity, order);
+        permute(&mut self.species, order);
+        permute(&mut self.radius, order);
+        permute(&mut self.mass, order);
+        permute(&mut self.id, order);
+    }
+
+    /// Total mass Σm in kg.
+    pub fn total_mass(&self) -> f64 {
+        self.mass.iter().sum()
+    }
+
+    /// Total momentum Σ m v in kg m/s.
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for (m, v) in self.mass.iter().zip(&self.velocity) {
+            for k in 0..3 {
+                p[k] += m * v[k];
+            }
+        }
+        p
+    }
+
+    /// Kinetic energy Σ ½ m v² in J.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.mass
+            .iter()
+            .zip(&self.velocity)
+            .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
+            .sum()
+    }
+
+    /// Granular temperature T = Σ m |v − V|² / (3N) in J, with V the centre-of-mass
+    /// velocity (Brilliantov & Pöschel, Kinetic Theory of Granular Gases, Eq. 1.2 with
+    /// k_B = 1): the kinetic energy of the peculiar motion is (3/2) N T.
+    pub fn granular_temperature(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        let p = self.momentum();
+        let m = self.total_mass();
+        let v_cm = [p[0] / m, p[1] / m, p[2] / m];
+        let sum: f64 = self
+            .mass
+            .iter()
+            .zip(&self.velocity)
+            .map(|(m, v)| {
+                let d = [v[0] - v_cm[0], v[1] - v_cm[1], v[2] - v_cm[2]];
+                m * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            })
+            .sum();
+        sum / (3.0 * self.len() as f64)
+    }
+}
+
+/// Reorders `v` so that new index k holds old element `order[k]`.
+pub fn permute<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+    debug_assert_eq!(v.len(), order.len());
+    let old = std::mem::take(v);
+    v.extend(order.iter().map(|&i| old[i as usize]));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temperature_ignores_the_centre_of_mass_motion() {
+        let species = [Species {
+            radius: 0.1,
+            mass: 2.0,
+        }];
+        let mut p = Particles::default();
+        p.push(&species, 0, [0.0; 3], [1.0, 0.0, 0.0]);
+        p.push(&species, 0, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]);
+        // V = 2, peculiar speeds ±1: T = (2 + 2)/(3·2).
+        assert!((p.granular_temperature() - 4.0 / 6.0).abs() < 1e-15);
+        assert_eq!(p.momentum(), [8.0, 0.0, 0.0]);
+        assert_eq!(p.kinetic_energy(), 10.0);
+        p.permute(&[1, 0]);
+        assert_eq!(p.id, vec![1, 0]);
+        assert_eq!(p.velocity[0], [3.0, 0.0, 0.0]);
+    }
+}
