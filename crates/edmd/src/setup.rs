@@ -2,7 +2,7 @@
 
 use crate::error::{EngineError, Result};
 use crate::rules::{CentralRestitution, MorSource};
-use emdstar_contact::{PairLaw, PairProperties};
+use emdstar_contact::{ForceLaw, PairLaw, PairProperties, Sphere};
 
 /// The simulated region: a cuboid `[lo, lo + size)`, each axis periodic or closed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,6 +78,28 @@ impl Materials {
             pairs,
             walls,
         })
+    }
+
+    /// Materials of spheres `species` (one material `law` for all, walls included).
+    pub fn of_spheres(law: &ForceLaw, species: &[Sphere]) -> Result<Self> {
+        let mut pairs = Vec::with_capacity(species.len() * species.len());
+        for a in species {
+            for b in species {
+                let props = PairProperties::spheres(a, b);
+                pairs.push(PairEntry::new(
+                    PairLaw::same_material(law, props.r_eff)?,
+                    props,
+                )?);
+            }
+        }
+        let walls = species
+            .iter()
+            .map(|s| {
+                let props = PairProperties::sphere_wall(s);
+                PairEntry::new(PairLaw::same_material(law, props.r_eff)?, props)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Self::new(species.len(), pairs, walls)
     }
 
     #[inline]
