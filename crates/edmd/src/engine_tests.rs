@@ -138,8 +138,8 @@ fn transient_partners_are_not_tested_against_each_other() {
 fn approach(e: &mut Engine, speed: f64) {
     let r = crate::engine::sub(e.pos[0], e.pos[1]);
     let norm = crate::engine::dot(r, r).sqrt();
-    for k in 0..3 {
-        e.vel[0][k] -= 0.5 * speed * r[k] / norm;
-        e.vel[1][k] += 0.5 * speed * r[k] / norm;
+    for (k, rk) in r.iter().enumerate() {
+        e.vel[0][k] -= 0.5 * speed * rk / norm;
+        e.vel[1][k] += 0.5 * speed * rk / norm;
     }
 }
