@@ -19,12 +19,18 @@ struct Cli {
 enum Command {
     /// Matrix of restitution of one collision, solved exactly (or from a table).
     Mor(cmd::mor::MorArgs),
+    /// Numerical stability checks of the event-driven engine.
+    Check(cmd::check::CheckArgs),
+    /// Benchmarks (collisions or particle-steps per second on one core).
+    Bench(cmd::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
+        Command::Check(args) => cmd::check::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,3 +1,6 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
+pub mod bench;
+pub mod bench_edmd;
+pub mod check;
 pub mod mor;

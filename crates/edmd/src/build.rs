@@ -1,7 +1,7 @@
 //! Building an engine: input checks with clear errors, the cell grid, first predictions.
 
 use crate::cells::{CellGrid, NONE};
-use crate::engine::{Engine, dot, sub};
+use crate::engine::{Engine, EventRec, Kin, dot, sub};
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -148,6 +148,9 @@ fn region_of(s: &Setup, max_contact: f64) -> Result<Region> {
 }
 
 impl<Q: EventQueue> Engine<Q> {
+    /// Below this many particles the order is left as given.
+    const RESORT_MIN_PARTICLES: usize = 1000;
+
     /// Checks `setup` and builds an engine at time 0 with every first event predicted.
     ///
     /// Errors: inconsistent or non-finite input, overlapping particles, an impossible
@@ -188,21 +191,25 @@ impl<Q: EventQueue> Engine<Q> {
         let grid = CellGrid::new(region.lo, region.size, region.periodic, width, n);
         let has_gravity = setup.gravity.iter().any(|&g| g != 0.0);
         let mut engine = Self {
-            pos: setup.position,
-            vel: setup.velocity,
-            stamp: vec![0.0; n],
-            radius: setup.radius,
+            kin: (0..n)
+                .map(|i| Kin {
+                    pos: setup.position[i],
+                    stamp: 0.0,
+                    vel: setup.velocity[i],
+                    radius: setup.radius[i],
+                })
+                .collect(),
             mass: setup.mass,
+            id: (0..n as u32).collect(),
+            resort_every: if n >= Self::RESORT_MIN_PARTICLES {
+                20 * n as u64
+            } else {
+                0
+            },
+            since_resort: 0,
             species: setup.species,
-            counter: vec![0; n],
-            coll_time: vec![f64::INFINITY; n],
-            coll_partner: vec![NONE; n],
-            coll_counter: vec![0; n],
-            cross_time: vec![f64::INFINITY; n],
-            cross_face: vec![0; n],
-            pending_time: vec![f64::INFINITY; n],
+            ev: vec![EventRec::default(); n],
             pending_vel: vec![[0.0; 3]; n],
-            partner: vec![NONE; n],
             grid,
             queue: Q::new(n),
             time: 0.0,
@@ -215,14 +222,18 @@ impl<Q: EventQueue> Engine<Q> {
             zero_streak: 0,
         };
         for i in 0..n {
-            let x = engine.wrap(engine.pos[i]);
-            engine.pos[i] = x;
+            let x = engine.wrap(engine.kin[i].pos);
+            engine.kin[i].pos = x;
             let c = engine.grid.coords_of(x);
             engine.grid.insert(i, c);
         }
         engine.check_overlaps()?;
-        for i in 0..n {
-            engine.predict(i);
+        if engine.resort_every > 0 {
+            engine.resort();
+        } else {
+            for i in 0..n {
+                engine.predict(i);
+            }
         }
         Ok(engine)
     }
@@ -235,9 +246,9 @@ impl<Q: EventQueue> Engine<Q> {
                 while j != NONE {
                     let ju = j as usize;
                     if ju > i {
-                        let r = self.min_image(sub(self.pos[i], self.pos[ju]));
+                        let r = self.min_image(sub(self.kin[i].pos, self.kin[ju].pos));
                         let distance = dot(r, r).sqrt();
-                        let contact = self.radius[i] + self.radius[ju];
+                        let contact = self.kin[i].radius + self.kin[ju].radius;
                         if distance < contact {
                             return Err(EngineError::Overlap {
                                 i,

@@ -117,6 +117,11 @@ impl CellGrid {
         self.coords[i] = c;
     }
 
+    /// Empties every cell (particle coordinates are kept).
+    pub fn clear(&mut self) {
+        self.head.iter_mut().for_each(|h| *h = NONE);
+    }
+
     /// Takes particle `i` out of its cell.
     #[inline]
     pub fn remove(&mut self, i: usize) {

@@ -22,12 +22,12 @@ impl<Q: EventQueue> Engine<Q> {
     /// Runs the pending E^v of `i` early because a third party hits it (exception b),
     /// and with [`Interference::BothPartners`] that of its partner too.
     fn interrupt_transient(&mut self, i: usize, interference: Interference) {
-        let partner = self.partner[i] as usize;
+        let partner = self.ev[i].partner as usize;
         self.finish_transient(i);
         if interference == Interference::BothPartners
             && partner < self.len()
-            && self.pending_time[partner].is_finite()
-            && self.partner[partner] == i as u32
+            && self.ev[partner].pending_time.is_finite()
+            && self.ev[partner].partner == i as u32
         {
             self.finish_transient(partner);
             self.stats.early_partner_updates += 1;
@@ -44,7 +44,7 @@ impl<Q: EventQueue> Engine<Q> {
         };
         let mut clean = true;
         for &p in parties {
-            if self.pending_time[p].is_finite() {
+            if self.ev[p].pending_time.is_finite() {
                 clean = false;
                 self.interrupt_transient(p, interference);
             }
@@ -63,17 +63,17 @@ impl<Q: EventQueue> Engine<Q> {
         self.advance(i, now);
         self.advance(j, now);
         if !self.settle_transients(&[i, j]) {
-            let r = self.min_image(sub(self.pos[i], self.pos[j]));
-            if dot(r, sub(self.vel[i], self.vel[j])) >= 0.0 {
+            let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
+            if dot(r, sub(self.kin[i].vel, self.kin[j].vel)) >= 0.0 {
                 self.stats.interference_resolved += 1;
                 self.predict(i);
                 self.predict(j);
                 return Ok(false);
             }
         }
-        let r = self.min_image(sub(self.pos[i], self.pos[j]));
-        let v = sub(self.vel[i], self.vel[j]);
-        let contact = self.radius[i] + self.radius[j];
+        let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
+        let v = sub(self.kin[i].vel, self.kin[j].vel);
+        let contact = self.kin[i].radius + self.kin[j].radius;
         let distance = dot(r, r).sqrt();
         self.stats.record_impact(distance, contact);
         if distance < contact {
@@ -93,12 +93,12 @@ impl<Q: EventQueue> Engine<Q> {
         if let Some(eps) = eps {
             let (di, dj) = restitution_kick(r, v, mi, mj, eps);
             for k in 0..3 {
-                self.vel[i][k] += di[k];
-                self.vel[j][k] += dj[k];
+                self.kin[i].vel[k] += di[k];
+                self.kin[j].vel[k] += dj[k];
             }
         }
-        self.counter[i] = self.counter[i].wrapping_add(1);
-        self.counter[j] = self.counter[j].wrapping_add(1);
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+        self.ev[j].counter = self.ev[j].counter.wrapping_add(1);
         self.predict(i);
         self.predict(j);
         Ok(true)
@@ -123,17 +123,17 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.mor_fallbacks += u64::from(fallback);
         let l = entry.props.l;
         // Unwrap i next to j so that the pair is contiguous.
-        let pj = self.pos[j];
+        let pj = self.kin[j].pos;
         let pi: [f64; 3] = std::array::from_fn(|k| pj[k] + r[k]);
         let bodies = [
             Body {
                 position: vec3(pi),
-                velocity: vec3(self.vel[i]),
+                velocity: vec3(self.kin[i].vel),
                 mass: self.mass[i],
             },
             Body {
                 position: vec3(pj),
-                velocity: vec3(self.vel[j]),
+                velocity: vec3(self.kin[j].vel),
                 mass: self.mass[j],
             },
         ];
@@ -150,21 +150,21 @@ impl<Q: EventQueue> Engine<Q> {
         let end = self.time + out.duration;
         for (slot, &p) in [i, j].iter().enumerate() {
             self.place(p, new[slot]);
-            self.vel[p] = arr(&out.transient_velocity);
+            self.kin[p].vel = arr(&out.transient_velocity);
             let post = out.post_velocities[slot];
             self.pending_vel[p] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-            self.pending_time[p] = end;
+            self.ev[p].pending_time = end;
         }
-        self.partner[i] = j as u32;
-        self.partner[j] = i as u32;
+        self.ev[i].partner = j as u32;
+        self.ev[j].partner = i as u32;
         Ok(None)
     }
 
     /// Puts particle `p` at position `x` now (wrapped, re-binned).
     fn place(&mut self, p: usize, x: [f64; 3]) {
         let x = self.wrap(x);
-        self.pos[p] = x;
-        self.stamp[p] = self.time;
+        self.kin[p].pos = x;
+        self.kin[p].stamp = self.time;
         let c = self.grid.coords_of(x);
         self.grid.relocate(p, c);
     }
@@ -174,7 +174,7 @@ impl<Q: EventQueue> Engine<Q> {
     fn rotation_blocked(&self, parties: &[usize], new: &[[f64; 3]]) -> bool {
         let now = self.time;
         for (slot, &p) in parties.iter().enumerate() {
-            let (x_new, x_old) = (new[slot], self.pos[p]);
+            let (x_new, x_old) = (new[slot], self.kin[p].pos);
             let cells = self
                 .grid
                 .neighbourhood(self.grid.coords_of(self.wrap(x_new)));
@@ -184,7 +184,7 @@ impl<Q: EventQueue> Engine<Q> {
                     let ku = k as usize;
                     if !parties.contains(&ku) {
                         let (xk, _) = self.state_at(ku, now);
-                        let contact = self.radius[p] + self.radius[ku];
+                        let contact = self.kin[p].radius + self.kin[ku].radius;
                         let d_new = dot(
                             self.min_image(sub(x_new, xk)),
                             self.min_image(sub(x_new, xk)),
@@ -203,7 +203,7 @@ impl<Q: EventQueue> Engine<Q> {
             for wall in &self.walls {
                 let h_new = dot(wall.normal, sub(x_new, wall.point));
                 let h_old = dot(wall.normal, sub(x_old, wall.point));
-                if h_new < self.radius[p] && h_new < h_old {
+                if h_new < self.kin[p].radius && h_new < h_old {
                     return true;
                 }
             }
@@ -218,10 +218,10 @@ impl<Q: EventQueue> Engine<Q> {
         self.settle_transients(&[i]);
         let wall = self.walls[w];
         let n = wall.normal;
-        let vn = dot(n, self.vel[i]);
+        let vn = dot(n, self.kin[i].vel);
         self.stats.wall_collisions += 1;
-        let height = dot(n, sub(self.pos[i], wall.point));
-        if height < self.radius[i] {
+        let height = dot(n, sub(self.kin[i].pos, wall.point));
+        if height < self.kin[i].radius {
             self.stats.stabilising += 1;
         }
         let eps = if vn >= 0.0 {
@@ -238,10 +238,10 @@ impl<Q: EventQueue> Engine<Q> {
         if let Some(eps) = eps {
             let kick = (1.0 + eps) * vn;
             for (k, nk) in n.iter().enumerate() {
-                self.vel[i][k] -= kick * nk;
+                self.kin[i].vel[k] -= kick * nk;
             }
         }
-        self.counter[i] = self.counter[i].wrapping_add(1);
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
         self.predict(i);
         Ok(())
     }
@@ -262,8 +262,8 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.mor_fallbacks += u64::from(fallback);
         let wall = self.walls[w];
         let body = Body {
-            position: vec3(sub(self.pos[i], wall.point)),
-            velocity: vec3(self.vel[i]),
+            position: vec3(sub(self.kin[i].pos, wall.point)),
+            velocity: vec3(self.kin[i].vel),
             mass: self.mass[i],
         };
         let out = resolve_wall(&body, &vec3(wall.normal), entry.props.l, &m, scaled.time);
@@ -274,12 +274,12 @@ impl<Q: EventQueue> Engine<Q> {
             return Ok(Some(-m.eps_rdot));
         }
         self.place(i, new[0]);
-        self.vel[i] = arr(&out.transient_velocity);
+        self.kin[i].vel = arr(&out.transient_velocity);
         let post = out.post_velocities[0];
         let g = self.gravity;
         self.pending_vel[i] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-        self.pending_time[i] = self.time + out.duration;
-        self.partner[i] = (self.len() + w) as u32;
+        self.ev[i].pending_time = self.time + out.duration;
+        self.ev[i].partner = (self.len() + w) as u32;
         Ok(None)
     }
 }

@@ -31,28 +31,19 @@ pub enum Event {
 
 /// The event-driven engine for hard spheres, eMD and eMD*.
 pub struct Engine<Q: EventQueue = IndexedHeap> {
-    pub(crate) pos: Vec<[f64; 3]>,
-    pub(crate) vel: Vec<[f64; 3]>,
-    /// Time at which `pos` and `vel` are valid (delayed update).
-    pub(crate) stamp: Vec<f64>,
-    pub(crate) radius: Vec<f64>,
+    /// Kinematic state, one cache line per particle (what neighbour scans read).
+    pub(crate) kin: Vec<Kin>,
     pub(crate) mass: Vec<f64>,
+    /// Original particle number of each slot (slots are re-sorted in space).
+    pub(crate) id: Vec<u32>,
+    /// Events between spatial re-sorts (0: never), and events since the last.
+    pub(crate) resort_every: u64,
+    pub(crate) since_resort: u64,
     pub(crate) species: Vec<u32>,
-    /// Incremented whenever a particle's velocity or position jumps.
-    pub(crate) counter: Vec<u32>,
-    // The particle's own next events.
-    pub(crate) coll_time: Vec<f64>,
-    /// Partner index, or `n + w` for wall w.
-    pub(crate) coll_partner: Vec<u32>,
-    pub(crate) coll_counter: Vec<u32>,
-    pub(crate) cross_time: Vec<f64>,
-    /// axis·2 + (1 if moving up).
-    pub(crate) cross_face: Vec<u8>,
-    // eMD* transient: pending E^v time and velocity, and the partner it shares the
-    // transient with (`n + w` for a wall, NONE otherwise).
-    pub(crate) pending_time: Vec<f64>,
+    /// Each particle's own next events and counters, one cache line per particle.
+    pub(crate) ev: Vec<EventRec>,
+    /// eMD*: the velocity the pending E^v event applies.
     pub(crate) pending_vel: Vec<[f64; 3]>,
-    pub(crate) partner: Vec<u32>,
     pub(crate) grid: CellGrid,
     pub(crate) queue: Q,
     pub(crate) time: f64,
@@ -64,6 +55,53 @@ pub struct Engine<Q: EventQueue = IndexedHeap> {
     pub(crate) stats: Stats,
     /// Consecutive events at one instant (an inelastic collapse never ends).
     pub(crate) zero_streak: u64,
+}
+
+/// A particle's position and velocity, valid at time `stamp` (delayed update), and
+/// its radius: the data every pair test reads, packed into one cache line.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Kin {
+    pub pos: [f64; 3],
+    pub stamp: f64,
+    pub vel: [f64; 3],
+    pub radius: f64,
+}
+
+/// A particle's own next events (the queue holds the earliest of them).
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct EventRec {
+    /// Earliest predicted collision, with a particle or (`n + w`) wall w.
+    pub coll_time: f64,
+    /// Next cell crossing.
+    pub cross_time: f64,
+    /// eMD*: time of the pending E^v event (+∞ if none).
+    pub pending_time: f64,
+    pub coll_partner: u32,
+    /// The partner's `counter` when the collision was predicted.
+    pub coll_counter: u32,
+    /// Incremented whenever this particle's velocity or position jumps.
+    pub counter: u32,
+    /// eMD*: the particle (or `n + w` wall) sharing the transient, NONE otherwise.
+    pub partner: u32,
+    /// axis·2 + (1 if moving up).
+    pub cross_face: u8,
+}
+
+impl Default for EventRec {
+    fn default() -> Self {
+        Self {
+            coll_time: f64::INFINITY,
+            cross_time: f64::INFINITY,
+            pending_time: f64::INFINITY,
+            coll_partner: NONE,
+            coll_counter: 0,
+            counter: 0,
+            partner: NONE,
+            cross_face: 0,
+        }
+    }
 }
 
 #[inline]
@@ -107,12 +145,12 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// Number of particles.
     pub fn len(&self) -> usize {
-        self.pos.len()
+        self.kin.len()
     }
 
     /// True without particles.
     pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
+        self.kin.is_empty()
     }
 
     /// Current simulation time.
@@ -126,10 +164,10 @@ impl<Q: EventQueue> Engine<Q> {
     }
 
     /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
-        let dt = t - self.stamp[j];
-        let (p, v) = (self.pos[j], self.vel[j]);
+        let dt = t - self.kin[j].stamp;
+        let (p, v) = (self.kin[j].pos, self.kin[j].vel);
         if self.has_gravity {
             let g = self.gravity;
             (
@@ -144,11 +182,11 @@ impl<Q: EventQueue> Engine<Q> {
     /// Moves particle `i` on to time `t` (the delayed update).
     #[inline]
     pub(crate) fn advance(&mut self, i: usize, t: f64) {
-        if self.stamp[i] != t {
+        if self.kin[i].stamp != t {
             let (p, v) = self.state_at(i, t);
-            self.pos[i] = p;
-            self.vel[i] = v;
-            self.stamp[i] = t;
+            self.kin[i].pos = p;
+            self.kin[i].vel = v;
+            self.kin[i].stamp = t;
         }
     }
 
@@ -192,7 +230,7 @@ impl<Q: EventQueue> Engine<Q> {
     /// in their common velocity must not trigger a spurious stabilising collision.
     #[inline]
     pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
-        self.partner[i] == j as u32 && (j >= self.len() || self.partner[j] == i as u32)
+        self.ev[i].partner == j as u32 && (j >= self.len() || self.ev[j].partner == i as u32)
     }
 
     /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
@@ -200,9 +238,9 @@ impl<Q: EventQueue> Engine<Q> {
     #[inline]
     fn scan_cells(&mut self, i: usize, cells: &crate::cells::CellSet) {
         let now = self.time;
-        let (pi, vi) = (self.pos[i], self.vel[i]);
-        let ri = self.radius[i];
-        let mut best = self.coll_time[i];
+        let (pi, vi) = (self.kin[i].pos, self.kin[i].vel);
+        let ri = self.kin[i].radius;
+        let mut best = self.ev[i].coll_time;
         let mut best_j = NONE;
         for (cell, shift) in cells.iter() {
             // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
@@ -213,7 +251,7 @@ impl<Q: EventQueue> Engine<Q> {
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
                     let r = sub(pi_rel, pj);
-                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.radius[ju]);
+                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.kin[ju].radius);
                     if now + dt < best {
                         best = now + dt;
                         best_j = j;
@@ -223,9 +261,9 @@ impl<Q: EventQueue> Engine<Q> {
             }
         }
         if best_j != NONE {
-            self.coll_time[i] = best;
-            self.coll_partner[i] = best_j;
-            self.coll_counter[i] = self.counter[best_j as usize];
+            self.ev[i].coll_time = best;
+            self.ev[i].coll_partner = best_j;
+            self.ev[i].coll_counter = self.ev[best_j as usize].counter;
         }
     }
 
@@ -233,7 +271,7 @@ impl<Q: EventQueue> Engine<Q> {
     #[inline]
     fn predict_crossing(&mut self, i: usize) {
         let c = self.grid.coords[i];
-        let (p, v) = (self.pos[i], self.vel[i]);
+        let (p, v) = (self.kin[i].pos, self.kin[i].vel);
         let mut best = f64::INFINITY;
         let mut face = 0u8;
         for k in 0..3 {
@@ -254,16 +292,17 @@ impl<Q: EventQueue> Engine<Q> {
                 }
             }
         }
-        self.cross_time[i] = self.time + best;
-        self.cross_face[i] = face;
+        self.ev[i].cross_time = self.time + best;
+        self.ev[i].cross_face = face;
     }
 
     /// Pushes the particle's earliest own event to the queue.
     #[inline]
     pub(crate) fn schedule(&mut self, i: usize) {
-        let t = self.coll_time[i]
-            .min(self.cross_time[i])
-            .min(self.pending_time[i]);
+        let t = self.ev[i]
+            .coll_time
+            .min(self.ev[i].cross_time)
+            .min(self.ev[i].pending_time);
         self.queue.set(i, t);
     }
 
@@ -272,8 +311,8 @@ impl<Q: EventQueue> Engine<Q> {
     pub(crate) fn predict(&mut self, i: usize) {
         let now = self.time;
         self.advance(i, now);
-        self.coll_time[i] = f64::INFINITY;
-        self.coll_partner[i] = NONE;
+        self.ev[i].coll_time = f64::INFINITY;
+        self.ev[i].coll_partner = NONE;
         let cells = self.grid.neighbourhood(self.grid.coords[i]);
         self.scan_cells(i, &cells);
         let n = self.len();
@@ -282,16 +321,16 @@ impl<Q: EventQueue> Engine<Q> {
                 continue;
             }
             let wall = self.walls[w];
-            let h = dot(wall.normal, sub(self.pos[i], wall.point));
+            let h = dot(wall.normal, sub(self.kin[i].pos, wall.point));
             let dt = sphere_wall(
                 h,
-                dot(wall.normal, self.vel[i]),
+                dot(wall.normal, self.kin[i].vel),
                 dot(wall.normal, self.gravity),
-                self.radius[i],
+                self.kin[i].radius,
             );
-            if now + dt < self.coll_time[i] {
-                self.coll_time[i] = now + dt;
-                self.coll_partner[i] = (n + w) as u32;
+            if now + dt < self.ev[i].coll_time {
+                self.ev[i].coll_time = now + dt;
+                self.ev[i].coll_partner = (n + w) as u32;
             }
         }
         self.predict_crossing(i);
@@ -323,29 +362,36 @@ impl<Q: EventQueue> Engine<Q> {
         }
         self.time = t;
         self.stats.events += 1;
-        if self.pending_time[i] <= t {
+        self.since_resort += 1;
+        if self.resort_every > 0 && self.since_resort >= self.resort_every {
+            self.since_resort = 0;
+            self.resort();
+            self.stats.events -= 1;
+            return self.step();
+        }
+        if self.ev[i].pending_time <= t {
             self.velocity_event(i);
-            return Ok(Event::Velocity(i as u32));
+            return Ok(Event::Velocity(self.id[i]));
         }
-        if self.cross_time[i] < self.coll_time[i] {
+        if self.ev[i].cross_time < self.ev[i].coll_time {
             self.crossing(i);
-            return Ok(Event::Crossing(i as u32));
+            return Ok(Event::Crossing(self.id[i]));
         }
-        let j = self.coll_partner[i] as usize;
+        let j = self.ev[i].coll_partner as usize;
         let n = self.len();
         if j >= n {
             self.wall_collision(i, j - n)?;
-            return Ok(Event::Wall(i as u32, (j - n) as u32));
+            return Ok(Event::Wall(self.id[i], (j - n) as u32));
         }
-        if self.counter[j] != self.coll_counter[i] {
+        if self.ev[j].counter != self.ev[i].coll_counter {
             self.stats.stale += 1;
             self.predict(i);
-            return Ok(Event::Stale(i as u32));
+            return Ok(Event::Stale(self.id[i]));
         }
         if self.pair_collision(i, j)? {
-            Ok(Event::Collision(i as u32, j as u32))
+            Ok(Event::Collision(self.id[i], self.id[j]))
         } else {
-            Ok(Event::Resolved(i as u32, j as u32))
+            Ok(Event::Resolved(self.id[i], self.id[j]))
         }
     }
 
@@ -354,12 +400,12 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.crossings += 1;
         let now = self.time;
         self.advance(i, now);
-        let face = self.cross_face[i] as usize;
+        let face = self.ev[i].cross_face as usize;
         let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
         let mut c = self.grid.coords[i];
         let (next, shift) = self.grid.step(axis, c[axis], dir);
         c[axis] = next;
-        self.pos[i][axis] += shift;
+        self.kin[i].pos[axis] += shift;
         self.grid.relocate(i, c);
         let layer = self.grid.new_layer(c, axis, dir);
         self.scan_cells(i, &layer);
@@ -380,13 +426,13 @@ impl<Q: EventQueue> Engine<Q> {
         let now = self.time;
         self.advance(i, now);
         // The stored velocity includes gravity up to the E^v time; undo the rest.
-        let early = self.pending_time[i] - now;
+        let early = self.ev[i].pending_time - now;
         let g = self.gravity;
         let v = self.pending_vel[i];
-        self.vel[i] = std::array::from_fn(|k| v[k] - g[k] * early);
-        self.pending_time[i] = f64::INFINITY;
-        self.partner[i] = NONE;
-        self.counter[i] = self.counter[i].wrapping_add(1);
+        self.kin[i].vel = std::array::from_fn(|k| v[k] - g[k] * early);
+        self.ev[i].pending_time = f64::INFINITY;
+        self.ev[i].partner = NONE;
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
     }
 
     /// Runs until time `t_end` (all events before it), leaving every particle's
@@ -417,26 +463,46 @@ impl<Q: EventQueue> Engine<Q> {
     }
 
     /// Positions at the current time (call [`Engine::sync`] first).
-    pub fn positions(&self) -> &[[f64; 3]] {
-        &self.pos
+    pub fn positions(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.kin[i].pos)
+    }
+
+    /// `f(slot)` for every particle, listed by original particle number.
+    pub(crate) fn in_original_order<T: Copy + Default>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
+        let mut out = vec![T::default(); self.len()];
+        for (i, &id) in self.id.iter().enumerate() {
+            out[id as usize] = f(i);
+        }
+        out
     }
 
     /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
     /// eMD* transient show their centre-of-mass velocity.
-    pub fn velocities(&self) -> &[[f64; 3]] {
-        &self.vel
+    pub fn velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.kin[i].vel)
     }
 
-    /// Velocity of `i` now, counting a pending E^v as done (what the particle will
+    /// Velocity of slot `i` now, counting a pending E^v as done (what the particle will
     /// have once its collision is over; use for energy and momentum balances).
-    pub fn settled_velocity(&self, i: usize) -> [f64; 3] {
-        if self.pending_time[i].is_finite() {
-            let early = self.pending_time[i] - self.time;
+    pub(crate) fn settled_velocity(&self, i: usize) -> [f64; 3] {
+        if self.ev[i].pending_time.is_finite() {
+            let early = self.ev[i].pending_time - self.time;
             let v = self.pending_vel[i];
             std::array::from_fn(|k| v[k] - self.gravity[k] * early)
         } else {
             self.state_at(i, self.time).1
         }
+    }
+
+    /// Velocities with pending E^v velocities applied, by original particle number.
+    pub fn settled_velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.settled_velocity(i))
+    }
+
+    /// Sets how many events pass between spatial re-sorts of the particle order
+    /// (0 switches re-sorting off).
+    pub fn set_resort_interval(&mut self, events: u64) {
+        self.resort_every = events;
     }
 
     /// Kinetic energy Σ ½ m v² with pending E^v velocities applied.
@@ -459,11 +525,11 @@ impl<Q: EventQueue> Engine<Q> {
     }
 
     /// Radii and masses, in particle order.
-    pub fn radii(&self) -> &[f64] {
-        &self.radius
+    pub fn radii(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.kin[i].radius)
     }
 
-    pub fn masses(&self) -> &[f64] {
-        &self.mass
+    pub fn masses(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.mass[i])
     }
 }

@@ -27,7 +27,7 @@ fn three_body_overlap_resolves_by_a_stabilising_collision() {
     )
     .unwrap();
     // The invalid state of Fig. 4: C overlapping B by 1e-7 σ, receding at 1e-7.
-    e.pos[2][0] = 1.0 - 1e-7;
+    e.kin[2].pos[0] = 1.0 - 1e-7;
     for i in 0..3 {
         e.predict(i);
     }
@@ -73,7 +73,8 @@ fn without_the_stabilising_rule_the_pair_would_pass_through() {
 
 impl Engine {
     fn queue_is_empty_of_collisions(&self) -> bool {
-        (0..self.len()).all(|i| !self.coll_time[i].is_finite() && !self.pending_time[i].is_finite())
+        (0..self.len())
+            .all(|i| !self.ev[i].coll_time.is_finite() && !self.ev[i].pending_time.is_finite())
     }
 }
 
@@ -109,12 +110,12 @@ fn transient_partners_are_not_tested_against_each_other() {
     let mut e: Engine = Engine::new(setup, physics).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     let now = e.time();
-    assert!(e.pending_time[0] > now && e.pending_time[0] == e.pending_time[1]);
+    assert!(e.ev[0].pending_time > now && e.ev[0].pending_time == e.ev[1].pending_time);
     // Round-off-sized approach between the partners.
     approach(&mut e, 1e-13);
     e.predict(0);
     e.predict(1);
-    assert!(e.coll_time[0].is_infinite() && e.coll_time[1].is_infinite());
+    assert!(e.ev[0].coll_time.is_infinite() && e.ev[1].coll_time.is_infinite());
     // The next events are the two E^v at t* + τ.
     let mut next = vec![];
     while next.len() < 2 {
@@ -129,17 +130,17 @@ fn transient_partners_are_not_tested_against_each_other() {
     let mut e: Engine = Engine::new(setup, physics).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     approach(&mut e, 1e-13);
-    e.partner[0] = crate::cells::NONE;
+    e.ev[0].partner = crate::cells::NONE;
     e.predict(0);
-    assert!(e.coll_time[0] < e.pending_time[0] && e.coll_partner[0] == 1);
+    assert!(e.ev[0].coll_time < e.ev[0].pending_time && e.ev[0].coll_partner == 1);
 }
 
 /// Makes particles 0 and 1 approach along their line of centres by `speed`.
 fn approach(e: &mut Engine, speed: f64) {
-    let r = crate::engine::sub(e.pos[0], e.pos[1]);
+    let r = crate::engine::sub(e.kin[0].pos, e.kin[1].pos);
     let norm = crate::engine::dot(r, r).sqrt();
     for (k, rk) in r.iter().enumerate() {
-        e.vel[0][k] -= 0.5 * speed * rk / norm;
-        e.vel[1][k] += 0.5 * speed * rk / norm;
+        e.kin[0].vel[k] -= 0.5 * speed * rk / norm;
+        e.kin[1].vel[k] += 0.5 * speed * rk / norm;
     }
 }

@@ -18,6 +18,7 @@ mod engine;
 mod error;
 pub mod gas;
 pub mod queue;
+mod reorder;
 pub mod rules;
 mod setup;
 mod stats;

@@ -21,65 +21,67 @@ pub trait EventQueue {
     fn key(&self, id: usize) -> f64;
 }
 
-/// An indexed binary min-heap: O(log N) `set`, O(1) `peek`.
+/// An indexed binary min-heap: O(log N) `set`, O(1) `peek`. Keys are stored in the
+/// heap array next to their ids, so sifting touches one contiguous array.
 #[derive(Debug, Clone)]
 pub struct IndexedHeap {
-    /// heap[k] = id at heap slot k.
-    heap: Vec<u32>,
+    /// (key, id) at each heap slot.
+    heap: Vec<(f64, u32)>,
     /// slot[id] = heap slot of id.
     slot: Vec<u32>,
-    keys: Vec<f64>,
+}
+
+#[inline(always)]
+fn less(a: (f64, u32), b: (f64, u32)) -> bool {
+    a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
 }
 
 impl IndexedHeap {
-    #[inline]
-    fn less(&self, a: u32, b: u32) -> bool {
-        let (ka, kb) = (self.keys[a as usize], self.keys[b as usize]);
-        ka < kb || (ka == kb && a < b)
+    #[inline(always)]
+    fn place(&mut self, k: usize, item: (f64, u32)) {
+        self.heap[k] = item;
+        self.slot[item.1 as usize] = k as u32;
     }
 
     #[inline]
-    fn place(&mut self, k: usize, id: u32) {
-        self.heap[k] = id;
-        self.slot[id as usize] = k as u32;
-    }
-
-    fn sift_up(&mut self, mut k: usize) {
-        let id = self.heap[k];
+    fn sift_up(&mut self, mut k: usize, item: (f64, u32)) {
         while k > 0 {
             let parent = (k - 1) / 2;
             let p = self.heap[parent];
-            if !self.less(id, p) {
+            if !less(item, p) {
                 break;
             }
             self.place(k, p);
             k = parent;
         }
-        self.place(k, id);
+        self.place(k, item);
     }
 
-    fn sift_down(&mut self, mut k: usize) {
+    #[inline]
+    fn sift_down(&mut self, mut k: usize, item: (f64, u32)) {
         let n = self.heap.len();
-        let id = self.heap[k];
         loop {
             let left = 2 * k + 1;
             if left >= n {
                 break;
             }
             let right = left + 1;
-            let child = if right < n && self.less(self.heap[right], self.heap[left]) {
-                right
-            } else {
-                left
-            };
-            let c = self.heap[child];
-            if !self.less(c, id) {
+            let mut child = left;
+            let mut c = self.heap[left];
+            if right < n {
+                let r = self.heap[right];
+                if less(r, c) {
+                    child = right;
+                    c = r;
+                }
+            }
+            if !less(c, item) {
                 break;
             }
             self.place(k, c);
             k = child;
         }
-        self.place(k, id);
+        self.place(k, item);
     }
 }
 
@@ -87,33 +89,32 @@ impl EventQueue for IndexedHeap {
     fn new(len: usize) -> Self {
         assert!(len < u32::MAX as usize, "too many particles for u32 ids");
         Self {
-            heap: (0..len as u32).collect(),
+            heap: (0..len as u32).map(|i| (f64::INFINITY, i)).collect(),
             slot: (0..len as u32).collect(),
-            keys: vec![f64::INFINITY; len],
         }
     }
 
     #[inline]
     fn set(&mut self, id: usize, time: f64) {
-        let old = self.keys[id];
-        self.keys[id] = time;
         let k = self.slot[id] as usize;
+        let old = self.heap[k].0;
+        let item = (time, id as u32);
         if time < old {
-            self.sift_up(k);
+            self.sift_up(k, item);
         } else {
-            self.sift_down(k);
+            self.sift_down(k, item);
         }
     }
 
     #[inline]
     fn peek(&self) -> (usize, f64) {
-        let id = self.heap[0] as usize;
-        (id, self.keys[id])
+        let (t, id) = self.heap[0];
+        (id as usize, t)
     }
 
     #[inline]
     fn key(&self, id: usize) -> f64 {
-        self.keys[id]
+        self.heap[self.slot[id] as usize].0
     }
 }
 

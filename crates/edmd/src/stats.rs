@@ -27,6 +27,8 @@ pub struct Stats {
     pub interference_resolved: u64,
     /// MoR taken from the exact solver because the table did not cover it.
     pub mor_fallbacks: u64,
+    /// Spatial re-sorts of the particle order.
+    pub resorts: u64,
     /// Largest overlap (contact distance − centre distance) at a pair impact.
     pub max_impact_overlap: f64,
     /// Impact separations (|r| − σ) in units of σ·2⁻⁵², bins −8..=8 (outer bins

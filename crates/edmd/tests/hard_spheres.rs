@@ -54,6 +54,7 @@ fn cells_agree_with_one_big_cell() {
     // A dilute gas where a 4×4×4 grid and a single cell must give the same events.
     let setup = gas::fcc(4, 0.1, 1.0, 1.0, 1.0, 5);
     let side = setup.region.unwrap().size[0];
+    let fine_setup = setup.clone();
     let mut fine: Engine = Engine::new(setup.clone(), elastic()).unwrap();
     let mut coarse: Engine = Engine::with_cell_width(setup, elastic(), side).unwrap();
     let collisions = |e: &mut Engine, count: usize| {
@@ -65,11 +66,18 @@ fn cells_agree_with_one_big_cell() {
         }
         out
     };
+    // Frequent spatial re-sorting renumbers slots but must not change the physics.
+    let mut resorted: Engine = Engine::new(fine_setup, elastic()).unwrap();
+    resorted.set_resort_interval(97);
     let a = collisions(&mut fine, 300);
     let b = collisions(&mut coarse, 300);
-    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+    let c = collisions(&mut resorted, 300);
+    assert!(resorted.stats().resorts > 5);
+    for (k, ((x, y), z)) in a.iter().zip(&b).zip(&c).enumerate() {
         assert_eq!((x.0, x.1), (y.0, y.1), "collision {k}: {x:?} {y:?}");
         assert!((x.2 - y.2).abs() < 1e-9 * x.2.max(1.0), "{x:?} {y:?}");
+        assert_eq!((x.0, x.1), (z.0, z.1), "collision {k}: {x:?} {z:?}");
+        assert!((x.2 - z.2).abs() < 1e-9 * x.2.max(1.0), "{x:?} {z:?}");
     }
     assert!(fine.stats().crossings > 0 && coarse.stats().crossings > 0);
 }
