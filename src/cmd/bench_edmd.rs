@@ -100,7 +100,7 @@ fn emdstar_gas(per_particle: f64, mor: Box<dyn MorSource>) -> Result<(f64, Value
 }
 
 pub fn run(a: &BenchEdmdArgs) -> Result<()> {
-    if !(a.per_particle > 0.0) {
+    if a.per_particle.is_nan() || a.per_particle <= 0.0 {
         bail!("--per-particle must be positive");
     }
     let (hs_rate, hs) = hard_spheres(20, 0.10, a.per_particle)?;

@@ -125,7 +125,7 @@ fn bouncing_ball(a: &BouncingBallArgs) -> Result<()> {
 }
 
 fn inelastic(a: &InelasticArgs) -> Result<()> {
-    if a.cells == 0 || !(a.density > 0.0) {
+    if a.cells == 0 || a.density.is_nan() || a.density <= 0.0 {
         bail!("--cells and --density must be positive");
     }
     let setup = gas::fcc(a.cells, a.density, 1.0, 1.0, 1.0, a.seed);
