@@ -23,6 +23,8 @@ enum Command {
     Check(cmd::check::CheckArgs),
     /// Benchmarks (collisions or particle-steps per second on one core).
     Bench(cmd::bench::BenchArgs),
+    /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
+    Table(cmd::table::TableArgs),
 }
 
 fn main() -> ExitCode {
@@ -31,6 +33,7 @@ fn main() -> ExitCode {
         Command::Mor(args) => cmd::mor::run(&args),
         Command::Check(args) => cmd::check::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
+        Command::Table(args) => cmd::table::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

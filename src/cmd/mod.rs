@@ -4,3 +4,4 @@ pub mod bench;
 pub mod bench_edmd;
 pub mod check;
 pub mod mor;
+pub mod table;

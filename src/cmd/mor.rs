@@ -80,6 +80,11 @@ pub struct MorArgs {
     /// Print JSON instead of a readable summary.
     #[arg(long)]
     pub json: bool,
+    /// Answer from a MoR table instead of an exact solve: a table file, or `default`
+    /// for the table embedded in the program (tables/<model>.npz). Points outside the
+    /// table's box are an error, never extrapolated.
+    #[arg(long, value_name = "FILE|default")]
+    pub table: Option<String>,
 }
 
 /// What was computed, in the shape of the JSON output.
@@ -89,6 +94,8 @@ struct Answer {
     /// (T, X) in s and m, for physical input.
     scales: Option<(f64, f64)>,
     mor: Mor,
+    /// "exact" or "table".
+    source: &'static str,
 }
 
 pub fn run(args: &MorArgs) -> Result<()> {
@@ -104,12 +111,19 @@ pub fn run(args: &MorArgs) -> Result<()> {
             (s.params, Some((s.time, s.length)))
         }
     };
-    let mor = solve(model, &params).context("the collision ODE could not be solved")?;
+    let (mor, source) = match &args.table {
+        None => (
+            solve(model, &params).context("the collision ODE could not be solved")?,
+            "exact",
+        ),
+        Some(src) => (table_lookup(src, model, &params)?, "table"),
+    };
     let answer = Answer {
         model,
         params,
         scales,
         mor,
+        source,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&answer.to_json())?);
@@ -117,6 +131,27 @@ pub fn run(args: &MorArgs) -> Result<()> {
         print!("{}", answer.summary());
     }
     Ok(())
+}
+
+/// The MoR from a table file or the embedded default table.
+fn table_lookup(source: &str, model: Model, params: &ScaledParams) -> Result<Mor> {
+    let loaded;
+    let table = if source == "default" {
+        emdstar_table::default_table(model)?
+    } else {
+        loaded = emdstar_table::Table::open(source)
+            .with_context(|| format!("cannot load table {source}"))?;
+        &loaded
+    };
+    table.expect_model(model)?;
+    let m = table.lookup_scaled(params)?;
+    Ok(Mor {
+        eps_r: m.eps_r,
+        one_minus_eps_r: m.one_minus_eps_r,
+        eps_rdot: m.eps_rdot,
+        eps_phi: m.eps_phi,
+        eps_t: m.eps_t,
+    })
 }
 
 fn reject_physical(args: &MorArgs) -> Result<()> {
@@ -210,7 +245,7 @@ impl Answer {
         let m = &self.mor;
         json!({
             "model": self.model.name(),
-            "source": "exact",
+            "source": self.source,
             "scaled": {"l": self.params.l_tilde, "c_phi": self.params.c_phi,
                        "c_dis": self.params.c_dis, "T": t, "X": x},
             "rect": rect,
@@ -223,9 +258,17 @@ impl Answer {
         let p = &self.params;
         let m = &self.mor;
         let mut s = format!(
-            "{} collision, exact solve of the scaled ODE (Müller & Pöschel 2013)\n\
+            "{} collision, {} (Müller & Pöschel 2013)\n\
              scaled parameters   l̃ = {:.6e}   c_φ = {:.6e}   c_dis = {:.6e}\n",
-            self.model, p.l_tilde, p.c_phi, p.c_dis
+            self.model,
+            if self.source == "table" {
+                "table lookup"
+            } else {
+                "exact solve of the scaled ODE"
+            },
+            p.l_tilde,
+            p.c_phi,
+            p.c_dis
         );
         if let Some((t, x)) = self.scales {
             s += &format!("scales              T = {t:.6e} s   X = {x:.6e} m\n");

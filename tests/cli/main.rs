@@ -29,7 +29,13 @@ pub fn emdstar_error(args: &[&str]) -> String {
     let out = emdstar(args);
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(!out.status.success(), "emdstar {args:?} should fail");
-    assert!(!stderr.contains("panicked"), "emdstar {args:?} panicked: {stderr}");
-    assert!(!stderr.trim().is_empty(), "emdstar {args:?} failed silently");
+    assert!(
+        !stderr.contains("panicked"),
+        "emdstar {args:?} panicked: {stderr}"
+    );
+    assert!(
+        !stderr.trim().is_empty(),
+        "emdstar {args:?} failed silently"
+    );
     stderr
 }

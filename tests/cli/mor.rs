@@ -5,7 +5,12 @@ use crate::{emdstar_error, emdstar_json};
 use std::f64::consts::PI;
 
 const LINEAR: [&str; 6] = [
-    "mor", "--model", "linear", "--stiffness", "2000", "--damping",
+    "mor",
+    "--model",
+    "linear",
+    "--stiffness",
+    "2000",
+    "--damping",
 ];
 
 fn get(v: &serde_json::Value, path: &[&str]) -> f64 {
@@ -17,7 +22,9 @@ fn get(v: &serde_json::Value, path: &[&str]) -> f64 {
 
 #[test]
 fn scaled_linear_elastic_central_is_half_a_period() {
-    let v = emdstar_json(&["mor", "--model", "linear", "--scaled", "3", "0", "0", "--json"]);
+    let v = emdstar_json(&[
+        "mor", "--model", "linear", "--scaled", "3", "0", "0", "--json",
+    ]);
     assert_eq!(v["source"], "exact");
     assert_eq!(v["model"], "linear");
     assert!((get(&v, &["mor", "eps_t"]) - PI).abs() < 1e-9);
@@ -32,8 +39,22 @@ fn scaled_linear_elastic_central_is_half_a_period() {
 fn physical_central_dashpot_matches_schwager_poeschel() {
     // k = 2000 N/m, γ = 3 kg/s, R = 0.1 m, ρ = 1140 kg/m³: β < ω0/√2.
     let v = emdstar_json(&[
-        LINEAR[0], LINEAR[1], LINEAR[2], LINEAR[3], LINEAR[4], LINEAR[5], "3", "--radius",
-        "0.1", "--density", "1140", "--speed", "2", "--eccentricity", "0", "--json",
+        LINEAR[0],
+        LINEAR[1],
+        LINEAR[2],
+        LINEAR[3],
+        LINEAR[4],
+        LINEAR[5],
+        "3",
+        "--radius",
+        "0.1",
+        "--density",
+        "1140",
+        "--speed",
+        "2",
+        "--eccentricity",
+        "0",
+        "--json",
     ]);
     let m_eff = 4.0 / 3.0 * PI * 0.1f64.powi(3) * 1140.0 / 2.0;
     let w0 = (2000.0 / m_eff).sqrt();
@@ -48,9 +69,24 @@ fn physical_central_dashpot_matches_schwager_poeschel() {
 #[test]
 fn oblique_impact_reports_paper_coordinates() {
     let v = emdstar_json(&[
-        "mor", "--model", "hertz", "--young", "1e9", "--poisson", "0.4", "--dissipation",
-        "1e-4", "--radius", "0.01", "--density", "2500", "--speed", "1", "--eccentricity",
-        "0.5", "--json",
+        "mor",
+        "--model",
+        "hertz",
+        "--young",
+        "1e9",
+        "--poisson",
+        "0.4",
+        "--dissipation",
+        "1e-4",
+        "--radius",
+        "0.01",
+        "--density",
+        "2500",
+        "--speed",
+        "1",
+        "--eccentricity",
+        "0.5",
+        "--json",
     ]);
     for k in ["a", "b", "c"] {
         assert!(v["rect"][k].is_f64(), "rect.{k} missing: {v}");
@@ -76,8 +112,21 @@ fn readable_summary_without_json() {
 fn bad_input_is_refused_with_a_reason() {
     let base = |extra: &[&'static str]| {
         let mut a = vec![
-            "mor", "--model", "linear", "--stiffness", "2000", "--damping", "0", "--radius",
-            "0.1", "--density", "1140", "--speed", "5", "--eccentricity", "0.3",
+            "mor",
+            "--model",
+            "linear",
+            "--stiffness",
+            "2000",
+            "--damping",
+            "0",
+            "--radius",
+            "0.1",
+            "--density",
+            "1140",
+            "--speed",
+            "5",
+            "--eccentricity",
+            "0.3",
         ];
         a.extend_from_slice(extra);
         a
@@ -85,39 +134,142 @@ fn bad_input_is_refused_with_a_reason() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (base(&["--stiffness", "NaN"]), "stiffness"),
         (
-            vec!["mor", "--model", "linear", "--stiffness", "-1", "--damping", "0", "--radius", "0.1",
-                 "--density", "1140", "--speed", "5", "--eccentricity", "0.3"],
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "-1",
+                "--damping",
+                "0",
+                "--radius",
+                "0.1",
+                "--density",
+                "1140",
+                "--speed",
+                "5",
+                "--eccentricity",
+                "0.3",
+            ],
             "stiffness",
         ),
         (
-            vec!["mor", "--model", "linear", "--stiffness", "2000", "--damping", "0", "--radius", "0",
-                 "--density", "1140", "--speed", "5", "--eccentricity", "0.3"],
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "2000",
+                "--damping",
+                "0",
+                "--radius",
+                "0",
+                "--density",
+                "1140",
+                "--speed",
+                "5",
+                "--eccentricity",
+                "0.3",
+            ],
             "radius",
         ),
         (
-            vec!["mor", "--model", "linear", "--stiffness", "2000", "--damping", "0", "--radius", "0.1",
-                 "--density", "1140", "--speed", "0", "--eccentricity", "0.3"],
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "2000",
+                "--damping",
+                "0",
+                "--radius",
+                "0.1",
+                "--density",
+                "1140",
+                "--speed",
+                "0",
+                "--eccentricity",
+                "0.3",
+            ],
             "speed",
         ),
         (
-            vec!["mor", "--model", "linear", "--stiffness", "2000", "--damping", "0", "--radius", "0.1",
-                 "--density", "1140", "--speed", "5", "--eccentricity", "1"],
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "2000",
+                "--damping",
+                "0",
+                "--radius",
+                "0.1",
+                "--density",
+                "1140",
+                "--speed",
+                "5",
+                "--eccentricity",
+                "1",
+            ],
             "eccentricity",
         ),
         (
-            vec!["mor", "--model", "linear", "--stiffness", "2000", "--damping", "0", "--radius", "0.1",
-                 "--density", "1140", "--speed", "-5", "--eccentricity", "0.3"],
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "2000",
+                "--damping",
+                "0",
+                "--radius",
+                "0.1",
+                "--density",
+                "1140",
+                "--speed",
+                "-5",
+                "--eccentricity",
+                "0.3",
+            ],
             "speed",
         ),
-        (vec!["mor", "--model", "linear", "--stiffness", "2000", "--radius", "0.1"], "--damping"),
+        (
+            vec![
+                "mor",
+                "--model",
+                "linear",
+                "--stiffness",
+                "2000",
+                "--radius",
+                "0.1",
+            ],
+            "--damping",
+        ),
         (base(&["--young", "1e9"]), "--young"),
-        (vec!["mor", "--model", "plastic", "--scaled", "1", "1", "1"], "plastic"),
-        (vec!["mor", "--model", "hertz", "--scaled", "-1", "1", "1"], "l_tilde"),
-        (vec!["mor", "--model", "hertz", "--scaled", "1", "NaN", "1"], "c_phi"),
-        (vec!["mor", "--model", "hertz", "--scaled", "1", "1", "1", "--radius", "0.1"], "--radius"),
+        (
+            vec!["mor", "--model", "plastic", "--scaled", "1", "1", "1"],
+            "plastic",
+        ),
+        (
+            vec!["mor", "--model", "hertz", "--scaled", "-1", "1", "1"],
+            "l_tilde",
+        ),
+        (
+            vec!["mor", "--model", "hertz", "--scaled", "1", "NaN", "1"],
+            "c_phi",
+        ),
+        (
+            vec![
+                "mor", "--model", "hertz", "--scaled", "1", "1", "1", "--radius", "0.1",
+            ],
+            "--radius",
+        ),
     ];
     for (args, needle) in cases {
         let err = emdstar_error(&args);
-        assert!(err.contains(needle), "{args:?}: message {err:?} should name {needle}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: message {err:?} should name {needle}"
+        );
     }
 }

@@ -5,10 +5,7 @@
 use emdstar_contact::ParameterBox;
 
 fn main() {
-    for pbox in [
-        ParameterBox::paper_table_1(),
-        ParameterBox::paper_table_2(),
-    ] {
+    for pbox in [ParameterBox::paper_table_1(), ParameterBox::paper_table_2()] {
         let b = pbox.bounds().expect("the paper's boxes are valid");
         println!(
             "{:<6}  g = [{:.4}, {:.4}]  m = [{:.4}, {:.4}]  c = [{:.4}, {:.4}]",

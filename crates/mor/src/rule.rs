@@ -304,7 +304,12 @@ mod tests {
         mor.eps_phi = 0.0;
         let out = resolve(&before, 0.3, &mor, 0.01);
         for b in &out.after {
-            assert!(b.position.iter().chain(b.velocity.iter()).all(|x| x.is_finite()));
+            assert!(
+                b.position
+                    .iter()
+                    .chain(b.velocity.iter())
+                    .all(|x| x.is_finite())
+            );
         }
         let v1 = out.after[0].velocity - out.after[1].velocity;
         assert_relative_eq!(v1, dir * 3.0 * 0.7, max_relative = 1e-14);
@@ -326,7 +331,11 @@ mod tests {
             eps_t: 3.0,
         };
         let out = resolve_wall(&body, &n, 0.5, &mor, 0.1);
-        assert_relative_eq!(out.after[0].velocity, Vec3::new(0.3, 1.2, 0.1), max_relative = 1e-14);
+        assert_relative_eq!(
+            out.after[0].velocity,
+            Vec3::new(0.3, 1.2, 0.1),
+            max_relative = 1e-14
+        );
         assert_relative_eq!(
             out.after[0].position,
             Vec3::new(2.0 + 0.3 * 0.3, 0.495, -1.0 + 0.1 * 0.3),

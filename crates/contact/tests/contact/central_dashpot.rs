@@ -34,8 +34,14 @@ fn integrate(k: f64, gamma: f64, m: f64, t_guess: f64) -> (f64, f64) {
     let (mut t, mut x, mut v) = (0.0, 0.0, v0);
     loop {
         let (k1x, k1v) = (v, acc(x, v));
-        let (k2x, k2v) = (v + 0.5 * dt * k1v, acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v));
-        let (k3x, k3v) = (v + 0.5 * dt * k2v, acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v));
+        let (k2x, k2v) = (
+            v + 0.5 * dt * k1v,
+            acc(x + 0.5 * dt * k1x, v + 0.5 * dt * k1v),
+        );
+        let (k3x, k3v) = (
+            v + 0.5 * dt * k2v,
+            acc(x + 0.5 * dt * k2x, v + 0.5 * dt * k2v),
+        );
         let (k4x, k4v) = (v + dt * k3v, acc(x + dt * k3x, v + dt * k3v));
         let xn = x + dt / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
         let vn = v + dt / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
@@ -55,21 +61,42 @@ fn all_damping_regimes_agree_with_the_table_and_with_rk4() {
     // β/ω0: under-damped (two sub-regimes), the boundary 1/√2, between, critical, over.
     for ratio in [0.0f64, 0.05, 0.3, 1.0 / 2f64.sqrt(), 0.85, 1.0, 1.7, 6.0] {
         let gamma = 2.0 * m * w0 * ratio;
-        let got = LinearDashpot::new(k, gamma).unwrap().central_impact(m).unwrap();
+        let got = LinearDashpot::new(k, gamma)
+            .unwrap()
+            .central_impact(m)
+            .unwrap();
         if ratio != 1.0 {
             let (tc, eps) = table(k, gamma, m);
-            assert!((got.duration / tc - 1.0).abs() < 1e-12, "β/ω0 = {ratio}: {} vs {tc}", got.duration);
-            assert!((got.restitution / eps - 1.0).abs() < 1e-12, "β/ω0 = {ratio}");
+            assert!(
+                (got.duration / tc - 1.0).abs() < 1e-12,
+                "β/ω0 = {ratio}: {} vs {tc}",
+                got.duration
+            );
+            assert!(
+                (got.restitution / eps - 1.0).abs() < 1e-12,
+                "β/ω0 = {ratio}"
+            );
         }
         let (tc, eps) = integrate(k, gamma, m, got.duration);
-        assert!((got.duration / tc - 1.0).abs() < 1e-7, "β/ω0 = {ratio}: {} vs RK4 {tc}", got.duration);
-        assert!((got.restitution - eps).abs() < 1e-7, "β/ω0 = {ratio}: {} vs RK4 {eps}", got.restitution);
+        assert!(
+            (got.duration / tc - 1.0).abs() < 1e-7,
+            "β/ω0 = {ratio}: {} vs RK4 {tc}",
+            got.duration
+        );
+        assert!(
+            (got.restitution - eps).abs() < 1e-7,
+            "β/ω0 = {ratio}: {} vs RK4 {eps}",
+            got.restitution
+        );
     }
 }
 
 #[test]
 fn elastic_limit() {
-    let got = LinearDashpot::new(1.0, 0.0).unwrap().central_impact(1.0).unwrap();
+    let got = LinearDashpot::new(1.0, 0.0)
+        .unwrap()
+        .central_impact(1.0)
+        .unwrap();
     assert!((got.duration - PI).abs() < 1e-15);
     assert_eq!(got.restitution, 1.0);
 }
