@@ -5,6 +5,7 @@
 use crate::error::{EngineError, Result};
 use emdstar_contact::{LinearDashpot, Model, PairLaw, PairProperties, ScaledParams};
 use emdstar_mor::{Mor, solve};
+use emdstar_table::{Table, TableError};
 use std::collections::HashMap;
 
 /// Velocity change of a pair for the instantaneous collision rule with coefficient of
@@ -48,6 +49,93 @@ impl MorSource for ExactMor {
 
     fn name(&self) -> &'static str {
         "exact"
+    }
+}
+
+/// A matrix-of-restitution table (crate emdstar-table), optionally falling back to
+/// the exact solver for impacts outside its box (each fallback is counted).
+pub struct TableMorSource {
+    table: TableRef,
+    exact_fallback: bool,
+}
+
+enum TableRef {
+    Static(&'static Table),
+    Owned(Box<Table>),
+}
+
+impl TableMorSource {
+    /// The shipped default table of `model`.
+    pub fn default_for(model: Model, exact_fallback: bool) -> Result<Self> {
+        let table = emdstar_table::default_table(model)
+            .map_err(|e| EngineError::Invalid(format!("default {} table: {e}", model.name())))?;
+        Ok(Self {
+            table: TableRef::Static(table),
+            exact_fallback,
+        })
+    }
+
+    /// A table read from a file.
+    pub fn from_table(table: Table, exact_fallback: bool) -> Self {
+        Self {
+            table: TableRef::Owned(Box::new(table)),
+            exact_fallback,
+        }
+    }
+
+    fn table(&self) -> &Table {
+        match &self.table {
+            TableRef::Static(t) => t,
+            TableRef::Owned(t) => t,
+        }
+    }
+}
+
+impl MorSource for TableMorSource {
+    fn mor(&mut self, model: Model, p: &ScaledParams) -> Result<(Mor, bool)> {
+        let table = self.table();
+        if table.model() != model {
+            return Err(EngineError::Invalid(format!(
+                "the MoR table is for the {} model but the collision follows the {} model; \
+                 give a {} table",
+                table.model().name(),
+                model.name(),
+                model.name()
+            )));
+        }
+        match table.lookup_scaled(p) {
+            Ok(m) => Ok((
+                Mor {
+                    eps_r: m.eps_r,
+                    one_minus_eps_r: m.one_minus_eps_r,
+                    eps_rdot: m.eps_rdot,
+                    eps_phi: m.eps_phi,
+                    eps_t: m.eps_t,
+                },
+                false,
+            )),
+            Err(e @ (TableError::OutOfBox { .. } | TableError::NotTabulated(_))) => {
+                if self.exact_fallback {
+                    Ok((solve(model, p)?, true))
+                } else {
+                    Err(EngineError::OutsideTable {
+                        what: format!(
+                            "l̃ = {}, c_φ = {}, c_dis = {} ({e})",
+                            p.l_tilde, p.c_phi, p.c_dis
+                        ),
+                    })
+                }
+            }
+            Err(e) => Err(EngineError::Invalid(format!("MoR table lookup: {e}"))),
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        if self.exact_fallback {
+            "table+exact"
+        } else {
+            "table"
+        }
     }
 }
 

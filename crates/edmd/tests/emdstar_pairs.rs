@@ -4,7 +4,7 @@
 use emdstar_contact::{
     ForceLaw, LinearDashpot, PairLaw, PairProperties, Sphere, Vec3, ViscoelasticHertz,
 };
-use emdstar_edmd::rules::ExactMor;
+use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Event, Interference, Materials, Physics, Setup};
 use emdstar_mor::rule::{Body, exact_collision};
 
@@ -75,10 +75,10 @@ fn exact_after(
     )
 }
 
-fn emdstar(law: &ForceLaw, spheres: [Sphere; 2]) -> Physics {
+fn emdstar_with(law: &ForceLaw, spheres: [Sphere; 2], mor: Box<dyn MorSource>) -> Physics {
     Physics::EmdStar {
         materials: Materials::of_spheres(law, &spheres).unwrap(),
-        mor: Box::new(ExactMor),
+        mor,
         interference: Interference::HitOnly,
     }
 }
@@ -111,15 +111,24 @@ fn spheres(unequal: bool) -> [Sphere; 2] {
     [a, b]
 }
 
-#[test]
-fn emdstar_pair_collisions_equal_the_exact_solution() {
+/// Largest error of eMD* pair collisions against the exact solution, relative to the
+/// radius (positions) and the impact speed (velocities), over laws, masses and
+/// eccentricities.
+fn largest_pair_error(
+    source: impl Fn(&ForceLaw) -> Box<dyn MorSource>,
+    include: impl Fn(&ForceLaw, f64) -> bool,
+) -> f64 {
     let mut worst: f64 = 0.0;
     for (law, speed) in laws() {
         for unequal in [false, true] {
             for e in [0.0, 0.3, 0.8] {
+                if !include(&law, e) {
+                    continue;
+                }
                 let sp = spheres(unequal);
                 let (setup, t_contact) = approach(sp, speed, e, 0.01);
-                let mut engine: Engine = Engine::new(setup.clone(), emdstar(&law, sp)).unwrap();
+                let physics = emdstar_with(&law, sp, source(&law));
+                let mut engine: Engine = Engine::new(setup.clone(), physics).unwrap();
                 let mut kinds = vec![];
                 while engine.stats().velocity_events < 2 {
                     match engine.step().unwrap() {
@@ -134,7 +143,7 @@ fn emdstar_pair_collisions_equal_the_exact_solution() {
                 engine.run_until(t_end).unwrap();
                 engine.sync();
                 let (x, v, tau) = exact_after(&law, sp, &setup, t_contact, t_end);
-                assert!((kinds[2].1 - t_contact - tau).abs() < 1e-12 * tau.max(1.0));
+                worst = worst.max((kinds[2].1 - t_contact - tau).abs() / tau);
                 for i in 0..2 {
                     for k in 0..3 {
                         let dx = (engine.positions()[i][k] - x[i][k]).abs();
@@ -145,10 +154,63 @@ fn emdstar_pair_collisions_equal_the_exact_solution() {
             }
         }
     }
+    worst
+}
+
+#[test]
+fn emdstar_pair_collisions_equal_the_exact_solution() {
     // Round-off: both use the same exact MoR; the engine adds detection and the
     // delayed free flights.
+    let worst = largest_pair_error(|_| Box::new(ExactMor), |_, _| true);
     assert!(worst < 1e-12, "largest relative error {worst:e}");
-    eprintln!("largest eMD* pair error (relative to R and v): {worst:e}");
+    eprintln!("largest eMD* pair error, exact MoR (relative to R and v): {worst:e}");
+}
+
+#[test]
+fn emdstar_pair_collisions_with_tables_are_within_table_accuracy() {
+    let table = |law: &ForceLaw| -> Box<dyn MorSource> {
+        Box::new(TableMorSource::default_for(law.model(), false).unwrap())
+    };
+    let not_linear_central =
+        |law: &ForceLaw, e: f64| !(matches!(law, ForceLaw::Linear(_)) && e == 0.0);
+    let worst = largest_pair_error(table, not_linear_central);
+    // Measured 6.3e-4 (linear, l̃ ≈ 1 at the lower edge of the box); Hertz ≈ 1e-7.
+    assert!(worst < 1e-3, "largest relative error {worst:e}");
+    eprintln!("largest eMD* pair error, default tables (relative to R and v): {worst:e}");
+}
+
+/// The default linear table's central slice (a → −∞) gives ε_t = 3.2525 instead of π
+/// for elastic central impacts at l̃ ≈ 1.2 (`emdstar mor --model linear --scaled 1.16 0 0
+/// --table default`), so central linear eMD* collisions from the table are off by a few
+/// per cent. A defect of the table, reported to its owner; run with `--ignored`.
+#[test]
+#[ignore = "default linear table: central slice inaccurate at small l̃ (see doc comment)"]
+fn emdstar_central_linear_collisions_with_tables() {
+    let table = |law: &ForceLaw| -> Box<dyn MorSource> {
+        Box::new(TableMorSource::default_for(law.model(), false).unwrap())
+    };
+    let linear_central = |law: &ForceLaw, e: f64| matches!(law, ForceLaw::Linear(_)) && e == 0.0;
+    let worst = largest_pair_error(table, linear_central);
+    assert!(worst < 1e-5, "largest relative error {worst:e}");
+}
+
+#[test]
+fn impacts_outside_the_table_are_errors_unless_the_exact_fallback_is_chosen() {
+    // A very slow, very stiff impact: l̃ far beyond the Hertz box.
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e11, 0.3, 1e-6).unwrap());
+    let sp = spheres(false);
+    let (setup, _) = approach(sp, 1e-4, 0.5, 1e-6);
+    let table = |fallback| Box::new(TableMorSource::default_for(law.model(), fallback).unwrap());
+    let mut strict: Engine =
+        Engine::new(setup.clone(), emdstar_with(&law, sp, table(false))).unwrap();
+    let err = strict
+        .run_collisions(1)
+        .err()
+        .expect("outside the table's box");
+    assert!(err.to_string().contains("--mor exact"), "{err}");
+    let mut lenient: Engine = Engine::new(setup, emdstar_with(&law, sp, table(true))).unwrap();
+    lenient.run_collisions(1).unwrap();
+    assert_eq!(lenient.stats().mor_fallbacks, 1);
 }
 
 #[test]
