@@ -21,10 +21,14 @@ enum Command {
     Mor(cmd::mor::MorArgs),
     /// Numerical stability checks of the event-driven engine.
     Check(cmd::check::CheckArgs),
-    /// Benchmarks (collisions or particle-steps per second on one core).
-    Bench(cmd::bench::BenchArgs),
     /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
     Table(cmd::table::TableArgs),
+    /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
+    Pair(cmd::pair::PairArgs),
+    /// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
+    Run(cmd::run::RunArgs),
+    /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
+    Bench(cmd::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -32,8 +36,10 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
         Command::Check(args) => cmd::check::run(&args),
-        Command::Bench(args) => cmd::bench::run(&args),
         Command::Table(args) => cmd::table::run(&args),
+        Command::Pair(args) => cmd::pair::run(&args),
+        Command::Run(args) => cmd::run::run(&args),
+        Command::Bench(args) => cmd::bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

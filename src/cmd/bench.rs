@@ -1,25 +1,218 @@
-//! `emdstar bench`: throughput benchmarks, one per engine.
+//! `emdstar bench md`: particle-steps per second of the MD engine, beside LAMMPS.
 
-use anyhow::Result;
-use clap::{Args, Subcommand};
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use emdstar_dem::{ContactEnd, DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
+use emdstar_system::Config;
+use serde_json::{Value, json};
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
 
-/// Throughput benchmarks on one core.
+/// What to benchmark.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BenchTarget {
+    /// The MD engine on a dilute Hertz gas (issue 4): R = 0.1 m, ρ = 1140 kg/m³,
+    /// Y = 1 GPa, ν = 0.4, A = 0, rms speed 1 m/s, simple cubic start.
+    Md,
+    /// The event-driven engine (issue 5): elastic hard spheres (N = 32000, η = 0.10),
+    /// a dilute eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) and, with --scaling,
+    /// the hard-sphere rate for N from 10³ to 10⁶. Uses only the flags under
+    /// "event-driven".
+    Edmd,
+}
+
+/// Speed benchmarks. Prints one JSON object per case and a summary.
+///
+/// Example (the issue's figures, with LAMMPS side by side):
+///   emdstar bench md --eta 0.01 --eta 0.1 --threads 1 --threads 2 --lammps tools/lammps/hertz_gas.in
 #[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
 pub struct BenchArgs {
-    #[command(subcommand)]
-    pub which: BenchKind,
+    pub target: BenchTarget,
+    /// Particles (rounded to a cube, n³).
+    #[arg(long, default_value_t = 32768)]
+    pub n: usize,
+    /// Packing fractions (repeat the flag).
+    #[arg(long, default_values_t = [0.01, 0.1])]
+    pub eta: Vec<f64>,
+    /// Timed steps per case (after 10% warm-up).
+    #[arg(long, default_value_t = 3000)]
+    pub steps: u64,
+    /// Thread counts (repeat the flag).
+    #[arg(long, default_values_t = [1, 2])]
+    pub threads: Vec<usize>,
+    /// Verlet skin in units of R.
+    #[arg(long, default_value_t = 1.0)]
+    pub skin: f64,
+    /// Also run this LAMMPS input (tools/lammps/hertz_gas.in) with `lmp` on one core.
+    #[arg(long, value_name = "SCRIPT")]
+    pub lammps: Option<PathBuf>,
+    /// The LAMMPS binary.
+    #[arg(long, default_value = "lmp")]
+    pub lmp: String,
+    #[command(flatten, next_help_heading = "event-driven (bench edmd)")]
+    pub edmd: super::bench_edmd::BenchEdmdArgs,
 }
 
-#[derive(Subcommand, Debug)]
-pub enum BenchKind {
-    /// The event-driven engine: elastic hard spheres (N = 32000, η = 0.10), a dilute
-    /// eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) and, with --scaling, the
-    /// hard-sphere rate for N from 10³ to 10⁶.
-    Edmd(super::bench_edmd::BenchEdmdArgs),
-}
+const RADIUS: f64 = 0.1;
+const DENSITY: f64 = 1140.0;
+const RMS_SPEED: f64 = 1.0;
 
 pub fn run(args: &BenchArgs) -> Result<()> {
-    match &args.which {
-        BenchKind::Edmd(a) => super::bench_edmd::run(a),
+    if let BenchTarget::Edmd = args.target {
+        return super::bench_edmd::run(&args.edmd);
     }
+    let side = (args.n as f64).cbrt().round() as usize;
+    if side < 3 || args.steps == 0 {
+        bail!("need --n ≥ 27 and --steps ≥ 1");
+    }
+    let n = side * side * side;
+    let mut rows = Vec::new();
+    for &eta in &args.eta {
+        let text = format!(
+            "t_end = 1.0\n[material]\nmodel = \"hertz\"\nyoung = 1e9\npoisson = 0.4\n\
+             dissipation = 0.0\ndensity = {DENSITY}\n[gas]\ncount = {n}\nradius = {RADIUS}\n\
+             arrangement = \"lattice\"\npacking_fraction = {eta}\nrms_speed = {RMS_SPEED}\nseed = 1\n"
+        );
+        let config = Config::from_toml(&text)?;
+        let system = config.build()?;
+        let tc = shortest_contact_time(&system, 0.0)?.context("the gas moves")?;
+        let dt = DEFAULT_DT_FRACTION * tc;
+        let opts = MdOptions {
+            dt,
+            contact_end: ContactEnd::ForceZero,
+            skin: Some(args.skin * RADIUS),
+        };
+        let box_side = system.sim_box.expect("gas has a box").size[0];
+        for &threads in &args.threads {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?;
+            let row = pool.install(|| -> Result<Value> {
+                let mut md = Md::new(system.clone(), opts, 0.0)?;
+                md.advance((args.steps / 10).max(1))?;
+                let (steps0, rebuilds0) = (md.steps(), md.rebuilds());
+                let (start, cpu0) = (Instant::now(), cpu_seconds());
+                md.advance(args.steps)?;
+                let wall = start.elapsed().as_secs_f64();
+                let cpu = cpu_seconds() - cpu0;
+                let th = md.thermo();
+                Ok(json!({
+                    "code": "emdstar", "eta": eta, "n": n, "threads": threads, "dt": dt,
+                    "steps": md.steps() - steps0, "rebuilds": md.rebuilds() - rebuilds0,
+                    "contacts_at_end": th.contacts, "wall_time_s": wall, "cpu_time_s": cpu,
+                    "particle_steps_per_s": n as f64 * args.steps as f64 / wall,
+                    "particle_steps_per_cpu_s": n as f64 * args.steps as f64 / cpu,
+                }))
+            })?;
+            println!("{row}");
+            rows.push(row);
+        }
+        if let Some(script) = &args.lammps {
+            let row = run_lammps(args, script, side, box_side / side as f64, dt, eta)?;
+            println!("{row}");
+            rows.push(row);
+        }
+    }
+    let rate = |code: &str, eta: f64, threads: usize, key: &str| {
+        rows.iter()
+            .find(|r| r["code"] == code && r["eta"] == eta && r["threads"] == threads)
+            .and_then(|r| r[key].as_f64())
+    };
+    let ratios: Vec<Value> = args
+        .eta
+        .iter()
+        .filter_map(|&eta| {
+            let wall = rate("emdstar", eta, 1, "particle_steps_per_s")? / rate("lammps", eta, 1, "particle_steps_per_s")?;
+            let cpu = rate("emdstar", eta, 1, "particle_steps_per_cpu_s")? / rate("lammps", eta, 1, "particle_steps_per_cpu_s")?;
+            Some(json!({"eta": eta, "emdstar_over_lammps_1_core_wall": wall, "emdstar_over_lammps_1_core_cpu": cpu}))
+        })
+        .collect();
+    println!("{}", json!({"summary": ratios}));
+    Ok(())
+}
+
+/// Runs the LAMMPS input with the same gas, time step and skin and reads its loop time.
+fn run_lammps(
+    args: &BenchArgs,
+    script: &PathBuf,
+    side: usize,
+    spacing: f64,
+    dt: f64,
+    eta: f64,
+) -> Result<Value> {
+    let n = side * side * side;
+    let mass = 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3) * DENSITY;
+    // velocity create T: (3/2) k_B T = ½ m ⟨v²⟩ with k_B in SI units.
+    let temp = mass * RMS_SPEED * RMS_SPEED / (3.0 * 1.380_649e-23);
+    let var = |name: &str, value: String| vec!["-var".to_string(), name.to_string(), value];
+    let mut cmd = Command::new(&args.lmp);
+    cmd.env("OMP_NUM_THREADS", "1")
+        .arg("-in")
+        .arg(script)
+        .args(["-log", "none"]);
+    let mut vars = Vec::new();
+    vars.extend(var("side", side.to_string()));
+    vars.extend(var("spacing", format!("{spacing:e}")));
+    vars.extend(var("diameter", format!("{:e}", 2.0 * RADIUS)));
+    vars.extend(var("density", format!("{DENSITY:e}")));
+    vars.extend(var("temp", format!("{temp:e}")));
+    vars.extend(var("dt", format!("{dt:e}")));
+    vars.extend(var("skin", format!("{:e}", args.skin * RADIUS)));
+    vars.extend(var("warmup", (args.steps / 10).max(1).to_string()));
+    vars.extend(var("steps", args.steps.to_string()));
+    let out_file = std::env::temp_dir().join(format!("emdstar_lammps_{}.txt", std::process::id()));
+    cmd.args(&vars).args(["-screen"]).arg(&out_file);
+    let status = cmd
+        .status()
+        .with_context(|| format!("running {} (is LAMMPS installed?)", args.lmp))?;
+    let text = std::fs::read_to_string(&out_file).unwrap_or_default();
+    let _ = std::fs::remove_file(&out_file);
+    if !status.success() {
+        bail!(
+            "{} failed ({status}): {}",
+            args.lmp,
+            text.lines().rev().take(5).collect::<Vec<_>>().join(" | ")
+        );
+    }
+    // The last "Loop time of X on P procs for S steps with N atoms" is the timed run.
+    let line = text
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("Loop time of"))
+        .context("no 'Loop time' line in the LAMMPS output")?;
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let wall: f64 = words[3].parse()?;
+    let steps: f64 = words[8].parse()?;
+    // "99.5% CPU use with 1 MPI tasks x 1 OpenMP threads" after the timed loop.
+    let cpu_share: f64 = text
+        .lines()
+        .rev()
+        .find(|l| l.contains("% CPU use"))
+        .and_then(|l| l.split('%').next()?.trim().parse().ok())
+        .context("no '% CPU use' line in the LAMMPS output")?;
+    let cpu = wall * cpu_share / 100.0;
+    Ok(json!({
+        "code": "lammps", "eta": eta, "n": n, "threads": 1, "dt": dt, "steps": steps,
+        "wall_time_s": wall, "cpu_time_s": cpu, "particle_steps_per_s": n as f64 * steps / wall,
+        "particle_steps_per_cpu_s": n as f64 * steps / cpu,
+    }))
+}
+
+/// CPU time of this process (all threads) in s, from /proc/self/task/*/schedstat (ns).
+fn cpu_seconds() -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return f64::NAN;
+    };
+    let mut ns = 0u64;
+    for task in tasks.flatten() {
+        let text = std::fs::read_to_string(task.path().join("schedstat")).unwrap_or_default();
+        ns += text
+            .split_whitespace()
+            .next()
+            .and_then(|w| w.parse::<u64>().ok())
+            .unwrap_or(0);
+    }
+    ns as f64 * 1e-9
 }

@@ -2,8 +2,8 @@
 
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
-use emdstar_contact::{ForceLaw, Sphere, ViscoelasticHertz};
-use emdstar_edmd::rules::{ExactMor, MorSource};
+use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
+use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, gas};
 use serde_json::{Value, json};
 use std::f64::consts::PI;
@@ -12,6 +12,8 @@ use std::time::Instant;
 /// Where the eMD* benchmark takes its MoR from.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum MorArg {
+    /// The default table (embedded), out-of-box impacts solved exactly and counted.
+    Table,
     /// The exact solver, one ODE solve per collision.
     Exact,
 }
@@ -21,6 +23,9 @@ pub struct BenchEdmdArgs {
     /// Collisions per particle to time (after as many to equilibrate).
     #[arg(long, default_value_t = 20.0)]
     pub per_particle: f64,
+    /// Packing fraction of the hard-sphere benchmark.
+    #[arg(long, default_value_t = 0.10)]
+    pub hs_eta: f64,
     /// Also measure the hard-sphere rate for N = 864 … 1 000 188.
     #[arg(long)]
     pub scaling: bool,
@@ -28,7 +33,7 @@ pub struct BenchEdmdArgs {
     #[arg(long)]
     pub hard_spheres_only: bool,
     /// MoR source of the eMD* gas.
-    #[arg(long, value_enum, default_value_t = MorArg::Exact)]
+    #[arg(long, value_enum, default_value_t = MorArg::Table)]
     pub mor: MorArg,
     /// Print JSON.
     #[arg(long)]
@@ -103,14 +108,18 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.per_particle.is_nan() || a.per_particle <= 0.0 {
         bail!("--per-particle must be positive");
     }
-    let (hs_rate, hs) = hard_spheres(20, 0.10, a.per_particle)?;
+    let (hs_rate, hs) = hard_spheres(20, a.hs_eta, a.per_particle)?;
     if !a.json {
-        println!("elastic hard spheres, N = 32000, η = 0.10: {hs_rate:.3e} collisions/s");
+        println!(
+            "elastic hard spheres, N = 32000, η = {}: {hs_rate:.3e} collisions/s",
+            a.hs_eta
+        );
     }
     let mut out = json!({ "hard_spheres": hs });
     if !a.hard_spheres_only {
         let mor: Box<dyn MorSource> = match a.mor {
             MorArg::Exact => Box::new(ExactMor),
+            MorArg::Table => Box::new(TableMorSource::default_for(Model::Hertz, true)?),
         };
         let (rate, v) = emdstar_gas(a.per_particle, mor)?;
         if !a.json {
@@ -128,7 +137,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.scaling {
         let mut rows = vec![];
         for cells in [6, 10, 22, 46, 63] {
-            let (rate, v) = hard_spheres(cells, 0.10, a.per_particle.min(10.0))?;
+            let (rate, v) = hard_spheres(cells, a.hs_eta, a.per_particle.min(10.0))?;
             if !a.json {
                 println!("  N = {:>8}: {rate:.3e} collisions/s", v["particles"]);
             }

@@ -3,5 +3,8 @@
 pub mod bench;
 pub mod bench_edmd;
 pub mod check;
+pub mod engine;
 pub mod mor;
+pub mod pair;
+pub mod run;
 pub mod table;

@@ -39,7 +39,7 @@ impl From<ModelArg> for Model {
 ///   emdstar mor --model hertz --young 1e9 --poisson 0.4 --dissipation 1e-4 --radius 0.01 --density 2500 --speed 1 --eccentricity 0.5 --json
 ///   emdstar mor --model hertz --scaled 100 50 0.1
 #[derive(Args, Debug)]
-#[command(verbatim_doc_comment)]
+#[command(verbatim_doc_comment, allow_negative_numbers = true)]
 pub struct MorArgs {
     /// Force model.
     #[arg(long, value_enum)]

@@ -1,6 +1,6 @@
 //! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
 
-use crate::forces::{Kernel, PairForce};
+use crate::forces::{Contacts, PairForce, WALL};
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
 use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, shortest_contact_time};
 use emdstar_contact::PairLaw;
@@ -22,14 +22,32 @@ pub struct Md {
     steps: u64,
     t_start: f64,
     inv_mass: Vec<f64>,
-    acc: Vec<[f64; 3]>,
-    acc_new: Vec<[f64; 3]>,
+    /// Contact (pair and wall) accelerations at the current time; gravity is added
+    /// where they are used. Non-zero only for the particles listed in `touched`.
+    contact_acc: Vec<[f64; 3]>,
+    touched: Vec<u32>,
     pair_laws: Vec<PairLaw>,
     wall_laws: Vec<PairLaw>,
     list: NeighbourList,
     buffers: Vec<Vec<PairForce>>,
     drift_bound: f64,
+    /// Largest speed after the last sweep.
+    v_max: f64,
     rebuilds: u64,
+}
+
+/// max(a, b) that lets a NaN through (so that a blow-up is noticed).
+#[inline(always)]
+fn max_nan(a: f64, b: f64) -> f64 {
+    if b > a || b.is_nan() { b } else { a }
+}
+
+fn p_max_speed(p: &Particles) -> f64 {
+    p.velocity
+        .iter()
+        .map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+        .fold(0.0, max_nan)
+        .sqrt()
 }
 
 impl Md {
@@ -79,19 +97,36 @@ impl Md {
             steps: 0,
             t_start: 0.0,
             inv_mass,
-            acc: vec![[0.0; 3]; n],
-            acc_new: vec![[0.0; 3]; n],
+            contact_acc: vec![[0.0; 3]; n],
+            touched: Vec::new(),
             pair_laws,
             wall_laws,
             list: NeighbourList::default(),
             buffers: vec![Vec::new(); n.div_ceil(CHUNK)],
             drift_bound: 0.0,
+            v_max: 0.0,
             rebuilds: 0,
         };
         md.rebuild()?;
         // Forces at t = 0 with the velocities themselves (h = 0).
-        md.compute_forces(0.0);
-        std::mem::swap(&mut md.acc, &mut md.acc_new);
+        let ctx = md.contacts(0.0);
+        let p = &md.system.particles;
+        let mut buffers = vec![Vec::new(); md.buffers.len()];
+        for (c, buf) in buffers.iter_mut().enumerate() {
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                ctx.particle(
+                    i,
+                    p.position[i],
+                    p.velocity[i],
+                    &p.position,
+                    &p.velocity,
+                    buf,
+                );
+            }
+        }
+        md.buffers = buffers;
+        md.apply_forces();
+        md.v_max = p_max_speed(&md.system.particles);
         Ok(md)
     }
 
@@ -143,80 +178,98 @@ impl Md {
         let dt = self.opts.dt;
         for s in 0..n {
             // The first half-kick of this step fused with the last one of the previous.
-            let kick = if s == 0 { 0.5 * dt } else { dt };
-            let v_max = self.kick_drift(kick, dt);
-            self.steps += 1;
-            self.drift_bound += v_max * dt;
-            // Pairs approach by at most 2·drift since the last build (NaN rebuilds too).
-            if !(2.0 * self.drift_bound <= self.skin) {
-                self.rebuild()?;
-            }
-            self.compute_forces(0.5 * dt);
-            std::mem::swap(&mut self.acc, &mut self.acc_new);
+            self.step(if s == 0 { 0.5 * dt } else { dt }, dt)?;
         }
         if n > 0 {
-            self.kick(0.5 * dt);
+            self.kick_contacts(0.5 * dt);
+            let g = self.system.gravity;
+            let mut v2_max: f64 = 0.0;
+            for v in &mut self.system.particles.velocity {
+                *v = [
+                    v[0] + g[0] * 0.5 * dt,
+                    v[1] + g[1] * 0.5 * dt,
+                    v[2] + g[2] * 0.5 * dt,
+                ];
+                v2_max = max_nan(v2_max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            }
+            self.v_max = v2_max.sqrt();
+            if self.v_max.is_nan() {
+                let p = &self.system.particles;
+                let bad = (0..p.len()).find(|&i| {
+                    !p.velocity[i]
+                        .iter()
+                        .chain(&p.position[i])
+                        .all(|c| c.is_finite())
+                });
+                return Err(MdError::BlewUp {
+                    id: bad.map_or(0, |i| p.id[i]),
+                    t: self.time(),
+                });
+            }
         }
         Ok(())
     }
 
-    /// v += a·kick, then x += v·dt; returns max |v| after the kick.
-    fn kick_drift(&mut self, kick: f64, dt: f64) -> f64 {
-        let p = &mut self.system.particles;
-        let one = |x: &mut [[f64; 3]], v: &mut [[f64; 3]], a: &[[f64; 3]]| {
-            let mut v2_max: f64 = 0.0;
-            for ((x, v), a) in x.iter_mut().zip(v.iter_mut()).zip(a) {
-                for k in 0..3 {
-                    v[k] += a[k] * kick;
-                    x[k] += v[k] * dt;
-                }
-                v2_max = v2_max.max(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    /// One step: v += a·kick, x += v·dt, forces at the new positions.
+    ///
+    /// The neighbour list is rebuilt *before* the drift when the particles might
+    /// otherwise have moved by more than half the skin by its end; the speed bound
+    /// uses the largest speed of the last sweep, the kicked particles in contact and
+    /// gravity, so it holds for every particle.
+    fn step(&mut self, kick: f64, dt: f64) -> Result<(), MdError> {
+        let touched_v2 = self.kick_contacts(kick);
+        let g = self.system.gravity;
+        let g_kick = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * kick;
+        let v_bound = max_nan(self.v_max, touched_v2.sqrt()) + g_kick;
+        // Written so that NaN (a blow-up) rebuilds, where it is reported.
+        let list_holds = 2.0 * (self.drift_bound + v_bound * dt) <= self.skin;
+        if !list_holds {
+            self.rebuild()?;
+            let step_fits = 2.0 * v_bound * dt <= self.skin;
+            if !step_fits {
+                return Err(MdError::SkinTooThin {
+                    skin: self.skin,
+                    step: v_bound * dt,
+                });
             }
-            v2_max
-        };
-        let v2 = if p.len() <= CHUNK {
-            one(&mut p.position, &mut p.velocity, &self.acc)
-        } else {
-            p.position
-                .par_chunks_mut(CHUNK)
-                .zip(p.velocity.par_chunks_mut(CHUNK))
-                .zip(self.acc.par_chunks(CHUNK))
-                .map(|((x, v), a)| one(x, v, a))
-                .reduce(|| 0.0, f64::max)
-        };
-        if v2.is_nan() { f64::NAN } else { v2.sqrt() }
-    }
-
-    /// v += a·h.
-    fn kick(&mut self, h: f64) {
-        let one = |v: &mut [[f64; 3]], a: &[[f64; 3]]| {
-            for (v, a) in v.iter_mut().zip(a) {
-                for k in 0..3 {
-                    v[k] += a[k] * h;
-                }
-            }
-        };
-        let v = &mut self.system.particles.velocity;
-        if v.len() <= CHUNK {
-            one(v, &self.acc);
-        } else {
-            v.par_chunks_mut(CHUNK)
-                .zip(self.acc.par_chunks(CHUNK))
-                .for_each(|(v, a)| one(v, a));
         }
+        let gk = [g[0] * kick, g[1] * kick, g[2] * kick];
+        self.steps += 1;
+        let h = 0.5 * self.opts.dt;
+        let v2 = if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
+            self.sweep_fused(gk, dt, h)
+        } else {
+            self.sweep_parallel(gk, dt, h)
+        };
+        self.v_max = v2.sqrt();
+        self.drift_bound += self.v_max * dt;
+        self.apply_forces();
+        Ok(())
     }
 
-    /// Accelerations at the current positions into `acc_new`; `h` predicts the
-    /// velocities at this time from the stored ones (see [`Kernel`]).
-    fn compute_forces(&mut self, h: f64) {
-        let p = &self.system.particles;
-        let kernel = Kernel {
-            position: &p.position,
-            velocity: &p.velocity,
-            acc_old: &self.acc,
-            radius: &p.radius,
-            inv_mass: &self.inv_mass,
-            species: &p.species,
+    /// v += a_contact·kick for the particles in contact; returns their largest |v|².
+    fn kick_contacts(&mut self, kick: f64) -> f64 {
+        let v = &mut self.system.particles.velocity;
+        let mut v2_max: f64 = 0.0;
+        for &i in &self.touched {
+            let (i, a) = (i as usize, self.contact_acc[i as usize]);
+            let w = [
+                v[i][0] + a[0] * kick,
+                v[i][1] + a[1] * kick,
+                v[i][2] + a[2] * kick,
+            ];
+            v[i] = w;
+            v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        }
+        v2_max
+    }
+
+    /// The force context of the current step.
+    fn contacts(&self, h: f64) -> Contacts<'_> {
+        Contacts {
+            contact_acc: &self.contact_acc,
+            radius: &self.system.particles.radius,
+            species: &self.system.particles.species,
             list: &self.list,
             pair_laws: &self.pair_laws,
             n_species: self.system.species.len(),
@@ -225,34 +278,114 @@ impl Md {
             gravity: self.system.gravity,
             h,
             contact_end: self.opts.contact_end,
-        };
-        if p.len() <= CHUNK {
-            for (c, (acc, buf)) in self
-                .acc_new
-                .chunks_mut(CHUNK)
-                .zip(self.buffers.iter_mut())
-                .enumerate()
-            {
-                kernel.chunk(c * CHUNK, acc, buf);
-            }
-        } else {
-            self.acc_new
-                .par_chunks_mut(CHUNK)
-                .zip(self.buffers.par_iter_mut())
-                .enumerate()
-                .for_each(|(c, (acc, buf))| kernel.chunk(c * CHUNK, acc, buf));
         }
-        // Phase 2, in a fixed order: chunk by chunk, pair by pair.
-        for buf in &self.buffers {
-            for pf in buf {
-                let (i, j) = (pf.i as usize, pf.j as usize);
-                let (mi, mj) = (self.inv_mass[i], self.inv_mass[j]);
-                for k in 0..3 {
-                    self.acc_new[i][k] += pf.f[k] * mi;
-                    self.acc_new[j][k] -= pf.f[k] * mj;
+    }
+
+    /// One pass in particle order: kick and drift particle i, then find its contacts
+    /// (its listed partners j < i have already moved). Returns max |v|².
+    fn sweep_fused(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let mut position = std::mem::take(&mut self.system.particles.position);
+        let mut velocity = std::mem::take(&mut self.system.particles.velocity);
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let ctx = self.contacts(h);
+        let start = &self.list.start;
+        let walls = !self.system.walls.is_empty();
+        let mut v2_max: f64 = 0.0;
+        let n = position.len();
+        for (c, buf) in buffers.iter_mut().enumerate() {
+            buf.clear();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                let (v, x) = (velocity[i], position[i]);
+                let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
+                let y = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                velocity[i] = w;
+                position[i] = y;
+                let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                // NaN is ignored here; a blown-up particle is caught at the next rebuild.
+                if w2 > v2_max {
+                    v2_max = w2;
+                }
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, y, w, &position, &velocity, buf);
                 }
             }
         }
+        self.system.particles.position = position;
+        self.system.particles.velocity = velocity;
+        self.buffers = buffers;
+        v2_max
+    }
+
+    /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
+    /// drift everything, then find the contacts. Same numbers, same order.
+    fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let p = &mut self.system.particles;
+        let v2 = p
+            .position
+            .par_chunks_mut(CHUNK)
+            .zip(p.velocity.par_chunks_mut(CHUNK))
+            .map(|(x, v)| {
+                let mut v2_max: f64 = 0.0;
+                for (x, v) in x.iter_mut().zip(v.iter_mut()) {
+                    // Copies: re-reading just-stored components stalls the CPU.
+                    let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
+                    *x = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                    *v = w;
+                    let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                    if w2 > v2_max {
+                        v2_max = w2;
+                    }
+                }
+                v2_max
+            })
+            .reduce(|| 0.0, f64::max);
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let ctx = self.contacts(h);
+        let (position, velocity) = (
+            &self.system.particles.position,
+            &self.system.particles.velocity,
+        );
+        let n = position.len();
+        let (start, walls) = (&self.list.start, !self.system.walls.is_empty());
+        buffers.par_iter_mut().enumerate().for_each(|(c, buf)| {
+            buf.clear();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                if walls || start[i] != start[i + 1] {
+                    ctx.particle(i, position[i], velocity[i], position, velocity, buf);
+                }
+            }
+        });
+        self.buffers = buffers;
+        v2
+    }
+
+    /// Replaces the contact accelerations by the forces just found, chunk by chunk and
+    /// pair by pair (a fixed order).
+    fn apply_forces(&mut self) {
+        for &i in &self.touched {
+            self.contact_acc[i as usize] = [0.0; 3];
+        }
+        self.touched.clear();
+        for buf in &self.buffers {
+            for pf in buf {
+                let i = pf.i as usize;
+                let mi = self.inv_mass[i];
+                for k in 0..3 {
+                    self.contact_acc[i][k] += pf.f[k] * mi;
+                }
+                self.touched.push(pf.i);
+                if pf.j != WALL {
+                    let j = pf.j as usize;
+                    let mj = self.inv_mass[j];
+                    for k in 0..3 {
+                        self.contact_acc[j][k] -= pf.f[k] * mj;
+                    }
+                    self.touched.push(pf.j);
+                }
+            }
+        }
+        self.touched.sort_unstable();
+        self.touched.dedup();
     }
 
     /// Checks the state, wraps periodic positions, sorts particles by cell and
@@ -293,7 +426,13 @@ impl Md {
             })?;
         p.permute(&order);
         permute(&mut self.inv_mass, &order);
-        permute(&mut self.acc, &order);
+        permute(&mut self.contact_acc, &order);
+        self.touched.clear();
+        for (i, a) in self.contact_acc.iter().enumerate() {
+            if *a != [0.0; 3] {
+                self.touched.push(i as u32);
+            }
+        }
         self.list.build(&p.position, &p.radius, self.skin);
         self.drift_bound = 0.0;
         self.rebuilds += 1;

@@ -1,11 +1,12 @@
-//! The force kernel: pair and wall contacts of one chunk of particles.
+//! Contact forces: the per-pair and per-wall kernels and the sweep over a chunk.
 
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
 use crate::options::ContactEnd;
 use emdstar_contact::PairLaw;
 use emdstar_system::Wall;
 
-/// A pair force found in phase 1, applied in phase 2: +f on `i`, −f on `j`.
+/// A contact force found by a sweep, applied afterwards: +f on `i`, −f on `j` (unless
+/// `j` is [`WALL`]).
 #[derive(Debug, Clone, Copy)]
 pub struct PairForce {
     pub i: u32,
@@ -13,28 +14,8 @@ pub struct PairForce {
     pub f: [f64; 3],
 }
 
-/// What the kernel reads.
-pub struct Kernel<'a> {
-    pub position: &'a [[f64; 3]],
-    /// Half-step velocities v(t − dt/2) … see [`Kernel::h`].
-    pub velocity: &'a [[f64; 3]],
-    /// Accelerations of the previous step.
-    pub acc_old: &'a [[f64; 3]],
-    pub radius: &'a [f64],
-    pub inv_mass: &'a [f64],
-    pub species: &'a [u32],
-    pub list: &'a NeighbourList,
-    /// `pair_laws[a * n_species + b]`.
-    pub pair_laws: &'a [PairLaw],
-    pub n_species: usize,
-    pub wall_laws: &'a [PairLaw],
-    pub walls: &'a [Wall],
-    pub gravity: [f64; 3],
-    /// The velocity at the force's time is predicted as v + h·a_old with h = dt/2
-    /// (see the crate docs).
-    pub h: f64,
-    pub contact_end: ContactEnd,
-}
+/// The `j` of a [`PairForce`] that acts between particle `i` and a wall.
+pub const WALL: u32 = u32::MAX;
 
 /// The normal force of a law at overlap ξ > 0 and rate ξ̇ under a contact-end rule.
 #[inline(always)]
@@ -58,70 +39,119 @@ pub fn unclipped_force(law: &PairLaw, overlap: f64, rate: f64) -> f64 {
     }
 }
 
-impl Kernel<'_> {
-    /// Sets `acc[k]` of particles `first..first + acc.len()` to gravity plus wall
-    /// forces, and pushes their pair forces (pairs listed under them) onto `out`.
-    pub fn chunk(&self, first: usize, acc: &mut [[f64; 3]], out: &mut Vec<PairForce>) {
-        out.clear();
-        for (local, a) in acc.iter_mut().enumerate() {
-            let i = first + local;
-            let xi = self.position[i];
-            *a = self.gravity;
-            for w in self.walls {
-                let d = w.distance(xi);
-                let overlap = self.radius[i] - d;
-                if overlap > 0.0 {
-                    let v = self.predicted_velocity(i);
-                    let rate = -(w.normal[0] * v[0] + w.normal[1] * v[1] + w.normal[2] * v[2]);
-                    let law = &self.wall_laws[self.species[i] as usize];
-                    let f = normal_force(law, overlap, rate, self.contact_end) * self.inv_mass[i];
-                    for k in 0..3 {
-                        a[k] += f * w.normal[k];
-                    }
-                }
+/// Everything the force kernels read besides positions and velocities.
+pub struct Contacts<'a> {
+    /// Contact accelerations of the previous step (zero for particles without contacts).
+    pub contact_acc: &'a [[f64; 3]],
+    pub radius: &'a [f64],
+    pub species: &'a [u32],
+    pub list: &'a NeighbourList,
+    /// `pair_laws[a * n_species + b]`.
+    pub pair_laws: &'a [PairLaw],
+    pub n_species: usize,
+    pub wall_laws: &'a [PairLaw],
+    pub walls: &'a [Wall],
+    pub gravity: [f64; 3],
+    /// The stored velocities lag by half a step; the velocity at the force's time is
+    /// predicted as v + h·a_old with h = dt/2 (see the crate docs).
+    pub h: f64,
+    pub contact_end: ContactEnd,
+}
+
+impl Contacts<'_> {
+    /// Pushes the wall forces of particle `i` and the forces of the pairs listed under
+    /// it, in list order. Reads `position[j]`, `velocity[j]` of listed j < i only, and
+    /// `xi`, `vi` for particle i itself, so a sweep may drift particle i just before.
+    #[inline(never)]
+    pub fn particle(
+        &self,
+        i: usize,
+        xi: [f64; 3],
+        vi: [f64; 3],
+        position: &[[f64; 3]],
+        velocity: &[[f64; 3]],
+        out: &mut Vec<PairForce>,
+    ) {
+        let ri = self.radius[i];
+        for w in self.walls {
+            let overlap = ri - w.distance(xi);
+            if overlap > 0.0 {
+                self.wall(i, w, overlap, vi, out);
             }
-            let ri = self.radius[i];
-            let row = self.species[i] as usize * self.n_species;
-            for &entry in self.list.of(i) {
-                let j = (entry & INDEX_MASK) as usize;
-                let s = &self.list.shifts[(entry >> INDEX_BITS) as usize];
-                let xj = self.position[j];
-                let d = [
-                    xi[0] - xj[0] - s[0],
-                    xi[1] - xj[1] - s[1],
-                    xi[2] - xj[2] - s[2],
-                ];
-                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                let l = ri + self.radius[j];
-                if r2 >= l * l {
-                    continue;
-                }
-                let r = r2.sqrt();
-                let n = [d[0] / r, d[1] / r, d[2] / r];
-                let (vi, vj) = (self.predicted_velocity(i), self.predicted_velocity(j));
-                // ξ̇ = −ṙ = −n·(v_i − v_j).
-                let rate =
-                    -(n[0] * (vi[0] - vj[0]) + n[1] * (vi[1] - vj[1]) + n[2] * (vi[2] - vj[2]));
-                let law = &self.pair_laws[row + self.species[j] as usize];
-                let f = normal_force(law, l - r, rate, self.contact_end);
-                if f != 0.0 {
-                    out.push(PairForce {
-                        i: i as u32,
-                        j: j as u32,
-                        f: [f * n[0], f * n[1], f * n[2]],
-                    });
-                }
+        }
+        let list = self.list;
+        for &entry in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
+            let j = (entry & INDEX_MASK) as usize;
+            let s = &list.shifts[(entry >> INDEX_BITS) as usize];
+            let xj = position[j];
+            let d = [
+                xi[0] - xj[0] - s[0],
+                xi[1] - xj[1] - s[1],
+                xi[2] - xj[2] - s[2],
+            ];
+            let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let l = ri + self.radius[j];
+            if r2 < l * l {
+                self.pair(i, j, d, r2.sqrt(), l, vi, velocity[j], out);
             }
         }
     }
 
+    /// The force of a wall on particle i at overlap ξ > 0.
+    #[inline(never)]
+    fn wall(&self, i: usize, w: &Wall, overlap: f64, vi: [f64; 3], out: &mut Vec<PairForce>) {
+        let v = self.predict(i, vi);
+        let rate = -(w.normal[0] * v[0] + w.normal[1] * v[1] + w.normal[2] * v[2]);
+        let law = &self.wall_laws[self.species[i] as usize];
+        let f = normal_force(law, overlap, rate, self.contact_end);
+        if f != 0.0 {
+            let n = w.normal;
+            out.push(PairForce {
+                i: i as u32,
+                j: WALL,
+                f: [f * n[0], f * n[1], f * n[2]],
+            });
+        }
+    }
+
+    /// The force of a pair in contact at separation `d` (|d| = r < l).
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn pair(
+        &self,
+        i: usize,
+        j: usize,
+        d: [f64; 3],
+        r: f64,
+        l: f64,
+        vi: [f64; 3],
+        vj: [f64; 3],
+        out: &mut Vec<PairForce>,
+    ) {
+        let n = [d[0] / r, d[1] / r, d[2] / r];
+        let (vi, vj) = (self.predict(i, vi), self.predict(j, vj));
+        // ξ̇ = −ṙ = −n·(v_i − v_j).
+        let rate = -(n[0] * (vi[0] - vj[0]) + n[1] * (vi[1] - vj[1]) + n[2] * (vi[2] - vj[2]));
+        let law =
+            &self.pair_laws[self.species[i] as usize * self.n_species + self.species[j] as usize];
+        let f = normal_force(law, l - r, rate, self.contact_end);
+        if f != 0.0 {
+            out.push(PairForce {
+                i: i as u32,
+                j: j as u32,
+                f: [f * n[0], f * n[1], f * n[2]],
+            });
+        }
+    }
+
+    /// v + h·a with a = gravity + the contact acceleration of the previous step.
     #[inline(always)]
-    fn predicted_velocity(&self, i: usize) -> [f64; 3] {
-        let (v, a) = (self.velocity[i], self.acc_old[i]);
+    fn predict(&self, i: usize, v: [f64; 3]) -> [f64; 3] {
+        let (a, g, h) = (self.contact_acc[i], self.gravity, self.h);
         [
-            v[0] + self.h * a[0],
-            v[1] + self.h * a[1],
-            v[2] + self.h * a[2],
+            v[0] + h * (g[0] + a[0]),
+            v[1] + h * (g[1] + a[1]),
+            v[2] + h * (g[2] + a[2]),
         ]
     }
 }

@@ -32,6 +32,9 @@
 //! are then added in chunk order. The sums therefore run in the same order whatever
 //! the number of threads, and results are bitwise identical.
 
+// Component loops `for k in 0..3` over several arrays read best as they are.
+#![allow(clippy::needless_range_loop)]
+
 mod engine;
 mod forces;
 mod neighbour;

@@ -1,6 +1,6 @@
 //! Half Verlet lists built from a cell grid, with periodic image codes.
 
-use emdstar_system::{CellGrid, SimBox};
+use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -8,7 +8,8 @@ pub const INDEX_BITS: u32 = 27;
 pub const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 
 /// A half neighbour list: every pair closer than R_i + R_j + skin appears once, under
-/// its lower index, as `j | code << INDEX_BITS`; the neighbour's image sits at
+/// its higher index (so that a single sweep in index order meets each pair after both
+/// particles), as `j | code << INDEX_BITS`; the neighbour's image sits at
 /// x_j + `shifts[code]`.
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
@@ -39,7 +40,10 @@ impl NeighbourList {
     ) -> Result<Vec<u32>, BoxTooSmall> {
         let (lo, extent, periodic) = match sim_box {
             Some(b) => (b.lo, b.size, b.periodic),
-            None => bounding_box(positions),
+            None => {
+                let (lo, extent) = bounding_box(positions);
+                (lo, extent, [false; 3])
+            }
         };
         let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
         let cell = min_cell.max((target_per_cell * volume / positions.len().max(1) as f64).cbrt());
@@ -92,20 +96,28 @@ impl NeighbourList {
                 (c_index / grid.dims[0]) % grid.dims[1],
                 c_index / (grid.dims[0] * grid.dims[1]),
             ];
+            // The full stencil, keeping j < i: a half stencil would list some pairs
+            // that meet through a periodic wrap under their lower index.
+            let mut cells = [(0usize, 0usize, [0.0; 3], 0u32); 27];
+            let mut n_cells = 0;
+            grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+                let code = (shift[0] + 1) as usize
+                    + 3 * (shift[1] + 1) as usize
+                    + 9 * (shift[2] + 1) as usize;
+                let (oa, ob) = (
+                    grid.cell_start[other] as usize,
+                    grid.cell_start[other + 1] as usize,
+                );
+                if oa < ob {
+                    cells[n_cells] = (oa, ob, self.shifts[code], (code as u32) << INDEX_BITS);
+                    n_cells += 1;
+                }
+            });
             for i in a..b {
                 let xi = positions[i];
                 let ri = radius[i] + skin;
-                grid.for_each_neighbour(c, true, |other, shift| {
-                    let code = (shift[0] + 1) as usize
-                        + 3 * (shift[1] + 1) as usize
-                        + 9 * (shift[2] + 1) as usize;
-                    let s = self.shifts[code];
-                    let (oa, ob) = (
-                        grid.cell_start[other] as usize,
-                        grid.cell_start[other + 1] as usize,
-                    );
-                    let from = if other == c_index { i + 1 } else { oa };
-                    for j in from..ob {
+                for &(oa, ob, s, code) in &cells[..n_cells] {
+                    for j in oa..ob.min(i) {
                         let d = [
                             xi[0] - positions[j][0] - s[0],
                             xi[1] - positions[j][1] - s[1],
@@ -113,10 +125,10 @@ impl NeighbourList {
                         ];
                         let cut = ri + radius[j];
                         if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                            self.entries.push(j as u32 | (code as u32) << INDEX_BITS);
+                            self.entries.push(j as u32 | code);
                         }
                     }
-                });
+                }
                 self.start.push(self.entries.len() as u32);
             }
         }
@@ -127,20 +139,4 @@ impl NeighbourList {
     pub fn of(&self, i: usize) -> &[u32] {
         &self.entries[self.start[i] as usize..self.start[i + 1] as usize]
     }
-}
-
-fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3], [bool; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for x in positions {
-        for k in 0..3 {
-            lo[k] = lo[k].min(x[k]);
-            hi[k] = hi[k].max(x[k]);
-        }
-    }
-    (
-        lo,
-        std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)),
-        [false; 3],
-    )
 }

@@ -78,6 +78,11 @@ pub enum MdError {
         cell: f64,
     },
     #[error(
+        "skin = {skin:e} m is too thin: particles may move {step:e} m in one step, and the \
+         skin must exceed twice that; raise the skin or lower dt"
+    )]
+    SkinTooThin { skin: f64, step: f64 },
+    #[error(
         "particle {id} left the box along the closed axis {axis} at t = {t:e} s (position \
          {position:?}); add walls at the box faces or make the axis periodic"
     )]
@@ -109,7 +114,7 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
         .fold(0.0, f64::max);
     let g = system.gravity;
     let v_ref = 2.0 * v_max + (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * t_end;
-    if !(v_ref > 0.0) {
+    if v_ref.is_nan() || v_ref <= 0.0 {
         return Ok(None);
     }
     let ns = system.species.len();

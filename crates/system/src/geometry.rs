@@ -55,9 +55,23 @@ impl SimBox {
     /// The closed axes along which `p` lies outside the box, if any.
     pub fn outside_closed_axis(&self, p: [f64; 3]) -> Option<usize> {
         (0..3).find(|&k| {
-            !self.periodic[k] && !(p[k] >= self.lo[k] && p[k] <= self.lo[k] + self.size[k])
+            !(self.periodic[k] || (p[k] >= self.lo[k] && p[k] <= self.lo[k] + self.size[k]))
         })
     }
+}
+
+/// The lower corner and extent of the smallest box holding `positions` (zero extent
+/// and infinite corner if there are none).
+pub fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for x in positions {
+        for k in 0..3 {
+            lo[k] = lo[k].min(x[k]);
+            hi[k] = hi[k].max(x[k]);
+        }
+    }
+    (lo, std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)))
 }
 
 /// A plane wall: an infinitely heavy flat partner filling the half-space behind it.
@@ -78,6 +92,17 @@ impl Wall {
             .map(|k| self.normal[k] * (p[k] - self.point[k]))
             .sum()
     }
+}
+
+/// Which neighbour cells [`CellGrid::for_each_neighbour`] visits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stencil {
+    /// All 27 (fewer if the grid is small).
+    Full,
+    /// The cell and the 13 cells "after" it (dz > 0, or dz = 0 and dy > 0, or ...).
+    Forward,
+    /// The cell and the mirror images of the forward cells.
+    Backward,
 }
 
 /// Particles binned into cuboid cells by a counting sort.
@@ -180,11 +205,21 @@ impl CellGrid {
     }
 
     /// Calls `f(cell, shift)` for the cells next to `c` (`c` itself included), where the
-    /// neighbour's particles appear at x + shift·size (periodic images). With `half`,
-    /// only `c` and the 13 cells of the forward half-stencil are visited, so that every
-    /// pair of distinct cells is visited once; that needs at least 3 cells along every
-    /// periodic axis. Without `half`, all distinct neighbour cells are visited once.
-    pub fn for_each_neighbour(&self, c: [usize; 3], half: bool, mut f: impl FnMut(usize, [i8; 3])) {
+    /// neighbour's particles appear at x + shift·size (periodic images). With
+    /// [`Stencil::Forward`] or [`Stencil::Backward`] only `c` and 13 cells of one half
+    /// of the stencil are visited, so that every pair of distinct cells is visited once;
+    /// that needs at least 3 cells along every periodic axis. With [`Stencil::Full`], all
+    /// distinct neighbour cells are visited once.
+    pub fn for_each_neighbour(
+        &self,
+        c: [usize; 3],
+        stencil: Stencil,
+        mut f: impl FnMut(usize, [i8; 3]),
+    ) {
+        let half = stencil != Stencil::Full;
+        let sign = if stencil == Stencil::Backward { -1 } else { 1 };
+        // Duplicates only arise along periodic axes with fewer than 3 cells.
+        let dedup = !half && (0..3).any(|k| self.periodic[k] && self.dims[k] < 3);
         let mut seen = [usize::MAX; 27];
         let mut n_seen = 0;
         for dz in -1i64..=1 {
@@ -193,7 +228,7 @@ impl CellGrid {
                     if half && (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx < 0)))) {
                         continue;
                     }
-                    let d = [dx, dy, dz];
+                    let d = [sign * dx, sign * dy, sign * dz];
                     let mut cc = [0usize; 3];
                     let mut shift = [0i8; 3];
                     let mut valid = true;
@@ -214,7 +249,7 @@ impl CellGrid {
                         continue;
                     }
                     let idx = self.index(cc);
-                    if !half {
+                    if dedup {
                         if seen[..n_seen].contains(&idx) {
                             continue;
                         }
@@ -253,20 +288,32 @@ mod tests {
             for y in 0..3 {
                 for x in 0..4 {
                     let a = g.index([x, y, z]);
-                    g.for_each_neighbour([x, y, z], true, |b, _| {
+                    g.for_each_neighbour([x, y, z], Stencil::Forward, |b, _| {
                         *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
                     });
                 }
             }
         }
         assert!(count.values().all(|&n| n == 1));
+        let mut backward = std::collections::HashMap::new();
+        for z in 0..5 {
+            for y in 0..3 {
+                for x in 0..4 {
+                    let a = g.index([x, y, z]);
+                    g.for_each_neighbour([x, y, z], Stencil::Backward, |b, _| {
+                        *backward.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+                    });
+                }
+            }
+        }
+        assert_eq!(backward, count);
         // Every full-stencil neighbour pair appears.
         let mut full = 0;
         for z in 0..5 {
             for y in 0..3 {
                 for x in 0..4 {
                     let a = g.index([x, y, z]);
-                    g.for_each_neighbour([x, y, z], false, |b, _| {
+                    g.for_each_neighbour([x, y, z], Stencil::Full, |b, _| {
                         assert!(count.contains_key(&(a.min(b), a.max(b))));
                         full += 1;
                     });

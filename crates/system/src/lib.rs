@@ -9,6 +9,9 @@
 //! - [`CellGrid`] for neighbour searches;
 //! - writers: extended XYZ trajectories for OVITO and a thermo log.
 
+// Component loops `for k in 0..3` over several arrays read best as they are.
+#![allow(clippy::needless_range_loop)]
+
 mod config;
 mod error;
 mod geometry;
@@ -22,7 +25,7 @@ pub use config::{
     ParticleConfig, WallConfig,
 };
 pub use error::{Result, SystemError};
-pub use geometry::{CellGrid, SimBox, Wall};
+pub use geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 pub use init::cubic_box;
 pub use state::{Particles, Species, permute};
 pub use system::System;

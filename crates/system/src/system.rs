@@ -1,7 +1,7 @@
 //! A complete, validated system: particles, species, the material, box, walls, gravity.
 
 use crate::error::{Result, SystemError, invalid};
-use crate::geometry::{CellGrid, SimBox, Wall};
+use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 use crate::state::{Particles, Species};
 use emdstar_contact::{ForceLaw, PairLaw, PairProperties};
 
@@ -91,7 +91,7 @@ impl System {
         let mut worst: Option<(usize, usize, f64, f64)> = None;
         for i in 0..p.len() {
             let c = grid.coords(p.position[i]);
-            grid.for_each_neighbour(c, false, |cell, _| {
+            grid.for_each_neighbour(c, Stencil::Full, |cell, _| {
                 for &j in grid.items(cell) {
                     let j = j as usize;
                     if j <= i {
@@ -124,19 +124,8 @@ impl System {
         match &self.sim_box {
             Some(b) => (b.lo, b.size, b.periodic),
             None => {
-                let mut lo = [f64::INFINITY; 3];
-                let mut hi = [f64::NEG_INFINITY; 3];
-                for x in &self.particles.position {
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(x[k]);
-                        hi[k] = hi[k].max(x[k]);
-                    }
-                }
-                (
-                    lo,
-                    std::array::from_fn(|k| (hi[k] - lo[k]).max(0.0)),
-                    [false; 3],
-                )
+                let (lo, extent) = bounding_box(&self.particles.position);
+                (lo, extent, [false; 3])
             }
         }
     }

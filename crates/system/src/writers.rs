@@ -1,7 +1,7 @@
 //! Trajectory (extended XYZ) and thermo-log writers.
 
 use crate::error::{Result, SystemError};
-use crate::geometry::SimBox;
+use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -43,15 +43,8 @@ impl XyzWriter {
             Some(b) => (b.lo, b.size, b.periodic),
             None => {
                 let r = particles.radius.iter().copied().fold(0.0, f64::max);
-                let mut lo = [f64::INFINITY; 3];
-                let mut hi = [f64::NEG_INFINITY; 3];
-                for x in &particles.position {
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(x[k] - r);
-                        hi[k] = hi[k].max(x[k] + r);
-                    }
-                }
-                (lo, std::array::from_fn(|k| hi[k] - lo[k]), [false; 3])
+                let (lo, extent) = bounding_box(&particles.position);
+                (lo.map(|c| c - r), extent.map(|e| e + 2.0 * r), [false; 3])
             }
         };
         let tf = |b: bool| if b { "T" } else { "F" };

@@ -51,3 +51,77 @@ pub fn rel(a: f64, b: f64) -> f64 {
         ((a - b) / b).abs()
     }
 }
+
+/// ln Γ(x) for x > 0 (Lanczos, g = 7, 9 terms; relative error ~1e-15).
+pub fn ln_gamma(x: f64) -> f64 {
+    const G: f64 = 7.0;
+    const C: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        // Reflection: Γ(x)Γ(1−x) = π/sin(πx).
+        return (std::f64::consts::PI / (std::f64::consts::PI * x).sin()).ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let t = x + G + 0.5;
+    let series = C[1..]
+        .iter()
+        .enumerate()
+        .fold(C[0], |acc, (i, c)| acc + c / (x + i as f64 + 1.0));
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + series.ln()
+}
+
+pub fn params(l_tilde: f64, c_phi: f64, c_dis: f64) -> ScaledParams {
+    ScaledParams {
+        l_tilde,
+        c_phi,
+        c_dis,
+    }
+}
+
+/// `n` impacts drawn log-uniformly in each physical range of the paper's box for `model`
+/// (equal spheres, l = 2R), as scaled parameters.
+pub fn log_uniform_physical(model: Model, n: usize, seed: u64) -> Vec<ScaledParams> {
+    use emdstar_contact::{
+        ForceLaw, Impact, LinearDashpot, PairLaw, PairProperties, Sphere, ViscoelasticHertz, scale,
+    };
+    let ranges = ParameterBox::paper(model).ranges();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let x: Vec<f64> = ranges
+                .iter()
+                .map(|(_, r)| rng.random_range(r.min.ln()..=r.max.ln()).exp())
+                .collect();
+            let (law, radius, density, speed, ecc) = match model {
+                Model::Linear => (
+                    ForceLaw::Linear(LinearDashpot::new(x[0], x[3]).unwrap()),
+                    x[1],
+                    x[2],
+                    x[4],
+                    x[5],
+                ),
+                Model::Hertz => (
+                    ForceLaw::Hertz(ViscoelasticHertz::new(x[0], x[1], x[4]).unwrap()),
+                    x[2],
+                    x[3],
+                    x[5],
+                    x[6],
+                ),
+            };
+            let sphere = Sphere::from_density(radius, density).unwrap();
+            let pair = PairProperties::spheres(&sphere, &sphere);
+            let pair_law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+            let impact = Impact::from_speed_eccentricity(speed, ecc).unwrap();
+            scale(&pair_law, &pair, &impact).unwrap().params
+        })
+        .collect()
+}

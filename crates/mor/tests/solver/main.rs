@@ -1,4 +1,7 @@
 //! Tests of the matrix-of-restitution solver against independent references.
 
+mod acceptance;
+mod analytic;
 mod common;
-mod explore;
+mod oracle;
+mod tolerance;

@@ -1,0 +1,91 @@
+//! What `pair` and `run` share: the engine choice and the MD options.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
+use emdstar_system::{Config, System};
+use std::path::Path;
+
+/// The simulation engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Engine {
+    /// Force-based DEM (time steps).
+    Md,
+}
+
+/// Parses `--engine`; names the engines that are planned but not built yet.
+pub fn parse_engine(s: &str) -> Result<Engine, String> {
+    match s {
+        "md" => Ok(Engine::Md),
+        "emd" | "emdstar" => Err(format!(
+            "engine '{s}' is not available yet (the event-driven engine is still being \
+             written); use --engine md"
+        )),
+        other => Err(format!(
+            "unknown engine '{other}': the available engine is 'md'"
+        )),
+    }
+}
+
+/// Options of the MD engine (they override the config's `[md]` section).
+#[derive(Args, Debug, Clone)]
+pub struct MdArgs {
+    /// Time step in s [default: a fraction of the shortest expected contact time].
+    #[arg(long, value_name = "S")]
+    pub dt: Option<f64>,
+    /// When a contact ends: "force" (F = 0, the default) or "overlap" (ξ = 0, as LAMMPS
+    /// without limit_damping; the force may then attract).
+    #[arg(long, value_name = "RULE")]
+    pub contact_end: Option<String>,
+    /// Verlet-list skin in m [default: the largest radius].
+    #[arg(long, value_name = "M")]
+    pub skin: Option<f64>,
+}
+
+/// Reads and builds a config.
+pub fn load(path: &Path) -> Result<(Config, System)> {
+    let config = Config::from_file(path).with_context(|| format!("reading {}", path.display()))?;
+    let system = config
+        .build()
+        .with_context(|| format!("in {}", path.display()))?;
+    Ok((config, system))
+}
+
+/// The MD options and the number of steps to reach t_end. Without an explicit dt the
+/// step is `default_fraction` × the shortest expected contact time; either way it is
+/// then shortened so that t_end is a whole number of steps.
+pub fn md_options(
+    config: &Config,
+    system: &System,
+    args: &MdArgs,
+    default_fraction: f64,
+) -> Result<(MdOptions, u64)> {
+    let section = config.md.clone().unwrap_or_default();
+    let contact_end: ContactEnd = match args.contact_end.as_ref().or(section.contact_end.as_ref()) {
+        Some(s) => s.parse().map_err(anyhow::Error::msg)?,
+        None => ContactEnd::ForceZero,
+    };
+    let t_end = config.t_end;
+    let dt = match args.dt.or(section.dt) {
+        Some(dt) => {
+            if !(dt.is_finite() && dt > 0.0) {
+                bail!("dt = {dt} must be a finite number greater than zero");
+            }
+            dt
+        }
+        None => match shortest_contact_time(system, t_end)? {
+            Some(tc) => default_fraction * tc,
+            None => t_end,
+        },
+    };
+    let steps = (t_end / dt).ceil().max(1.0);
+    if steps > 1e13 {
+        bail!("t_end / dt = {steps:e} steps is too many; raise dt or lower t_end");
+    }
+    let opts = MdOptions {
+        dt: t_end / steps,
+        contact_end,
+        skin: args.skin.or(section.skin),
+    };
+    Ok((opts, steps as u64))
+}
