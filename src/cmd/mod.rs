@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod bench_edmd;
 pub mod check;
+pub mod edmd_engine;
 pub mod engine;
 pub mod mor;
 pub mod pair;

@@ -76,9 +76,6 @@ impl<Q: EventQueue> Engine<Q> {
         let contact = self.kin[i].radius + self.kin[j].radius;
         let distance = dot(r, r).sqrt();
         self.stats.record_impact(distance, contact);
-        if distance < contact {
-            self.stats.stabilising += 1;
-        }
         self.stats.pair_collisions += 1;
         let (mi, mj) = (self.mass[i], self.mass[j]);
         let eps = match &self.physics {
@@ -221,7 +218,7 @@ impl<Q: EventQueue> Engine<Q> {
         let vn = dot(n, self.kin[i].vel);
         self.stats.wall_collisions += 1;
         let height = dot(n, sub(self.kin[i].pos, wall.point));
-        if height < self.kin[i].radius {
+        if height < self.kin[i].radius && vn >= 0.0 {
             self.stats.stabilising += 1;
         }
         let eps = if vn >= 0.0 {

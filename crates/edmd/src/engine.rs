@@ -87,6 +87,9 @@ pub(crate) struct EventRec {
     pub partner: u32,
     /// axis·2 + (1 if moving up).
     pub cross_face: u8,
+    /// The collision was predicted for the moment of prediction: an overlapping,
+    /// approaching pair (a stabilising collision, Bannerman 2014, Sec. 4.1).
+    pub coll_now: bool,
 }
 
 impl Default for EventRec {
@@ -100,6 +103,7 @@ impl Default for EventRec {
             counter: 0,
             partner: NONE,
             cross_face: 0,
+            coll_now: false,
         }
     }
 }
@@ -242,6 +246,7 @@ impl<Q: EventQueue> Engine<Q> {
         let ri = self.kin[i].radius;
         let mut best = self.ev[i].coll_time;
         let mut best_j = NONE;
+        let mut best_now = false;
         for (cell, shift) in cells.iter() {
             // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
             let pi_rel = sub(pi, shift);
@@ -255,6 +260,7 @@ impl<Q: EventQueue> Engine<Q> {
                     if now + dt < best {
                         best = now + dt;
                         best_j = j;
+                        best_now = dt == 0.0;
                     }
                 }
                 j = self.grid.next(j);
@@ -264,6 +270,7 @@ impl<Q: EventQueue> Engine<Q> {
             self.ev[i].coll_time = best;
             self.ev[i].coll_partner = best_j;
             self.ev[i].coll_counter = self.ev[best_j as usize].counter;
+            self.ev[i].coll_now = best_now;
         }
     }
 
@@ -313,6 +320,7 @@ impl<Q: EventQueue> Engine<Q> {
         self.advance(i, now);
         self.ev[i].coll_time = f64::INFINITY;
         self.ev[i].coll_partner = NONE;
+        self.ev[i].coll_now = false;
         let cells = self.grid.neighbourhood(self.grid.coords[i]);
         self.scan_cells(i, &cells);
         let n = self.len();
@@ -331,6 +339,7 @@ impl<Q: EventQueue> Engine<Q> {
             if now + dt < self.ev[i].coll_time {
                 self.ev[i].coll_time = now + dt;
                 self.ev[i].coll_partner = (n + w) as u32;
+                self.ev[i].coll_now = false;
             }
         }
         self.predict_crossing(i);
@@ -387,6 +396,9 @@ impl<Q: EventQueue> Engine<Q> {
             self.stats.stale += 1;
             self.predict(i);
             return Ok(Event::Stale(self.id[i]));
+        }
+        if self.ev[i].coll_now {
+            self.stats.stabilising += 1;
         }
         if self.pair_collision(i, j)? {
             Ok(Event::Collision(self.id[i], self.id[j]))

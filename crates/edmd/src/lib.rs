@@ -22,6 +22,7 @@ mod reorder;
 pub mod rules;
 mod setup;
 mod stats;
+mod system;
 
 pub use engine::{Engine, Event};
 pub use error::{EngineError, Result};

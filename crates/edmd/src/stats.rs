@@ -10,7 +10,10 @@ pub struct Stats {
     pub pair_collisions: u64,
     /// Wall collisions executed.
     pub wall_collisions: u64,
-    /// Collisions executed while the pair overlapped (stabilising collisions).
+    /// Stabilising collisions: pairs found overlapping and approaching, collided at
+    /// once (Bannerman 2014, Sec. 4.1), and wall events at the top of a flight inside
+    /// the wall. Impacts that merely land a round-off inside σ are not counted (see
+    /// `separation_histogram`).
     pub stabilising: u64,
     pub crossings: u64,
     /// Predictions found stale by the collision counters.
