@@ -2,7 +2,7 @@
  *
  * Build (after `cargo build --release -p emdstar-table-capi`):
  *   gcc examples/c/lookup.c -I crates/table-capi/include \
- *       target/release/libemdstar_table.a -lpthread -ldl -lm -o lookup
+ *       target/release/libemdstar_table_c.a -lpthread -ldl -lm -o lookup
  */
 #include <stdio.h>
 #include "emdstar_table.h"
@@ -28,8 +28,9 @@ int main(void) {
     printf("eps_n = %.12g\n", -mor.eps_rdot);
     printf("eps_phi = %.12g rad\n", mor.eps_phi);
     printf("duration = %.6g s\n", mor.eps_t * mor.time_scale);
-    /* A stiffness far outside the box is refused, never extrapolated. */
-    st = emdstar_table_lookup_linear(table, 1e12, 0.1, r, m, r, m, 1.0, 0.5, &mor);
+    /* A very stiff, very slow impact lies outside the paper's box (b too large): it is
+     * refused, never extrapolated; a caller would solve it exactly instead. */
+    st = emdstar_table_lookup_linear(table, 1e12, 0.1, r, m, r, m, 1e-3, 5e-4, &mor);
     printf("out of box: status %d (%s)\n", (int)st, emdstar_table_last_error());
     emdstar_table_close(table);
     return 0;

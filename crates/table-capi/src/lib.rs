@@ -2,9 +2,9 @@
 //!
 //! Open a table (a file, or the embedded default of a model), look up the MoR of an
 //! impact from scaled or physical parameters, close it. Functions returning a status
-//! return [`EmdstarStatus::EmdstarStatusOk`] (0) on success; on failure
+//! return [`EmdstarStatus::Ok`] (0) on success; on failure
 //! [`emdstar_table_last_error`] gives the message (per thread). No panic crosses the
-//! boundary: a panic becomes [`EmdstarStatus::EmdstarStatusPanic`].
+//! boundary: a panic becomes [`EmdstarStatus::Panic`].
 //!
 //! The header `include/emdstar_table.h` is generated from this file by cbindgen.
 

@@ -30,7 +30,7 @@ fn committed_header_matches_cbindgen() {
     );
 }
 
-/// target/<profile>, where cargo puts libemdstar_table.a.
+/// target/<profile>, where cargo puts libemdstar_table_c.a.
 fn profile_dir() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     exe.parent().and_then(Path::parent).unwrap().to_path_buf()
@@ -38,7 +38,22 @@ fn profile_dir() -> PathBuf {
 
 #[test]
 fn c_example_prints_the_mor_of_one_impact() {
-    let lib = profile_dir().join("libemdstar_table.a");
+    // `cargo test` builds only the rlib; build the static library with the same profile.
+    let target_dir = profile_dir().parent().unwrap().to_path_buf();
+    let status = Command::new(env!("CARGO"))
+        .args([
+            "build",
+            "--profile",
+            "test",
+            "--lib",
+            "-p",
+            "emdstar-table-capi",
+        ])
+        .env("CARGO_TARGET_DIR", &target_dir)
+        .status()
+        .expect("cargo runs");
+    assert!(status.success(), "building the static library failed");
+    let lib = profile_dir().join("libemdstar_table_c.a");
     assert!(lib.exists(), "{} was not built", lib.display());
     let out = std::env::temp_dir().join(format!("emdstar_c_example_{}", std::process::id()));
     let status = Command::new("gcc")

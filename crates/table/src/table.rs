@@ -244,13 +244,13 @@ impl Table {
             min: lo,
             max: r.max,
         };
-        if !(x.a <= ax.max) {
+        if x.a.is_nan() || x.a > ax.max {
             return Err(out("a", x.a, ax, ax.min));
         }
         if !(x.b >= bx.min && x.b <= bx.max) {
             return Err(out("b", x.b, bx, bx.min));
         }
-        if !(x.c <= cx.max) {
+        if x.c.is_nan() || x.c > cx.max {
             return Err(out("c", x.c, cx, cx.min));
         }
         let central = x.a < ax.min;

@@ -89,7 +89,7 @@ pub fn plot(
             let lo = pts.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
             let hi = pts.iter().map(|p| p.2).fold(f64::NEG_INFINITY, f64::max);
             let span = if hi > lo { hi - lo } else { 1.0 };
-            let (left, right) = area.split_horizontally(area.dim_in_pixel().0 - 90);
+            let (left, right) = area.split_horizontally(area.dim_in_pixel().0 - 100);
             let mut chart = ChartBuilder::on(&left)
                 .caption(PANELS[k], ("sans-serif", 20))
                 .margin(8)
@@ -119,14 +119,15 @@ pub fn plot(
             let mut bar = ChartBuilder::on(&right)
                 .margin_top(40)
                 .margin_bottom(48)
-                .margin_right(4)
-                .y_label_area_size(60)
+                .margin_left(4)
+                .right_y_label_area_size(62)
                 .build_cartesian_2d(0.0..1.0, lo..lo + span)
                 .map_err(|e| e.to_string())?;
             bar.configure_mesh()
                 .disable_mesh()
                 .disable_x_axis()
                 .y_labels(6)
+                .y_label_style(("sans-serif", 13))
                 .y_label_formatter(&|v| format!("{v:.3}"))
                 .draw()
                 .map_err(|e| e.to_string())?;

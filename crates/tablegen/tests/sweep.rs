@@ -64,8 +64,9 @@ fn shards_merge_into_the_bytes_of_a_single_run() {
 fn table_nodes_equal_exact_solves_and_files_reload() {
     let spec = Spec::parse(TINY_HERTZ).unwrap();
     let table = build(&spec, &exact_solver, false).unwrap();
-    let back = Table::from_bytes(&table.to_bytes()).unwrap();
-    assert_eq!(back, table);
+    // (NaN marks central nodes without a limit, so compare bytes, not values.)
+    let bytes = table.to_bytes();
+    assert!(Table::from_bytes(&bytes).unwrap().to_bytes() == bytes);
     // At a node the interpolant reproduces the solver (independent call).
     let [ax, bx, cx] = *table.axes();
     let x = emdstar_contact::RectCoords {

@@ -1,0 +1,158 @@
+//! End-to-end tests of `emdstar table ...` and `emdstar mor --table`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn emdstar_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_emdstar"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("the emdstar binary runs")
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = emdstar_in(dir, args);
+    assert!(
+        out.status.success(),
+        "emdstar {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn fails(dir: &Path, args: &[&str]) -> String {
+    let out = emdstar_in(dir, args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "emdstar {args:?} should fail");
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("emdstar-table-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const LINEAR_IMPACT: [&str; 14] = [
+    "--model",
+    "linear",
+    "--stiffness",
+    "1e5",
+    "--damping",
+    "0.1",
+    "--radius",
+    "0.005",
+    "--density",
+    "2500",
+    "--speed",
+    "1",
+    "--eccentricity",
+    "0.4",
+];
+
+fn mor_json(dir: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["mor"];
+    args.extend(LINEAR_IMPACT);
+    args.push("--json");
+    args.extend(extra);
+    serde_json::from_str(&ok(dir, &args)).unwrap()
+}
+
+#[test]
+fn mor_answers_from_the_embedded_default_table_in_any_directory() {
+    let dir = scratch("default");
+    let exact = mor_json(&dir, &[]);
+    let table = mor_json(&dir, &["--table", "default"]);
+    assert_eq!(exact["source"], "exact");
+    assert_eq!(table["source"], "table");
+    for key in ["one_minus_eps_r", "eps_rdot", "eps_phi", "eps_t"] {
+        let (e, t) = (
+            exact["mor"][key].as_f64().unwrap(),
+            table["mor"][key].as_f64().unwrap(),
+        );
+        assert!(((t - e) / e).abs() < 1e-3, "{key}: table {t} vs exact {e}");
+    }
+}
+
+#[test]
+fn mor_table_refuses_points_outside_the_box_and_wrong_models() {
+    let dir = scratch("refuse");
+    let mut args = vec!["mor"];
+    args.extend(LINEAR_IMPACT);
+    args.extend(["--table", "default"]);
+    args[12] = "1e-7"; // --speed far below the box: b = ln(l̃/l̃_min) too large
+    let err = fails(&dir, &args);
+    assert!(err.contains("outside the table's box"), "{err}");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let hertz = root.join("tables/hertz.npz");
+    let mut args = vec!["mor"];
+    args.extend(LINEAR_IMPACT);
+    args.extend(["--table", hertz.to_str().unwrap()]);
+    let err = fails(&dir, &args);
+    assert!(
+        err.contains("wrong model: the table is for the hertz model"),
+        "{err}"
+    );
+}
+
+#[test]
+fn build_shard_merge_verify_check_and_plot_a_tiny_table() {
+    let dir = scratch("build");
+    std::fs::write(
+        dir.join("tiny.toml"),
+        "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 6]\norder = [4, 4, 4]\n",
+    )
+    .unwrap();
+    ok(&dir, &["table", "build", "tiny.toml", "--threads", "2"]);
+    let single = std::fs::read(dir.join("tiny.npz")).unwrap();
+    // A job array of three: each job builds its shard, one job merges.
+    for i in 0..3 {
+        ok(
+            &dir,
+            &["table", "build", "tiny.toml", "--shard", &format!("{i}/3")],
+        );
+    }
+    ok(
+        &dir,
+        &[
+            "table",
+            "merge",
+            "tiny.part-2-of-3.npz",
+            "tiny.part-0-of-3.npz",
+            "tiny.part-1-of-3.npz",
+            "--out",
+            "merged.npz",
+        ],
+    );
+    assert!(std::fs::read(dir.join("merged.npz")).unwrap() == single);
+    let out = ok(&dir, &["table", "verify", "tiny.toml", "--threads", "1"]);
+    assert!(out.contains("matches"), "{out}");
+    std::fs::write(
+        dir.join("tiny.toml"),
+        "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 7]\norder = [4, 4, 4]\n",
+    )
+    .unwrap();
+    let err = fails(&dir, &["table", "verify", "tiny.toml"]);
+    assert!(err.contains("does not match its spec"), "{err}");
+    let out = ok(&dir, &["table", "check", "tiny.npz", "--samples", "40"]);
+    for name in ["1-eps_r", "eps_rdot", "eps_phi", "eps_t"] {
+        assert!(out.lines().any(|l| l.starts_with(name)), "{out}");
+    }
+    let err = fails(&dir, &["table", "build", "tiny.toml", "--shard", "3/3"]);
+    assert!(err.contains("need 0 <= I < N"), "{err}");
+    let font = Path::new("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
+    if font.exists() {
+        ok(
+            &dir,
+            &[
+                "table", "plot", "tiny.npz", "--out", "plots", "--c=-3,1", "--res", "20",
+            ],
+        );
+        assert!(dir.join("plots/linear_slice0.png").exists());
+        assert!(dir.join("plots/linear_slice1.png").exists());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
