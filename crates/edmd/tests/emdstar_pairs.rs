@@ -205,8 +205,7 @@ fn impacts_outside_the_table_are_errors_unless_the_exact_fallback_is_chosen() {
         Engine::new(setup.clone(), emdstar_with(&law, sp, table(false))).unwrap();
     let err = strict
         .run_collisions(1)
-        .err()
-        .expect("outside the table's box");
+        .expect_err("outside the table's box");
     assert!(err.to_string().contains("--mor exact"), "{err}");
     let mut lenient: Engine = Engine::new(setup, emdstar_with(&law, sp, table(true))).unwrap();
     lenient.run_collisions(1).unwrap();
