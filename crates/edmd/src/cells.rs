@@ -204,6 +204,26 @@ impl CellGrid {
     /// The cell with coordinates `c` and its neighbours.
     #[inline]
     pub fn neighbourhood(&self, c: [u32; 3]) -> CellSet {
+        if (0..3).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.dims[k]) {
+            // Interior cell: 27 distinct cells, no wrapping.
+            let base = self.index(c) as i64;
+            let (nx, nxy) = (self.dims[0] as i64, (self.dims[0] * self.dims[1]) as i64);
+            let mut set = CellSet {
+                cells: [0; 27],
+                shifts: [[0.0; 3]; 27],
+                len: 27,
+            };
+            let mut m = 0;
+            for dz in -1..=1 {
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        set.cells[m] = (base + dx + dy * nx + dz * nxy) as u32;
+                        m += 1;
+                    }
+                }
+            }
+            return set;
+        }
         let all = [-1, 0, 1];
         self.product(std::array::from_fn(|k| self.axis_neighbours(k, c[k], &all)))
     }
@@ -279,6 +299,17 @@ mod tests {
         }
         members.sort();
         assert_eq!(members, vec![0, 1, 3]);
+    }
+
+    #[test]
+    fn interior_fast_path_matches_the_general_stencil() {
+        let g = CellGrid::new([0.0; 3], [6.0, 5.0, 4.0], [true, false, true], 1.0, 0);
+        let c = [2, 2, 1];
+        let fast = g.neighbourhood(c);
+        let all = [-1, 0, 1];
+        let slow = g.product(std::array::from_fn(|k| g.axis_neighbours(k, c[k], &all)));
+        assert_eq!(fast.as_slice(), slow.as_slice());
+        assert_eq!(fast.shifts, slow.shifts);
     }
 
     #[test]
