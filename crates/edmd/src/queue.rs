@@ -16,7 +16,7 @@ pub trait EventQueue {
     fn set(&mut self, id: usize, time: f64);
     /// The id with the smallest key and that key; ties go to the smaller id so that
     /// runs are reproducible.
-    fn peek(&self) -> (usize, f64);
+    fn peek(&mut self) -> (usize, f64);
     /// The key of `id`.
     fn key(&self, id: usize) -> f64;
 }
@@ -109,7 +109,7 @@ impl EventQueue for IndexedHeap {
     }
 
     #[inline]
-    fn peek(&self) -> (usize, f64) {
+    fn peek(&mut self) -> (usize, f64) {
         let (t, id) = self.heap[0];
         (id as usize, t)
     }
@@ -153,5 +153,32 @@ mod tests {
     #[test]
     fn heap_agrees_with_a_linear_scan() {
         check_against_linear_scan::<IndexedHeap>();
+    }
+
+    #[test]
+    fn calendar_agrees_with_a_linear_scan() {
+        check_against_linear_scan::<crate::CalendarQueue>();
+    }
+
+    #[test]
+    fn calendar_follows_advancing_time() {
+        // Event-driven use: pop the minimum and reschedule it later, many windows on.
+        let n = 100;
+        let mut q = crate::CalendarQueue::new(n);
+        let mut h = IndexedHeap::new(n);
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        for id in 0..n {
+            let t = rng.random::<f64>();
+            q.set(id, t);
+            h.set(id, t);
+        }
+        for _ in 0..100_000 {
+            let (a, ta) = q.peek();
+            let (b, tb) = h.peek();
+            assert_eq!((a, ta), (b, tb));
+            let t = ta + rng.random::<f64>() * if rng.random::<f64>() < 0.01 { 1e3 } else { 1.0 };
+            q.set(a, t);
+            h.set(a, t);
+        }
     }
 }

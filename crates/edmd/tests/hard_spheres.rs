@@ -1,7 +1,9 @@
 //! Hard-sphere gases: conservation laws, kinetic theory, cells against brute force,
 //! stability of inelastic runs, and bad input.
 
-use emdstar_edmd::{Engine, EngineError, Event, Physics, Region, Setup, Wall, gas};
+use emdstar_edmd::{
+    CalendarQueue, Engine, EngineError, Event, EventQueue, Physics, Region, Setup, Wall, gas,
+};
 
 fn elastic() -> Physics {
     Physics::HardSpheres { restitution: 1.0 }
@@ -57,7 +59,7 @@ fn cells_agree_with_one_big_cell() {
     let fine_setup = setup.clone();
     let mut fine: Engine = Engine::new(setup.clone(), elastic()).unwrap();
     let mut coarse: Engine = Engine::with_cell_width(setup, elastic(), side).unwrap();
-    let collisions = |e: &mut Engine, count: usize| {
+    fn collisions<Q: EventQueue>(e: &mut Engine<Q>, count: usize) -> Vec<(u32, u32, f64)> {
         let mut out = vec![];
         while out.len() < count {
             if let Event::Collision(i, j) = e.step().unwrap() {
@@ -65,13 +67,16 @@ fn cells_agree_with_one_big_cell() {
             }
         }
         out
-    };
+    }
     // Frequent spatial re-sorting renumbers slots but must not change the physics.
-    let mut resorted: Engine = Engine::new(fine_setup, elastic()).unwrap();
+    let mut resorted: Engine = Engine::new(fine_setup.clone(), elastic()).unwrap();
     resorted.set_resort_interval(97);
+    // The calendar queue must give exactly the heap's event order.
+    let mut calendar: Engine<CalendarQueue> = Engine::new(fine_setup, elastic()).unwrap();
     let a = collisions(&mut fine, 300);
     let b = collisions(&mut coarse, 300);
     let c = collisions(&mut resorted, 300);
+    assert_eq!(collisions(&mut calendar, 300), a);
     assert!(resorted.stats().resorts > 5);
     for (k, ((x, y), z)) in a.iter().zip(&b).zip(&c).enumerate() {
         assert_eq!((x.0, x.1), (y.0, y.1), "collision {k}: {x:?} {y:?}");
