@@ -32,7 +32,8 @@ pub fn parse_engine(s: &str) -> Result<Engine, String> {
 /// Options of the MD engine (they override the config's `[md]` section).
 #[derive(Args, Debug, Clone)]
 pub struct MdArgs {
-    /// Time step in s [default: a fraction of the shortest expected contact time].
+    /// Time step in s [default: 1/2000 (pair) or 1/50 (run) of the shortest expected
+    /// contact time; steps above 1/10 of it are refused].
     #[arg(long, value_name = "S")]
     pub dt: Option<f64>,
     /// When a contact ends: "force" (F = 0, the default) or "overlap" (ξ = 0, as LAMMPS

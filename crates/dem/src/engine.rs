@@ -292,13 +292,21 @@ impl Md {
         let walls = !self.system.walls.is_empty();
         let mut v2_max: f64 = 0.0;
         let n = position.len();
+        // Without gravity the velocities need not be written back (less memory traffic).
+        let kick = gk != [0.0; 3];
         for (c, buf) in buffers.iter_mut().enumerate() {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                 let (v, x) = (velocity[i], position[i]);
-                let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
+                let w = if kick {
+                    [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
+                } else {
+                    v
+                };
                 let y = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
-                velocity[i] = w;
+                if kick {
+                    velocity[i] = w;
+                }
                 position[i] = y;
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 // NaN is ignored here; a blown-up particle is caught at the next rebuild.
@@ -319,6 +327,7 @@ impl Md {
     /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
     /// drift everything, then find the contacts. Same numbers, same order.
     fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let kick = gk != [0.0; 3];
         let p = &mut self.system.particles;
         let v2 = p
             .position
@@ -328,9 +337,15 @@ impl Md {
                 let mut v2_max: f64 = 0.0;
                 for (x, v) in x.iter_mut().zip(v.iter_mut()) {
                     // Copies: re-reading just-stored components stalls the CPU.
-                    let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
+                    let w = if kick {
+                        [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
+                    } else {
+                        *v
+                    };
                     *x = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
-                    *v = w;
+                    if kick {
+                        *v = w;
+                    }
                     let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                     if w2 > v2_max {
                         v2_max = w2;

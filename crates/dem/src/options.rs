@@ -12,7 +12,8 @@ pub enum ContactEnd {
     ForceZero,
     /// The force is not clipped and may attract; the contact ends when the overlap
     /// reaches zero. This is LAMMPS's `pair_style granular` without `limit_damping`;
-    /// use it only to compare with peers.
+    /// use it only to compare with peers. A damped force then jumps to zero at the end
+    /// of the contact, which is not corrected: first order in dt there.
     OverlapZero,
 }
 

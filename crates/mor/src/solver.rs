@@ -2,54 +2,38 @@
 //! the force-zero end of the collision, Eq. (10) (Schwager & Pöschel 2007).
 //!
 //! # Formulation
-//! With the scaled overlap ξ = l̃ − r̃ and its rate u = ξ' = −r̃' (l̃ reaches e^17 while ξ
-//! stays O(1), so r̃ itself would lose the digits of ξ), Eqs. (42) and (54) read
+//! In the overlap ξ = l̃ − r̃ and its rate u = ξ' = −r̃' (l̃ reaches e^17 while ξ = O(1), so
+//! r̃ would lose the digits of ξ): ξ' = u, u' = −c_φ²/(l̃−ξ)³ − g(ξ)·h, φ' = c_φ/(l̃−ξ)²,
+//! with the bracket h = ξ + c_dis·u and g = 1 (linear) or √ξ (Hertz); the scaled normal
+//! force is F = g·h. Start (Eq. 44): ξ = 0, u = 1, φ = 0.
 //!
-//! - ξ' = u
-//! - u' = −c_φ²/(l̃−ξ)³ − g(ξ)·h, with the bracket h = ξ + c_dis·u
-//! - φ' = c_φ/(l̃−ξ)²
+//! - **Linear dashpot:** (ξ, u, φ) in t; analytic also for ξ < 0 (stages beyond the end).
+//! - **Hertz:** √ξ makes the solution non-smooth where ξ → 0 (F ~ t^{3/2} at the start),
+//!   which ruins the order of any Runge–Kutta method. So (w, u, φ, t), w = √ξ, is
+//!   integrated in σ with dt/dσ = w: w' = u/2, u' = −w·c_φ²/r³ − w²·h, φ' = w·c_φ/r²,
+//!   t' = w (r = l̃ − w², h = w² + c_dis·u). This is polynomial in w and u, hence analytic;
+//!   how to evaluate the Hertz law at ξ < 0 never arises: beyond the end, stages follow
+//!   the analytic continuation, which is never used for the result.
+//! - **c_dis ≥ 1:** the second component is h itself (u = (h − ξ)/c_dis). Near the end h is
+//!   a tiny difference of ξ and c_dis·u crossing zero with slope u − c_dis·c_φ²/r³ (tiny for
+//!   central impacts); computed from (ξ, u) its rounding ε·ξ would shift τ by ~ε·c_dis²
+//!   relative. For Hertz, h then relaxes over many e-foldings to a slowly drifting
+//!   asymptote h_∞ < 0; that tail is handed over to q = ln(h − h_∞) ([`HertzTail`]).
 //!
-//! with g = 1 for the linear dashpot and g = √ξ for viscoelastic Hertz spheres: the scaled
-//! normal force is F = g·h. The start values r̃ = l̃, r̃' = −1, φ = 0 (Eq. 44) are ξ = 0,
-//! u = 1, φ = 0.
-//!
-//! - **Linear dashpot:** the state (ξ, u, φ) is integrated in t. The right-hand side is
-//!   analytic, also for ξ < 0, where trial stages may go beyond the end.
-//! - **Hertz:** √ξ makes the solution non-smooth where ξ → 0 (ξ ~ t, F ~ t^{3/2} at the
-//!   start and, for small c_dis, near the end), which ruins the order of any Runge–Kutta
-//!   method. The state (w, u, φ, t) with w = √ξ is integrated in the regularising time σ,
-//!   dt/dσ = w: w' = u/2, u' = −w·c_φ²/r³ − w²·h, φ' = w·c_φ/r², t' = w, with
-//!   r = l̃ − w² and h = w² + c_dis·u. This system is polynomial in w and u, hence analytic
-//!   (w = σ/2 + … at the start, and w crosses 0 with slope u/2 if c_dis = 0), so the
-//!   question of how to evaluate the Hertz law at ξ < 0 disappears: beyond the end, trial
-//!   stages follow the analytic continuation, never used for the result.
-//!
-//! - **Strong damping (c_dis ≥ 1):** the second state component is the bracket h itself
-//!   instead of u (u = (h − ξ)/c_dis). Near the end h is a tiny difference of ξ and c_dis·u
-//!   and crosses zero with slope h' = u − c_dis·c_φ²/r³, tiny for central impacts; computed
-//!   from (ξ, u), its rounding error ε·ξ would shift τ by ~ε·c_dis² relative (1e-7 at
-//!   c_dis = 1e5), while as a state it keeps its own relative precision. For Hertz, h then
-//!   relaxes over many e-foldings to a slowly drifting negative asymptote h_∞; that tail is
-//!   handed over to q = ln(h − h_∞), which falls about linearly ([`HertzTail`]): 3× fewer
-//!   steps in the stiff corner.
 //! # End of the collision
-//! The collision ends where r̃' > 0 and F = 0 (Eq. 10): h crosses zero from above with
-//! u < 0; for c_dis = 0 that is ξ = 0 (w = 0 for Hertz), skipping the trivial root at t = 0.
-//! While ξ > 0, h ≥ 0 ⇔ F ≥ 0, so the clipping F = max(0, …) never acts before the end. The
-//! end is bracketed by an accepted step and located on that step's 7th-order dense output
-//! by the Illinois method. There ξ = −c_dis·u holds exactly; of the two, the one with the
-//! smaller relative error (the one far from zero relative to its peak) fixes the other.
+//! Where r̃' > 0 and F = 0 (Eq. 10): h crosses zero from above with u < 0 (ξ = 0, w = 0
+//! for c_dis = 0; the trivial root at t = 0 is skipped). While ξ > 0, h ≥ 0 ⇔ F ≥ 0, so the
+//! clipping F = max(0, …) never acts before. The end is bracketed by an accepted step and
+//! located on its 7th-order dense output (Illinois). There ξ = −c_dis·u exactly; of the two,
+//! the one far from zero relative to its peak fixes the other.
 //!
 //! # Tolerances
-//! ξ is tiny where c_dis is large (ξ_max ≈ (1.5/c_dis)^{2/3} for Hertz, 1/c_dis for the
-//! linear dashpot) and u ends near −ξ/c_dis there, so absolute tolerances are set relative
-//! to an estimated overlap scale Ξ: atol·Ξ on ξ (atol·√Ξ on w, atol·Ξ on t),
-//! atol·min(1, Ξ/c_dis) on u (an error in u moves h by c_dis times as much), and
-//! atol·Ξ·c_φ/l̃² on φ. The relative tolerance on ξ refers to min(|ξ|, |l̃−ξ|), so that r̃ is
-//! also resolved where the spheres nearly pass through each other (small l̃). The local
-//! error of h, which sets that of τ, is controlled too (as a state in the h-form, as a
-//! monitored combination in the u-form) with atol·Ξ·|h'|, |h'| ≈ min(1, Ξ/c_dis) +
-//! c_dis·c_φ²/l̃³ the estimated slope at the end.
+//! With an estimated maximal overlap Ξ (≈ (1.5/c_dis)^{2/3} for stiff Hertz, 1/c_dis for
+//! the overdamped dashpot), absolute tolerances are atol·Ξ on ξ (atol·√Ξ on w, atol·Ξ on
+//! t), atol·min(1, Ξ/c_dis) on u, atol·Ξ·c_φ/l̃² on φ, and atol·Ξ·|h'|_end on h (as a state
+//! or a monitored combination; an error δh moves the end by δh/|h'|). The relative
+//! tolerance on ξ refers to min(|ξ|, |l̃−ξ|), resolving r̃ also where the spheres nearly
+//! pass through each other (small l̃).
 
 use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
 use emdstar_contact::{Model, ScaledParams};
@@ -142,26 +126,26 @@ pub fn solve_with(
     check_params(p)?;
     check_options(opts)?;
     let scales = Scales::new(model, p);
-    let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
     let mut run = Progress::default();
     let end = match model {
         Model::Linear => {
-            let sys = LinearDashpot {
-                p: *p,
-                bracket_form,
-            };
+            let sys = LinearDashpot::new(p);
             integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
         }
         Model::Hertz => {
-            let sys = HertzRegularised {
-                p: *p,
-                bracket_form,
-            };
-            match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
+            let mut sys = HertzRegularised::new(p);
+            let end = match integrate(&sys, p, &scales, opts, sys.start(), &mut run)? {
                 Outcome::HandOver(start) => {
-                    integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)?
+                    integrate(&HertzTail { p: *p }, p, &scales, opts, start, &mut run)
                 }
-                end => end,
+                end => Ok(end),
+            };
+            // Should the tail form ever fail, the h-form alone still gets there.
+            if end.is_err() {
+                sys.tail = false;
+                integrate(&sys, p, &scales, opts, sys.start(), &mut run)?
+            } else {
+                end?
             }
         }
     };
@@ -352,14 +336,19 @@ impl System<3> for LinearDashpot {
 }
 
 impl LinearDashpot {
+    fn new(p: &ScaledParams) -> Self {
+        let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
+        Self {
+            p: *p,
+            bracket_form,
+        }
+    }
+
     /// ξ = 0, u = 1 (h = c_dis), φ = 0 at t = 0, and a first trial step.
     fn start(&self) -> Start<3> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
-        (
-            0.0,
-            [0.0, v, 0.0],
-            0.01 * Scales::new(Model::Linear, &self.p).overlap,
-        )
+        let step = 0.01 * Scales::new(Model::Linear, &self.p).overlap;
+        (0.0, [0.0, v, 0.0], step)
     }
 }
 
@@ -384,6 +373,8 @@ impl Formulation<3> for LinearDashpot {
 struct HertzRegularised {
     p: ScaledParams,
     bracket_form: bool,
+    /// Whether the exponential tail may be handed over to [`HertzTail`].
+    tail: bool,
 }
 
 impl System<4> for HertzRegularised {
@@ -420,6 +411,15 @@ impl System<4> for HertzRegularised {
 impl HertzRegularised {
     /// w = 0, u = 1 (h = c_dis), φ = 0, t = 0 at σ = 0, and a first trial step (t = σ²/4
     /// near the start).
+    fn new(p: &ScaledParams) -> Self {
+        let bracket_form = p.c_dis >= BRACKET_FORM_FROM;
+        Self {
+            p: *p,
+            bracket_form,
+            tail: bracket_form,
+        }
+    }
+
     fn start(&self) -> Start<4> {
         let v = if self.bracket_form { self.p.c_dis } else { 1.0 };
         let overlap = Scales::new(Model::Hertz, &self.p).overlap;
@@ -430,12 +430,7 @@ impl HertzRegularised {
 impl Formulation<4> for HertzRegularised {
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 4] {
         let v = if self.bracket_form { s.bracket } else { s.rate };
-        [
-            atol * s.overlap.sqrt(),
-            atol * v,
-            atol * s.phase,
-            atol * s.overlap,
-        ]
+        [s.overlap.sqrt(), v, s.phase, s.overlap].map(|x| atol * x)
     }
 
     fn physical(&self, _sigma: f64, y: &[f64; 4]) -> [f64; 4] {
@@ -462,7 +457,7 @@ impl Formulation<4> for HertzRegularised {
     /// against the drift of its asymptote.
     fn hand_over(&self, sigma: f64, y: &[f64; 4], step: f64) -> Option<Start<4>> {
         let [w, h, phi, t] = *y;
-        if !self.bracket_form || h <= 0.0 {
+        if !self.tail || h <= 0.0 {
             return None;
         }
         let tail = HertzTail { p: self.p };
@@ -544,12 +539,7 @@ impl System<4> for HertzTail {
 
 impl Formulation<4> for HertzTail {
     fn atol(&self, atol: f64, s: &Scales) -> [f64; 4] {
-        [
-            atol * s.overlap.sqrt(),
-            0.0,
-            atol * s.phase,
-            atol * s.overlap,
-        ]
+        [s.overlap.sqrt(), 0.0, s.phase, s.overlap].map(|x| atol * x)
     }
 
     fn physical(&self, _sigma: f64, y: &[f64; 4]) -> [f64; 4] {
@@ -588,19 +578,16 @@ fn failure(f: StepFailure) -> SolveError {
 }
 
 fn check_params(p: &ScaledParams) -> Result<(), SolveError> {
-    let bad = |name: &str, v: f64, want: &str| {
-        Err(SolveError::InvalidParams(format!(
-            "{name} = {v} but it must be finite and {want}"
-        )))
-    };
-    if !(p.l_tilde.is_finite() && p.l_tilde > 0.0) {
-        return bad("l_tilde", p.l_tilde, "> 0");
-    }
-    if !(p.c_phi.is_finite() && p.c_phi >= 0.0) {
-        return bad("c_phi", p.c_phi, ">= 0");
-    }
-    if !(p.c_dis.is_finite() && p.c_dis >= 0.0) {
-        return bad("c_dis", p.c_dis, ">= 0");
+    for (name, v, zero_ok) in [
+        ("l_tilde", p.l_tilde, false),
+        ("c_phi", p.c_phi, true),
+        ("c_dis", p.c_dis, true),
+    ] {
+        if !(v.is_finite() && (v > 0.0 || zero_ok && v == 0.0)) {
+            let want = if zero_ok { ">= 0" } else { "> 0" };
+            let why = format!("{name} = {v} but it must be finite and {want}");
+            return Err(SolveError::InvalidParams(why));
+        }
     }
     Ok(())
 }

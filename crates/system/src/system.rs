@@ -37,9 +37,23 @@ impl System {
         self.species.iter().map(|s| s.radius).fold(0.0, f64::max)
     }
 
-    /// Checks what every engine relies on: finite state, particles inside the box along
-    /// closed axes, in front of every wall, and no two particles overlapping.
+    /// Checks what every engine relies on: walls parallel to the periodic axes, finite
+    /// state, particles inside the box along closed axes, in front of every wall, and no
+    /// two particles overlapping.
     pub fn validate(&self) -> Result<()> {
+        if let Some(b) = &self.sim_box {
+            for (w_index, w) in self.walls.iter().enumerate() {
+                if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
+                    return invalid!(
+                        "wall {w_index} (normal {:?}) is not parallel to the periodic axis {}: \
+                         its periodic images would cut the box; make that axis closed \
+                         (box.periodic) or turn the wall",
+                        w.normal,
+                        ["x", "y", "z"][k]
+                    );
+                }
+            }
+        }
         let p = &self.particles;
         for i in 0..p.len() {
             let (x, v) = (p.position[i], p.velocity[i]);

@@ -1,5 +1,5 @@
 //! Acceptance run (ignored in CI; run it with
-//! `cargo test -p emdstar-mor --test solver --release -- --ignored --nocapture acceptance`):
+//! `cargo test -p emdstar-mor --test solver -- --ignored --nocapture acceptance`, ~15 s):
 //! worst relative MoR error of the default options per component and per box, against
 //! (1) the solver at rtol = atol = 1e-14, (2) the overlap-form oracle and (3) the Cartesian
 //! oracle (τ̃ and ε_φ only where it resolves them), over 10^4 impacts log-uniform in the
@@ -45,11 +45,6 @@ impl Worst {
 #[test]
 #[ignore]
 fn acceptance_worst_errors_over_both_boxes() {
-    let tight = SolverOptions {
-        rtol: 1e-14,
-        atol: 1e-14,
-        max_steps: 10_000_000,
-    };
     let default = SolverOptions::default();
     let mut overall = 0.0f64;
     for model in [Model::Linear, Model::Hertz] {
@@ -72,14 +67,8 @@ fn acceptance_worst_errors_over_both_boxes() {
                 steps += s.accepted_steps;
                 rejected += s.rejected_steps;
                 evals += s.rhs_evaluations;
-                let (r, _) = solve_with(model, p, &tight).unwrap();
-                let e = [
-                    rel(m.one_minus_eps_r, r.one_minus_eps_r),
-                    rel(m.eps_rdot, r.eps_rdot),
-                    rel(m.eps_phi, r.eps_phi),
-                    rel(m.eps_t, r.eps_t),
-                ];
-                vs_tight.add(e, p, [true; 4]);
+                let (r, _) = solve_with(model, p, &tight()).unwrap();
+                vs_tight.add(mor_errors(&m, &r), p, [true; 4]);
                 vs_overlap.add(overlap_form_errors(model, p, &m), p, [true; 4]);
                 let resolved = cartesian_time_resolution(p, &m) < 1e-10;
                 unresolved += usize::from(!resolved);

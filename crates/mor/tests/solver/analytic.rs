@@ -74,19 +74,18 @@ fn linear_dashpot_matches_schwager_poeschel_in_every_damping_regime() {
         } else {
             schwager_poeschel(c_dis)
         };
-        let m = solve(Model::Linear, &params(1e4, 0.0, c_dis)).unwrap();
-        assert!(
-            rel(m.eps_t, t_c) < 1e-9,
-            "c_dis = {c_dis}: τ {} vs {t_c}",
-            m.eps_t
-        );
-        assert!(
-            rel(-m.eps_rdot, eps) < 1e-9,
-            "c_dis = {c_dis}: ε {} vs {eps}",
-            -m.eps_rdot
-        );
-        // F = 0 at the end: ξ = c_dis·ε.
-        assert!(rel(m.one_minus_eps_r * 1e4, c_dis * eps) < 1e-9);
+        check_central_linear(c_dis, t_c, eps);
+    }
+}
+
+/// Solves a central linear-dashpot impact and compares with (t_c, ε); F = 0 at the end
+/// also means ξ = c_dis·ε.
+fn check_central_linear(c_dis: f64, t_c: f64, eps: f64) {
+    let m = solve(Model::Linear, &params(1e4, 0.0, c_dis)).unwrap();
+    let e = [m.eps_t, -m.eps_rdot, m.one_minus_eps_r * 1e4];
+    let want = [t_c, eps, c_dis * eps];
+    for (x, y) in e.iter().zip(want) {
+        assert!(rel(*x, y) < 1e-9, "c_dis = {c_dis}: {e:?} vs {want:?}");
     }
 }
 
@@ -97,18 +96,7 @@ fn strongly_overdamped_central_impacts_stay_accurate() {
         let beta = c_dis / 2.0;
         let big = (beta * beta - 1.0).sqrt();
         let t_c = ((beta + big) * (beta + big)).ln() / big;
-        let eps = (-beta * t_c).exp();
-        let m = solve(Model::Linear, &params(1e4, 0.0, c_dis)).unwrap();
-        assert!(
-            rel(m.eps_t, t_c) < 1e-9,
-            "c_dis = {c_dis}: τ {} vs {t_c}",
-            m.eps_t
-        );
-        assert!(
-            rel(-m.eps_rdot, eps) < 1e-9,
-            "c_dis = {c_dis}: ε {} vs {eps}",
-            -m.eps_rdot
-        );
+        check_central_linear(c_dis, t_c, (-beta * t_c).exp());
     }
 }
 

@@ -1,6 +1,7 @@
 //! Shared helpers: random points of the paper's rectangles and relative errors.
 
 use emdstar_contact::{Model, ParameterBox, RectBounds, RectCoords, ScaledParams};
+use emdstar_mor::{Mor, SolverOptions};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -124,4 +125,23 @@ pub fn log_uniform_physical(model: Model, n: usize, seed: u64) -> Vec<ScaledPara
             scale(&pair_law, &pair, &impact).unwrap().params
         })
         .collect()
+}
+
+/// Much tighter options than the defaults, as a reference.
+pub fn tight() -> SolverOptions {
+    SolverOptions {
+        rtol: 1e-14,
+        atol: 1e-14,
+        max_steps: 10_000_000,
+    }
+}
+
+/// Relative differences of (1−ε_r, ε_ṙ, ε_φ, ε_t) of `m` from the reference `r`.
+pub fn mor_errors(m: &Mor, r: &Mor) -> [f64; 4] {
+    [
+        rel(m.one_minus_eps_r, r.one_minus_eps_r),
+        rel(m.eps_rdot, r.eps_rdot),
+        rel(m.eps_phi, r.eps_phi),
+        rel(m.eps_t, r.eps_t),
+    ]
 }

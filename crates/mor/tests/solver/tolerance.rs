@@ -8,24 +8,14 @@ use proptest::prelude::*;
 
 #[test]
 fn default_tolerances_agree_with_tight_ones_on_both_rectangles() {
-    let tight = SolverOptions {
-        rtol: 1e-14,
-        atol: 1e-14,
-        max_steps: 10_000_000,
-    };
     for model in [Model::Linear, Model::Hertz] {
         let mut points = corners(model);
         points.extend(uniform_in_rect(model, 300, 5));
         points.extend(log_uniform_physical(model, 300, 6));
         for p in &points {
             let m = solve(model, p).unwrap();
-            let (r, _) = solve_with(model, p, &tight).unwrap();
-            let e = [
-                rel(m.one_minus_eps_r, r.one_minus_eps_r),
-                rel(m.eps_rdot, r.eps_rdot),
-                rel(m.eps_phi, r.eps_phi),
-                rel(m.eps_t, r.eps_t),
-            ];
+            let (r, _) = solve_with(model, p, &tight()).unwrap();
+            let e = mor_errors(&m, &r);
             assert!(e.iter().all(|&x| x <= 1e-9), "{model} {p:?}: {e:?}");
         }
     }
@@ -68,29 +58,28 @@ proptest! {
     }
 }
 
-/// A fixed workload for instruction counts (`perf stat -e instructions <test binary>
-/// --ignored workload_linear`), a noise-free proxy of speed on a shared machine.
-#[test]
-#[ignore]
-fn workload_linear() {
-    let points = uniform_in_rect(Model::Linear, 256, 42);
+/// A fixed workload for instruction counts (`valgrind --tool=callgrind <test binary>
+/// --ignored --exact tolerance::workload_linear`), a noise-free proxy of speed on a shared
+/// machine.
+fn workload(model: Model) {
+    let points = uniform_in_rect(model, 256, 42);
     for _ in 0..100 {
         for p in &points {
-            std::hint::black_box(solve(Model::Linear, p).unwrap());
+            std::hint::black_box(solve(model, p).unwrap());
         }
     }
 }
 
-/// As [`workload_linear`], for the Hertz rectangle.
+#[test]
+#[ignore]
+fn workload_linear() {
+    workload(Model::Linear);
+}
+
 #[test]
 #[ignore]
 fn workload_hertz() {
-    let points = uniform_in_rect(Model::Hertz, 256, 42);
-    for _ in 0..100 {
-        for p in &points {
-            std::hint::black_box(solve(Model::Hertz, p).unwrap());
-        }
-    }
+    workload(Model::Hertz);
 }
 
 #[test]
