@@ -19,6 +19,8 @@ struct Cli {
 enum Command {
     /// Matrix of restitution of one collision, solved exactly (or from a table).
     Mor(cmd::mor::MorArgs),
+    /// Numerical stability checks of the event-driven engine.
+    Check(cmd::check::CheckArgs),
     /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
     Table(cmd::table::TableArgs),
     /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
+        Command::Check(args) => cmd::check::run(&args),
         Command::Table(args) => cmd::table::run(&args),
         Command::Pair(args) => cmd::pair::run(&args),
         Command::Run(args) => cmd::run::run(&args),

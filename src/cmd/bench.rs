@@ -17,6 +17,11 @@ pub enum BenchTarget {
     /// The MD engine on a dilute Hertz gas (issue 4): R = 0.1 m, ρ = 1140 kg/m³,
     /// Y = 1 GPa, ν = 0.4, A = 0, rms speed 1 m/s, simple cubic start.
     Md,
+    /// The event-driven engine (issue 5): elastic hard spheres (N = 32000, η = 0.10),
+    /// a dilute eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) and, with --scaling,
+    /// the hard-sphere rate for N from 10³ to 10⁶. Uses only the flags under
+    /// "event-driven".
+    Edmd,
 }
 
 /// Speed benchmarks. Prints one JSON object per case and a summary.
@@ -53,6 +58,8 @@ pub struct BenchArgs {
     /// The LAMMPS binary.
     #[arg(long, default_value = "lmp")]
     pub lmp: String,
+    #[command(flatten, next_help_heading = "event-driven (bench edmd)")]
+    pub edmd: super::bench_edmd::BenchEdmdArgs,
 }
 
 const RADIUS: f64 = 0.1;
@@ -60,7 +67,9 @@ const DENSITY: f64 = 1140.0;
 const RMS_SPEED: f64 = 1.0;
 
 pub fn run(args: &BenchArgs) -> Result<()> {
-    let BenchTarget::Md = args.target;
+    if let BenchTarget::Edmd = args.target {
+        return super::bench_edmd::run(&args.edmd);
+    }
     let side = (args.n as f64).cbrt().round() as usize;
     if side < 3 || args.steps == 0 {
         bail!("need --n ≥ 27 and --steps ≥ 1");

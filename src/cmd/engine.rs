@@ -11,18 +11,20 @@ use std::path::Path;
 pub enum Engine {
     /// Force-based DEM (time steps).
     Md,
+    /// Classic event-driven MD with the force law's central restitution ε(v_n).
+    Emd,
+    /// eMD*: event-driven MD with the matrix of restitution (three events per collision).
+    EmdStar,
 }
 
 /// Parses `--engine`; names the engines that are planned but not built yet.
 pub fn parse_engine(s: &str) -> Result<Engine, String> {
     match s {
         "md" => Ok(Engine::Md),
-        "emd" | "emdstar" => Err(format!(
-            "engine '{s}' is not available yet (the event-driven engine is still being \
-             written); use --engine md"
-        )),
+        "emd" => Ok(Engine::Emd),
+        "emdstar" => Ok(Engine::EmdStar),
         other => Err(format!(
-            "unknown engine '{other}': the available engine is 'md'"
+            "unknown engine '{other}': the engines are 'md', 'emd' and 'emdstar'"
         )),
     }
 }

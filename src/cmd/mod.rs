@@ -1,6 +1,9 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
 pub mod bench;
+pub mod bench_edmd;
+pub mod check;
+pub mod edmd_engine;
 pub mod engine;
 pub mod mor;
 pub mod pair;

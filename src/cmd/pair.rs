@@ -24,11 +24,13 @@ pub const PAIR_DT_FRACTION: f64 = 1.0 / 2000.0;
 pub struct PairArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// The engine: md (emd and emdstar are not available yet).
+    /// The engine: md, emd or emdstar.
     #[arg(long, value_parser = parse_engine, default_value = "md")]
     pub engine: Engine,
     #[command(flatten)]
     pub md: MdArgs,
+    #[command(flatten)]
+    pub edmd: super::edmd_engine::EdmdArgs,
     /// Print JSON: {"engine", "t", "particles": [{"position", "velocity"}, ...]}.
     #[arg(long)]
     pub json: bool,
@@ -37,6 +39,9 @@ pub struct PairArgs {
 pub fn run(args: &PairArgs) -> Result<()> {
     let (config, system) = load(&args.config)?;
     match args.engine {
+        Engine::Emd | Engine::EmdStar => {
+            super::edmd_engine::pair(&config, system, args.engine, &args.edmd, args.json)?;
+        }
         Engine::Md => {
             let (opts, steps) = md_options(&config, &system, &args.md, PAIR_DT_FRACTION)?;
             let mut md = Md::new(system, opts, config.t_end)?;

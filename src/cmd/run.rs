@@ -21,11 +21,13 @@ use std::time::Instant;
 pub struct RunArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// The engine: md (emd and emdstar are not available yet).
+    /// The engine: md, emd or emdstar.
     #[arg(long, value_parser = parse_engine, default_value = "md")]
     pub engine: Engine,
     #[command(flatten)]
     pub md: MdArgs,
+    #[command(flatten)]
+    pub edmd: super::edmd_engine::EdmdArgs,
     /// Trajectory file (extended XYZ).
     #[arg(long, value_name = "PATH")]
     pub trajectory: Option<PathBuf>,
@@ -51,7 +53,33 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let pool = pool.build().context("starting the worker threads")?;
     pool.install(|| match args.engine {
         Engine::Md => run_md(args, pool.current_num_threads()),
+        Engine::Emd | Engine::EmdStar => run_edmd(args),
     })
+}
+
+fn run_edmd(args: &RunArgs) -> Result<()> {
+    let (config, system) = load(&args.config)?;
+    let output = config.output.clone().unwrap_or_default();
+    let stem = args
+        .config
+        .file_stem()
+        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+    let outputs = super::edmd_engine::RunOutputs {
+        trajectory: args
+            .trajectory
+            .clone()
+            .or(output.trajectory.map(PathBuf::from))
+            .unwrap_or_else(|| format!("{stem}.xyz").into()),
+        log: args
+            .log
+            .clone()
+            .or(output.log.map(PathBuf::from))
+            .unwrap_or_else(|| format!("{stem}.log").into()),
+        trajectory_interval: output.trajectory_interval.unwrap_or(config.t_end / 20.0),
+        log_interval: output.log_interval.unwrap_or(config.t_end / 100.0),
+        quiet: args.quiet,
+    };
+    super::edmd_engine::run(&config, system, args.engine, &args.edmd, &outputs)
 }
 
 fn run_md(args: &RunArgs, threads: usize) -> Result<()> {

@@ -1,5 +1,6 @@
 //! End-to-end tests of the `emdstar` command line.
 
+mod edmd;
 mod mor;
 
 use std::process::{Command, Output};

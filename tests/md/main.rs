@@ -139,15 +139,10 @@ fn bad_configs_are_refused_with_their_reason() {
 }
 
 #[test]
-fn other_engines_are_refused_clearly() {
-    let out = emdstar(&[
-        "pair",
-        &config("oblique_linear.toml"),
-        "--engine",
-        "emdstar",
-    ]);
+fn unknown_engines_and_bad_steps_are_refused_clearly() {
+    let out = emdstar(&["pair", &config("oblique_linear.toml"), "--engine", "lammps"]);
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not available yet"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown engine"));
     for bad in ["--dt=nan", "--dt=-1e-5", "--dt=0"] {
         let out = emdstar(&["pair", &config("oblique_linear.toml"), bad]);
         assert!(String::from_utf8_lossy(&out.stderr).contains("must be a finite number"));

@@ -1,0 +1,241 @@
+//! A calendar (bounded) priority queue after Paul, J. Comput. Phys. 221, 615 (2007), as
+//! used by DynamO: keys fall into buckets of width w over a window of `nb` buckets;
+//! only the current bucket is kept sorted (in a small binary heap), later buckets are
+//! unsorted linked lists and keys beyond the window wait in an overflow list until the
+//! window has been used up. Average O(1) per operation; the order of events (by key,
+//! then id) is exactly that of [`crate::IndexedHeap`].
+
+use crate::queue::EventQueue;
+
+const NONE: u32 = u32::MAX;
+const IN_HEAP: u32 = u32::MAX - 1;
+const OVERFLOW: u32 = u32::MAX - 2;
+const NEVER: u32 = u32::MAX - 3;
+
+/// The calendar queue.
+#[derive(Debug, Clone)]
+pub struct CalendarQueue {
+    keys: Vec<f64>,
+    /// Bucket index, IN_HEAP, OVERFLOW or NEVER.
+    loc: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// Heads of the bucket lists, then of OVERFLOW and NEVER (last two slots).
+    heads: Vec<u32>,
+    /// The sorted current bucket: (key, id) binary heap, with positions.
+    heap: Vec<(f64, u32)>,
+    heap_pos: Vec<u32>,
+    t0: f64,
+    width: f64,
+    current: usize,
+}
+
+#[inline(always)]
+fn less(a: (f64, u32), b: (f64, u32)) -> bool {
+    a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
+}
+
+impl CalendarQueue {
+    fn buckets(&self) -> usize {
+        self.heads.len() - 2
+    }
+
+    fn list_head(&mut self, loc: u32) -> &mut u32 {
+        let nb = self.buckets();
+        match loc {
+            OVERFLOW => &mut self.heads[nb],
+            NEVER => &mut self.heads[nb + 1],
+            b => &mut self.heads[b as usize],
+        }
+    }
+
+    fn link(&mut self, id: usize, loc: u32) {
+        let head = *self.list_head(loc);
+        self.next[id] = head;
+        self.prev[id] = NONE;
+        if head != NONE {
+            self.prev[head as usize] = id as u32;
+        }
+        *self.list_head(loc) = id as u32;
+        self.loc[id] = loc;
+    }
+
+    fn unlink(&mut self, id: usize) {
+        let (p, n) = (self.prev[id], self.next[id]);
+        if p == NONE {
+            *self.list_head(self.loc[id]) = n;
+        } else {
+            self.next[p as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+
+    fn heap_place(&mut self, k: usize, item: (f64, u32)) {
+        self.heap[k] = item;
+        self.heap_pos[item.1 as usize] = k as u32;
+    }
+
+    fn heap_fix(&mut self, mut k: usize) {
+        let item = self.heap[k];
+        while k > 0 && less(item, self.heap[(k - 1) / 2]) {
+            let p = self.heap[(k - 1) / 2];
+            self.heap_place(k, p);
+            k = (k - 1) / 2;
+        }
+        let n = self.heap.len();
+        loop {
+            let l = 2 * k + 1;
+            if l >= n {
+                break;
+            }
+            let c = if l + 1 < n && less(self.heap[l + 1], self.heap[l]) {
+                l + 1
+            } else {
+                l
+            };
+            if !less(self.heap[c], item) {
+                break;
+            }
+            let x = self.heap[c];
+            self.heap_place(k, x);
+            k = c;
+        }
+        self.heap_place(k, item);
+    }
+
+    fn heap_push(&mut self, id: usize) {
+        self.loc[id] = IN_HEAP;
+        self.heap.push((self.keys[id], id as u32));
+        let k = self.heap.len() - 1;
+        self.heap_pos[id] = k as u32;
+        self.heap_fix(k);
+    }
+
+    fn heap_remove(&mut self, id: usize) {
+        let k = self.heap_pos[id] as usize;
+        let last = self.heap.pop().expect("id is in the heap");
+        if k < self.heap.len() {
+            self.heap_place(k, last);
+            self.heap_fix(k);
+        }
+    }
+
+    /// Files `id` by its key.
+    fn insert(&mut self, id: usize) {
+        let t = self.keys[id];
+        if !t.is_finite() {
+            self.link(id, NEVER);
+            return;
+        }
+        let b = ((t - self.t0) / self.width).floor();
+        if b <= self.current as f64 {
+            self.heap_push(id);
+        } else if b < self.buckets() as f64 {
+            self.link(id, b as u32);
+        } else {
+            self.link(id, OVERFLOW);
+        }
+    }
+
+    /// Starts a new window at the earliest overflow key, sized from the overflow's
+    /// spread. Returns false if nothing finite is left.
+    fn rebase(&mut self) -> bool {
+        let nb = self.buckets();
+        let mut ids = vec![];
+        let mut id = self.heads[nb];
+        while id != NONE {
+            ids.push(id as usize);
+            id = self.next[id as usize];
+        }
+        if ids.is_empty() {
+            return false;
+        }
+        self.heads[nb] = NONE;
+        let min = ids
+            .iter()
+            .map(|&i| self.keys[i])
+            .fold(f64::INFINITY, f64::min);
+        let mean = ids.iter().map(|&i| self.keys[i] - min).sum::<f64>() / ids.len() as f64;
+        // About two keys per bucket: the window spans twice the mean lead time.
+        self.width = (4.0 * mean / nb as f64).max(f64::MIN_POSITIVE);
+        self.t0 = min;
+        self.current = 0;
+        for i in ids {
+            self.insert(i);
+        }
+        true
+    }
+}
+
+impl EventQueue for CalendarQueue {
+    fn new(len: usize) -> Self {
+        assert!(len < NEVER as usize, "too many ids for the calendar queue");
+        let nb = len.next_power_of_two().max(16);
+        let mut q = Self {
+            keys: vec![f64::INFINITY; len],
+            loc: vec![NEVER; len],
+            next: vec![NONE; len],
+            prev: vec![NONE; len],
+            heads: vec![NONE; nb + 2],
+            heap: Vec::with_capacity(64),
+            heap_pos: vec![0; len],
+            t0: 0.0,
+            width: 1.0,
+            current: 0,
+        };
+        for id in (0..len).rev() {
+            q.link(id, NEVER);
+        }
+        q
+    }
+
+    fn set(&mut self, id: usize, time: f64) {
+        if self.loc[id] == IN_HEAP {
+            self.heap_remove(id);
+        } else {
+            self.unlink(id);
+        }
+        self.keys[id] = time;
+        self.insert(id);
+    }
+
+    fn peek(&mut self) -> (usize, f64) {
+        while self.heap.is_empty() {
+            self.current += 1;
+            if self.current >= self.buckets() && !self.rebase() {
+                // Only keys at +∞ are left: report the smallest id, as the heap does.
+                let mut id = self.heads[self.buckets() + 1];
+                let mut smallest = NONE;
+                while id != NONE {
+                    smallest = smallest.min(id);
+                    id = self.next[id as usize];
+                }
+                self.current = self.buckets();
+                return (
+                    if smallest == NONE {
+                        0
+                    } else {
+                        smallest as usize
+                    },
+                    f64::INFINITY,
+                );
+            }
+            let b = self.current as u32;
+            let mut id = self.heads[b as usize];
+            self.heads[b as usize] = NONE;
+            while id != NONE {
+                let next = self.next[id as usize];
+                self.heap_push(id as usize);
+                id = next;
+            }
+        }
+        let (t, id) = self.heap[0];
+        (id as usize, t)
+    }
+
+    fn key(&self, id: usize) -> f64 {
+        self.keys[id]
+    }
+}

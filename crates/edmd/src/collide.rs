@@ -1,0 +1,282 @@
+//! Executing collisions: hard spheres, eMD and the three events of eMD*
+//! (Müller & Pöschel 2013, Sec. VI B), with the exceptions of Sec. VI B 5.
+
+use crate::cells::NONE;
+use crate::engine::{Engine, dot, sub};
+use crate::error::Result;
+use crate::queue::EventQueue;
+use crate::rules::restitution_kick;
+use crate::setup::{Interference, Physics};
+use emdstar_contact::{Impact, Vec3, scale};
+use emdstar_mor::rule::{Body, resolve, resolve_wall};
+
+fn vec3(a: [f64; 3]) -> Vec3 {
+    Vec3::new(a[0], a[1], a[2])
+}
+
+fn arr(v: &Vec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+impl<Q: EventQueue> Engine<Q> {
+    /// Runs the pending E^v of `i` early because a third party hits it (exception b),
+    /// and with [`Interference::BothPartners`] that of its partner too.
+    fn interrupt_transient(&mut self, i: usize, interference: Interference) {
+        let partner = self.ev[i].partner as usize;
+        self.finish_transient(i);
+        if interference == Interference::BothPartners
+            && partner < self.len()
+            && self.ev[partner].pending_time.is_finite()
+            && self.ev[partner].partner == i as u32
+        {
+            self.finish_transient(partner);
+            self.stats.early_partner_updates += 1;
+            self.predict(partner);
+        }
+    }
+
+    /// Handles exception (b) for the parties of a collision about to happen. Returns
+    /// false if one of them was in a transient.
+    fn settle_transients(&mut self, parties: &[usize]) -> bool {
+        let interference = match &self.physics {
+            Physics::EmdStar { interference, .. } => *interference,
+            _ => return true,
+        };
+        let mut clean = true;
+        for &p in parties {
+            if self.ev[p].pending_time.is_finite() {
+                clean = false;
+                self.interrupt_transient(p, interference);
+            }
+        }
+        if !clean {
+            self.stats.exception_interference += 1;
+        }
+        clean
+    }
+
+    /// Executes the predicted collision of `i` and `j` at the current time. Returns
+    /// false if an eMD* transient had to end first and the pair then no longer
+    /// approached.
+    pub(crate) fn pair_collision(&mut self, i: usize, j: usize) -> Result<bool> {
+        let now = self.time;
+        self.advance(i, now);
+        self.advance(j, now);
+        if !self.settle_transients(&[i, j]) {
+            let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
+            if dot(r, sub(self.kin[i].vel, self.kin[j].vel)) >= 0.0 {
+                self.stats.interference_resolved += 1;
+                self.predict(i);
+                self.predict(j);
+                return Ok(false);
+            }
+        }
+        let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
+        let v = sub(self.kin[i].vel, self.kin[j].vel);
+        let contact = self.kin[i].radius + self.kin[j].radius;
+        let distance = dot(r, r).sqrt();
+        self.stats.record_impact(distance, contact);
+        self.stats.pair_collisions += 1;
+        let (mi, mj) = (self.mass[i], self.mass[j]);
+        let eps = match &self.physics {
+            Physics::HardSpheres { restitution } => Some(*restitution),
+            Physics::Emd(m) => {
+                let vn = -dot(r, v) / distance;
+                let entry = m.pair(self.species[i], self.species[j]);
+                Some(entry.central.at(vn, &mut self.hertz)?)
+            }
+            Physics::EmdStar { .. } => self.emdstar_pair(i, j, r, v)?,
+        };
+        if let Some(eps) = eps {
+            let (di, dj) = restitution_kick(r, v, mi, mj, eps);
+            for k in 0..3 {
+                self.kin[i].vel[k] += di[k];
+                self.kin[j].vel[k] += dj[k];
+            }
+        }
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+        self.ev[j].counter = self.ev[j].counter.wrapping_add(1);
+        self.predict(i);
+        self.predict(j);
+        Ok(true)
+    }
+
+    /// The E^φ event of eMD* for a pair (Sec. VI B 2). Returns the eMD restitution
+    /// to use instead if the rotation is impossible (exception a).
+    fn emdstar_pair(
+        &mut self,
+        i: usize,
+        j: usize,
+        r: [f64; 3],
+        v: [f64; 3],
+    ) -> Result<Option<f64>> {
+        let Physics::EmdStar { materials, mor, .. } = &mut self.physics else {
+            unreachable!("eMD* event without eMD* physics")
+        };
+        let entry = materials.pair(self.species[i], self.species[j]);
+        let impact = Impact::from_relative(&vec3(r), &vec3(v))?;
+        let scaled = scale(&entry.law, &entry.props, &impact)?;
+        let (m, fallback) = mor.mor(entry.law.model(), &scaled.params)?;
+        self.stats.mor_fallbacks += u64::from(fallback);
+        let l = entry.props.l;
+        // Unwrap i next to j so that the pair is contiguous.
+        let pj = self.kin[j].pos;
+        let pi: [f64; 3] = std::array::from_fn(|k| pj[k] + r[k]);
+        let bodies = [
+            Body {
+                position: vec3(pi),
+                velocity: vec3(self.kin[i].vel),
+                mass: self.mass[i],
+            },
+            Body {
+                position: vec3(pj),
+                velocity: vec3(self.kin[j].vel),
+                mass: self.mass[j],
+            },
+        ];
+        let out = resolve(&bodies, l, &m, scaled.time);
+        let new = [
+            arr(&out.rotated_positions[0]),
+            arr(&out.rotated_positions[1]),
+        ];
+        if self.rotation_blocked(&[i, j], &new) {
+            self.stats.exception_rotation += 1;
+            return Ok(Some(-m.eps_rdot));
+        }
+        let g = self.gravity;
+        let end = self.time + out.duration;
+        for (slot, &p) in [i, j].iter().enumerate() {
+            self.place(p, new[slot]);
+            self.kin[p].vel = arr(&out.transient_velocity);
+            let post = out.post_velocities[slot];
+            self.pending_vel[p] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
+            self.ev[p].pending_time = end;
+        }
+        self.ev[i].partner = j as u32;
+        self.ev[j].partner = i as u32;
+        Ok(None)
+    }
+
+    /// Puts particle `p` at position `x` now (wrapped, re-binned).
+    fn place(&mut self, p: usize, x: [f64; 3]) {
+        let x = self.wrap(x);
+        self.kin[p].pos = x;
+        self.kin[p].stamp = self.time;
+        let c = self.grid.coords_of(x);
+        self.grid.relocate(p, c);
+    }
+
+    /// Exception (a): would moving `parties` to `new` push any of them deeper into a
+    /// third particle or a wall than it is now?
+    fn rotation_blocked(&self, parties: &[usize], new: &[[f64; 3]]) -> bool {
+        let now = self.time;
+        for (slot, &p) in parties.iter().enumerate() {
+            let (x_new, x_old) = (new[slot], self.kin[p].pos);
+            let cells = self
+                .grid
+                .neighbourhood(self.grid.coords_of(self.wrap(x_new)));
+            for &cell in cells.as_slice() {
+                let mut k = self.grid.first(cell);
+                while k != NONE {
+                    let ku = k as usize;
+                    if !parties.contains(&ku) {
+                        let (xk, _) = self.state_at(ku, now);
+                        let contact = self.kin[p].radius + self.kin[ku].radius;
+                        let d_new = dot(
+                            self.min_image(sub(x_new, xk)),
+                            self.min_image(sub(x_new, xk)),
+                        )
+                        .sqrt();
+                        if d_new < contact {
+                            let d_old = self.min_image(sub(x_old, xk));
+                            if d_new < dot(d_old, d_old).sqrt() {
+                                return true;
+                            }
+                        }
+                    }
+                    k = self.grid.next(k);
+                }
+            }
+            for wall in &self.walls {
+                let h_new = dot(wall.normal, sub(x_new, wall.point));
+                let h_old = dot(wall.normal, sub(x_old, wall.point));
+                if h_new < self.kin[p].radius && h_new < h_old {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// Executes the predicted collision of `i` with wall `w` at the current time.
+    pub(crate) fn wall_collision(&mut self, i: usize, w: usize) -> Result<()> {
+        let now = self.time;
+        self.advance(i, now);
+        self.settle_transients(&[i]);
+        let wall = self.walls[w];
+        let n = wall.normal;
+        let vn = dot(n, self.kin[i].vel);
+        self.stats.wall_collisions += 1;
+        let height = dot(n, sub(self.kin[i].pos, wall.point));
+        if height < self.kin[i].radius && vn >= 0.0 {
+            self.stats.stabilising += 1;
+        }
+        let eps = if vn >= 0.0 {
+            // A stabilising event at the top of a flight (Bannerman 2014, Alg. 2,
+            // line 9): the sphere does not approach, so its velocity stays.
+            None
+        } else {
+            match &self.physics {
+                Physics::HardSpheres { restitution } => Some(*restitution),
+                Physics::Emd(m) => Some(m.wall(self.species[i]).central.at(-vn, &mut self.hertz)?),
+                Physics::EmdStar { .. } => self.emdstar_wall(i, w, -vn)?,
+            }
+        };
+        if let Some(eps) = eps {
+            let kick = (1.0 + eps) * vn;
+            for (k, nk) in n.iter().enumerate() {
+                self.kin[i].vel[k] -= kick * nk;
+            }
+        }
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+        self.predict(i);
+        Ok(())
+    }
+
+    /// The E^φ event of eMD* against a flat wall: a central collision along the
+    /// normal (Sec. IV applied with R₂, m₂ → ∞; see `emdstar_mor::rule::resolve_wall`).
+    fn emdstar_wall(&mut self, i: usize, w: usize, v_n: f64) -> Result<Option<f64>> {
+        let Physics::EmdStar { materials, mor, .. } = &mut self.physics else {
+            unreachable!("eMD* event without eMD* physics")
+        };
+        let entry = materials.wall(self.species[i]);
+        let impact = Impact {
+            normal_speed: v_n,
+            tangential_speed: 0.0,
+        };
+        let scaled = scale(&entry.law, &entry.props, &impact)?;
+        let (m, fallback) = mor.mor(entry.law.model(), &scaled.params)?;
+        self.stats.mor_fallbacks += u64::from(fallback);
+        let wall = self.walls[w];
+        let body = Body {
+            position: vec3(sub(self.kin[i].pos, wall.point)),
+            velocity: vec3(self.kin[i].vel),
+            mass: self.mass[i],
+        };
+        let out = resolve_wall(&body, &vec3(wall.normal), entry.props.l, &m, scaled.time);
+        let rel = out.rotated_positions[0];
+        let new = [std::array::from_fn(|k| rel[k] + wall.point[k])];
+        if self.rotation_blocked(&[i], &new) {
+            self.stats.exception_rotation += 1;
+            return Ok(Some(-m.eps_rdot));
+        }
+        self.place(i, new[0]);
+        self.kin[i].vel = arr(&out.transient_velocity);
+        let post = out.post_velocities[0];
+        let g = self.gravity;
+        self.pending_vel[i] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
+        self.ev[i].pending_time = self.time + out.duration;
+        self.ev[i].partner = (self.len() + w) as u32;
+        Ok(None)
+    }
+}

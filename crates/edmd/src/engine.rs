@@ -1,0 +1,547 @@
+//! The event loop: per-particle next events in a swappable queue, stale events found
+//! by collision counters, cells with crossing events, and delayed (lazy) particle
+//! updates — each particle's state is stored at the time of its last event and moved
+//! on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
+
+use crate::cells::{CellGrid, NONE};
+use crate::detect::{sphere_sphere, sphere_wall};
+use crate::error::{EngineError, Result};
+use crate::queue::{EventQueue, IndexedHeap};
+use crate::rules::HertzRestitution;
+use crate::setup::{Physics, Wall};
+use crate::stats::Stats;
+
+/// What [`Engine::step`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// A pair collision (for eMD*: its E^φ event, or the eMD fallback).
+    Collision(u32, u32),
+    /// A collision with wall `w`.
+    Wall(u32, u32),
+    /// An eMD* E^v event: the particle took its post-collision velocity.
+    Velocity(u32),
+    /// A particle moved into another cell.
+    Crossing(u32),
+    /// A stale prediction was discarded and the particle re-predicted.
+    Stale(u32),
+    /// An interfering collision whose pair stopped approaching once the pending E^v
+    /// events ran (eMD* exception b); nothing else happened.
+    Resolved(u32, u32),
+}
+
+/// The event-driven engine for hard spheres, eMD and eMD*.
+pub struct Engine<Q: EventQueue = IndexedHeap> {
+    /// Kinematic state, one cache line per particle (what neighbour scans read).
+    pub(crate) kin: Vec<Kin>,
+    pub(crate) mass: Vec<f64>,
+    /// Original particle number of each slot (slots are re-sorted in space).
+    pub(crate) id: Vec<u32>,
+    /// Events between spatial re-sorts (0: never), and events since the last.
+    pub(crate) resort_every: u64,
+    pub(crate) since_resort: u64,
+    pub(crate) species: Vec<u32>,
+    /// Each particle's own next events and counters, one cache line per particle.
+    pub(crate) ev: Vec<EventRec>,
+    /// eMD*: the velocity the pending E^v event applies.
+    pub(crate) pending_vel: Vec<[f64; 3]>,
+    pub(crate) grid: CellGrid,
+    pub(crate) queue: Q,
+    pub(crate) time: f64,
+    pub(crate) walls: Vec<Wall>,
+    pub(crate) gravity: [f64; 3],
+    pub(crate) has_gravity: bool,
+    pub(crate) physics: Physics,
+    pub(crate) hertz: HertzRestitution,
+    pub(crate) stats: Stats,
+    /// Consecutive events at one instant (an inelastic collapse never ends).
+    pub(crate) zero_streak: u64,
+}
+
+/// A particle's position and velocity, valid at time `stamp` (delayed update), and
+/// its radius: the data every pair test reads, packed into one cache line.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+pub(crate) struct Kin {
+    pub pos: [f64; 3],
+    pub stamp: f64,
+    pub vel: [f64; 3],
+    pub radius: f64,
+}
+
+/// A particle's own next events (the queue holds the earliest of them).
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct EventRec {
+    /// Earliest predicted collision, with a particle or (`n + w`) wall w.
+    pub coll_time: f64,
+    /// Next cell crossing.
+    pub cross_time: f64,
+    /// eMD*: time of the pending E^v event (+∞ if none).
+    pub pending_time: f64,
+    pub coll_partner: u32,
+    /// The partner's `counter` when the collision was predicted.
+    pub coll_counter: u32,
+    /// Incremented whenever this particle's velocity or position jumps.
+    pub counter: u32,
+    /// eMD*: the particle (or `n + w` wall) sharing the transient, NONE otherwise.
+    pub partner: u32,
+    /// axis·2 + (1 if moving up).
+    pub cross_face: u8,
+    /// The collision was predicted for the moment of prediction: an overlapping,
+    /// approaching pair (a stabilising collision, Bannerman 2014, Sec. 4.1).
+    pub coll_now: bool,
+}
+
+impl Default for EventRec {
+    fn default() -> Self {
+        Self {
+            coll_time: f64::INFINITY,
+            cross_time: f64::INFINITY,
+            pending_time: f64::INFINITY,
+            coll_partner: NONE,
+            coll_counter: 0,
+            counter: 0,
+            partner: NONE,
+            cross_face: 0,
+            coll_now: false,
+        }
+    }
+}
+
+#[inline]
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline]
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Time until a coordinate at `d` = x − face, moving with `v` under `g`, crosses the
+/// face in direction `dir` (±1); 0 if it is already beyond it and moving outwards.
+#[inline]
+fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
+    if d * dir >= 0.0 && v * dir > 0.0 {
+        return 0.0;
+    }
+    if g == 0.0 {
+        if v * dir <= 0.0 {
+            return f64::INFINITY;
+        }
+        return (-d / v).max(0.0);
+    }
+    if v * v - 2.0 * g * d < 0.0 {
+        return f64::INFINITY;
+    }
+    let (t1, t2) = crate::detect::quadratic_roots(0.5 * g, v, d);
+    let mut best = f64::INFINITY;
+    for t in [t1, t2] {
+        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
+            best = t;
+        }
+    }
+    best
+}
+
+impl<Q: EventQueue> Engine<Q> {
+    const MAX_ZERO_TIME_EVENTS: u64 = 10_000_000;
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.kin.len()
+    }
+
+    /// True without particles.
+    pub fn is_empty(&self) -> bool {
+        self.kin.is_empty()
+    }
+
+    /// Current simulation time.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Event and exception counters.
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
+    #[inline(always)]
+    pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
+        let dt = t - self.kin[j].stamp;
+        let (p, v) = (self.kin[j].pos, self.kin[j].vel);
+        if self.has_gravity {
+            let g = self.gravity;
+            (
+                std::array::from_fn(|k| p[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
+                std::array::from_fn(|k| v[k] + g[k] * dt),
+            )
+        } else {
+            (std::array::from_fn(|k| p[k] + v[k] * dt), v)
+        }
+    }
+
+    /// Moves particle `i` on to time `t` (the delayed update).
+    #[inline]
+    pub(crate) fn advance(&mut self, i: usize, t: f64) {
+        if self.kin[i].stamp != t {
+            let (p, v) = self.state_at(i, t);
+            self.kin[i].pos = p;
+            self.kin[i].vel = v;
+            self.kin[i].stamp = t;
+        }
+    }
+
+    /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions
+    /// kept inside the box guarantee).
+    #[inline]
+    pub(crate) fn min_image(&self, mut d: [f64; 3]) -> [f64; 3] {
+        for (k, dk) in d.iter_mut().enumerate() {
+            if self.grid.periodic[k] {
+                let l = self.grid.size[k];
+                if *dk > 0.5 * l {
+                    *dk -= l;
+                } else if *dk < -0.5 * l {
+                    *dk += l;
+                }
+            }
+        }
+        d
+    }
+
+    /// Wraps a position into the box along periodic axes.
+    #[inline]
+    pub(crate) fn wrap(&self, mut p: [f64; 3]) -> [f64; 3] {
+        for (k, x) in p.iter_mut().enumerate() {
+            if self.grid.periodic[k] {
+                let (lo, l) = (self.grid.lo[k], self.grid.size[k]);
+                if *x < lo {
+                    *x += l;
+                } else if *x >= lo + l {
+                    *x -= l;
+                }
+            }
+        }
+        p
+    }
+
+    /// Whether `i` and the particle or wall `j` (≥ n for walls) share an eMD*
+    /// transient. Such partners move together at their centre-of-mass velocity
+    /// between E^φ and E^v, overlapping by l(1 − ε_r), and are never tested against
+    /// each other until one of them has taken its post-collision velocity: round-off
+    /// in their common velocity must not trigger a spurious stabilising collision.
+    #[inline]
+    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
+        self.ev[i].partner == j as u32 && (j >= self.len() || self.ev[j].partner == i as u32)
+    }
+
+    /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
+    /// keeping the earliest collision.
+    #[inline]
+    fn scan_cells(&mut self, i: usize, cells: &crate::cells::CellSet) {
+        let now = self.time;
+        let (pi, vi) = (self.kin[i].pos, self.kin[i].vel);
+        let ri = self.kin[i].radius;
+        let mut best = self.ev[i].coll_time;
+        let mut best_j = NONE;
+        let mut best_now = false;
+        for (cell, shift) in cells.iter() {
+            // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
+            let pi_rel = sub(pi, shift);
+            let mut j = self.grid.first(cell);
+            while j != NONE {
+                let ju = j as usize;
+                if ju != i && !self.in_shared_transient(i, ju) {
+                    let (pj, vj) = self.state_at(ju, now);
+                    let r = sub(pi_rel, pj);
+                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.kin[ju].radius);
+                    if now + dt < best {
+                        best = now + dt;
+                        best_j = j;
+                        best_now = dt == 0.0;
+                    }
+                }
+                j = self.grid.next(j);
+            }
+        }
+        if best_j != NONE {
+            self.ev[i].coll_time = best;
+            self.ev[i].coll_partner = best_j;
+            self.ev[i].coll_counter = self.ev[best_j as usize].counter;
+            self.ev[i].coll_now = best_now;
+        }
+    }
+
+    /// Earliest cell crossing of `i` (advanced to now).
+    #[inline]
+    fn predict_crossing(&mut self, i: usize) {
+        let c = self.grid.coords[i];
+        let (p, v) = (self.kin[i].pos, self.kin[i].vel);
+        let mut best = f64::INFINITY;
+        let mut face = 0u8;
+        for k in 0..3 {
+            let (low, high) = self.grid.faces(k, c[k]);
+            let g = self.gravity[k];
+            if high.is_finite() {
+                let t = time_to_face(p[k] - high, v[k], g, 1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k + 1) as u8;
+                }
+            }
+            if low.is_finite() {
+                let t = time_to_face(p[k] - low, v[k], g, -1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k) as u8;
+                }
+            }
+        }
+        self.ev[i].cross_time = self.time + best;
+        self.ev[i].cross_face = face;
+    }
+
+    /// Pushes the particle's earliest own event to the queue.
+    #[inline]
+    pub(crate) fn schedule(&mut self, i: usize) {
+        let t = self.ev[i]
+            .coll_time
+            .min(self.ev[i].cross_time)
+            .min(self.ev[i].pending_time);
+        self.queue.set(i, t);
+    }
+
+    /// Full prediction for particle `i` at the current time: all neighbours, walls and
+    /// the next cell crossing.
+    pub(crate) fn predict(&mut self, i: usize) {
+        let now = self.time;
+        self.advance(i, now);
+        self.ev[i].coll_time = f64::INFINITY;
+        self.ev[i].coll_partner = NONE;
+        self.ev[i].coll_now = false;
+        let cells = self.grid.neighbourhood(self.grid.coords[i]);
+        self.scan_cells(i, &cells);
+        let n = self.len();
+        for w in 0..self.walls.len() {
+            if self.in_shared_transient(i, n + w) {
+                continue;
+            }
+            let wall = self.walls[w];
+            let h = dot(wall.normal, sub(self.kin[i].pos, wall.point));
+            let dt = sphere_wall(
+                h,
+                dot(wall.normal, self.kin[i].vel),
+                dot(wall.normal, self.gravity),
+                self.kin[i].radius,
+            );
+            if now + dt < self.ev[i].coll_time {
+                self.ev[i].coll_time = now + dt;
+                self.ev[i].coll_partner = (n + w) as u32;
+                self.ev[i].coll_now = false;
+            }
+        }
+        self.predict_crossing(i);
+        self.schedule(i);
+    }
+
+    /// Processes the next event.
+    pub fn step(&mut self) -> Result<Event> {
+        let (i, t) = self.queue.peek();
+        if !t.is_finite() {
+            return Err(EngineError::Invalid(
+                "no event is left: every particle flies freely for ever (an empty or \
+                 fully separating system); run for a fixed time instead"
+                    .into(),
+            ));
+        }
+        if t == self.time {
+            self.zero_streak += 1;
+            if self.zero_streak > Self::MAX_ZERO_TIME_EVENTS {
+                return Err(EngineError::Invalid(format!(
+                    "more than {} events at time {t} without time advancing: an inelastic \
+                     collapse (Bannerman et al. 2014, Sec. 5); event-driven dynamics cannot \
+                     go on, use a force-based engine or less dissipation",
+                    Self::MAX_ZERO_TIME_EVENTS
+                )));
+            }
+        } else {
+            self.zero_streak = 0;
+        }
+        self.time = t;
+        self.stats.events += 1;
+        self.since_resort += 1;
+        if self.resort_every > 0 && self.since_resort >= self.resort_every {
+            self.since_resort = 0;
+            self.resort();
+            self.stats.events -= 1;
+            return self.step();
+        }
+        if self.ev[i].pending_time <= t {
+            self.velocity_event(i);
+            return Ok(Event::Velocity(self.id[i]));
+        }
+        if self.ev[i].cross_time < self.ev[i].coll_time {
+            self.crossing(i);
+            return Ok(Event::Crossing(self.id[i]));
+        }
+        let j = self.ev[i].coll_partner as usize;
+        let n = self.len();
+        if j >= n {
+            self.wall_collision(i, j - n)?;
+            return Ok(Event::Wall(self.id[i], (j - n) as u32));
+        }
+        if self.ev[j].counter != self.ev[i].coll_counter {
+            self.stats.stale += 1;
+            self.predict(i);
+            return Ok(Event::Stale(self.id[i]));
+        }
+        if self.ev[i].coll_now {
+            self.stats.stabilising += 1;
+        }
+        if self.pair_collision(i, j)? {
+            Ok(Event::Collision(self.id[i], self.id[j]))
+        } else {
+            Ok(Event::Resolved(self.id[i], self.id[j]))
+        }
+    }
+
+    /// A cell crossing: move the particle to its new cell and test the new layer.
+    fn crossing(&mut self, i: usize) {
+        self.stats.crossings += 1;
+        let now = self.time;
+        self.advance(i, now);
+        let face = self.ev[i].cross_face as usize;
+        let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
+        let mut c = self.grid.coords[i];
+        let (next, shift) = self.grid.step(axis, c[axis], dir);
+        c[axis] = next;
+        self.kin[i].pos[axis] += shift;
+        self.grid.relocate(i, c);
+        let layer = self.grid.new_layer(c, axis, dir);
+        self.scan_cells(i, &layer);
+        self.predict_crossing(i);
+        self.schedule(i);
+    }
+
+    /// An E^v event at its scheduled time.
+    fn velocity_event(&mut self, i: usize) {
+        self.stats.velocity_events += 1;
+        self.finish_transient(i);
+        self.predict(i);
+    }
+
+    /// Applies `i`'s pending post-collision velocity now (at its E^v time, or early
+    /// for exception b), ending its transient.
+    pub(crate) fn finish_transient(&mut self, i: usize) {
+        let now = self.time;
+        self.advance(i, now);
+        // The stored velocity includes gravity up to the E^v time; undo the rest.
+        let early = self.ev[i].pending_time - now;
+        let g = self.gravity;
+        let v = self.pending_vel[i];
+        self.kin[i].vel = std::array::from_fn(|k| v[k] - g[k] * early);
+        self.ev[i].pending_time = f64::INFINITY;
+        self.ev[i].partner = NONE;
+        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+    }
+
+    /// Runs until time `t_end` (all events before it), leaving every particle's
+    /// stored state at its last event.
+    pub fn run_until(&mut self, t_end: f64) -> Result<()> {
+        while self.queue.peek().1 <= t_end {
+            self.step()?;
+        }
+        self.time = self.time.max(t_end);
+        Ok(())
+    }
+
+    /// Runs until `count` more pair and wall collisions have been executed.
+    pub fn run_collisions(&mut self, count: u64) -> Result<()> {
+        let target = self.stats.collisions() + count;
+        while self.stats.collisions() < target {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// Brings every particle to the current time (for output and measurements).
+    pub fn sync(&mut self) {
+        let now = self.time;
+        for i in 0..self.len() {
+            self.advance(i, now);
+        }
+    }
+
+    /// Positions at the current time (call [`Engine::sync`] first).
+    pub fn positions(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.kin[i].pos)
+    }
+
+    /// `f(slot)` for every particle, listed by original particle number.
+    pub(crate) fn in_original_order<T: Copy + Default>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
+        let mut out = vec![T::default(); self.len()];
+        for (i, &id) in self.id.iter().enumerate() {
+            out[id as usize] = f(i);
+        }
+        out
+    }
+
+    /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
+    /// eMD* transient show their centre-of-mass velocity.
+    pub fn velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.kin[i].vel)
+    }
+
+    /// Velocity of slot `i` now, counting a pending E^v as done (what the particle will
+    /// have once its collision is over; use for energy and momentum balances).
+    pub(crate) fn settled_velocity(&self, i: usize) -> [f64; 3] {
+        if self.ev[i].pending_time.is_finite() {
+            let early = self.ev[i].pending_time - self.time;
+            let v = self.pending_vel[i];
+            std::array::from_fn(|k| v[k] - self.gravity[k] * early)
+        } else {
+            self.state_at(i, self.time).1
+        }
+    }
+
+    /// Velocities with pending E^v velocities applied, by original particle number.
+    pub fn settled_velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.settled_velocity(i))
+    }
+
+    /// Sets how many events pass between spatial re-sorts of the particle order
+    /// (0 switches re-sorting off).
+    pub fn set_resort_interval(&mut self, events: u64) {
+        self.resort_every = events;
+    }
+
+    /// Kinetic energy Σ ½ m v² with pending E^v velocities applied.
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.mass[i] * dot(self.settled_velocity(i), self.settled_velocity(i)))
+            .sum()
+    }
+
+    /// Momentum Σ m v with pending E^v velocities applied.
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for i in 0..self.len() {
+            let v = self.settled_velocity(i);
+            for k in 0..3 {
+                p[k] += self.mass[i] * v[k];
+            }
+        }
+        p
+    }
+
+    /// Radii and masses, in particle order.
+    pub fn radii(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.kin[i].radius)
+    }
+
+    pub fn masses(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.mass[i])
+    }
+}

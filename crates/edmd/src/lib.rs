@@ -1,0 +1,55 @@
+//! The event-driven engine of emdstar: hard spheres, eMD and eMD* (Müller & Pöschel
+//! 2013, Sec. VI) on top of the stable event detection of Bannerman et al. 2014.
+//!
+//! - [`detect`]: stable event detection, Bannerman 2014, Algorithms 1 and 2;
+//! - [`bouncing`]: their bouncing-ball stability test (Sec. 5);
+//! - [`queue`]: the event queue behind the [`EventQueue`] trait;
+//! - [`cells`]: the cell grid with crossing events;
+//! - [`rules`]: collision rules and the source of the matrix of restitution;
+//! - [`Engine`]: the event loop with delayed updates, built from a [`Setup`] (or an
+//!   `emdstar_system::System` via [`Setup::from_system`]) and a [`Physics`].
+//!
+//! How the engine works:
+//! - every particle keeps its own earliest events (a collision with a particle or
+//!   wall, a cell crossing, an eMD* E^v) in one record; the queue orders particles by
+//!   the earliest of them. A predicted collision stores the partner's collision
+//!   counter; if the partner has changed since, the event is stale and the particle is
+//!   re-predicted (no deletions from the queue, no allocation per event);
+//! - particles are moved on only when touched (delayed updates); cells are at least
+//!   one contact distance wide, with explicit periodic image shifts per neighbour cell,
+//!   and each crossing tests only the layer of cells that became neighbours;
+//! - detection is Bannerman's Algorithm 1 (pairs) and 2 (walls under gravity): an
+//!   overlapping, approaching pair collides at once (a stabilising collision);
+//! - eMD*: E^φ rotates the pair and gives both the centre-of-mass velocity, the two
+//!   E^v events apply the stored post-collision velocities τ later. Partners sharing a
+//!   transient are never tested against each other (they overlap by l(1 − ε_r) and
+//!   move together; round-off must not make them collide again). A third particle
+//!   hitting one of them runs the pending E^v early (exception b: the hit particle or
+//!   both partners, [`Interference`]); a rotation that would push into a third
+//!   particle or a wall falls back to the eMD rule (exception a). All are counted in
+//!   [`Stats`].
+
+pub mod bouncing;
+mod build;
+mod calendar;
+pub mod cells;
+mod collide;
+pub mod detect;
+mod engine;
+mod error;
+pub mod gas;
+pub mod queue;
+mod reorder;
+pub mod rules;
+mod setup;
+mod stats;
+mod system;
+
+pub use calendar::CalendarQueue;
+pub use engine::{Engine, Event};
+pub use error::{EngineError, Result};
+pub use queue::{EventQueue, IndexedHeap};
+pub use setup::{Interference, Materials, PairEntry, Physics, Region, Setup, Wall};
+pub use stats::Stats;
+#[cfg(test)]
+mod engine_tests;

@@ -1,0 +1,154 @@
+//! What the event engine is given: particles, region, walls, gravity, and physics.
+
+use crate::error::{EngineError, Result};
+use crate::rules::{CentralRestitution, MorSource};
+use emdstar_contact::{ForceLaw, PairLaw, PairProperties, Sphere};
+
+/// The simulated region: a cuboid `[lo, lo + size)`, each axis periodic or closed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Region {
+    pub lo: [f64; 3],
+    pub size: [f64; 3],
+    pub periodic: [bool; 3],
+}
+
+/// A plane wall. Particles live on the side the unit `normal` points to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wall {
+    pub normal: [f64; 3],
+    pub point: [f64; 3],
+}
+
+/// Particles as a structure of arrays, plus their surroundings.
+#[derive(Debug, Clone, Default)]
+pub struct Setup {
+    pub position: Vec<[f64; 3]>,
+    pub velocity: Vec<[f64; 3]>,
+    pub radius: Vec<f64>,
+    pub mass: Vec<f64>,
+    /// Species index of each particle (into [`Materials`]); all 0 for hard spheres.
+    pub species: Vec<u32>,
+    /// `None` is free space.
+    pub region: Option<Region>,
+    pub walls: Vec<Wall>,
+    pub gravity: [f64; 3],
+}
+
+/// Pair laws between species and against walls, with their central restitution.
+#[derive(Debug, Clone)]
+pub struct Materials {
+    species: usize,
+    pairs: Vec<PairEntry>,
+    walls: Vec<PairEntry>,
+}
+
+/// The physics of one kind of pair.
+#[derive(Debug, Clone)]
+pub struct PairEntry {
+    pub law: PairLaw,
+    pub props: PairProperties,
+    pub central: CentralRestitution,
+}
+
+impl PairEntry {
+    pub fn new(law: PairLaw, props: PairProperties) -> Result<Self> {
+        Ok(Self {
+            central: CentralRestitution::of(&law, &props)?,
+            law,
+            props,
+        })
+    }
+}
+
+impl Materials {
+    /// From the pair entries of every species pair (`pairs[a * species + b]`) and of
+    /// every species against a wall.
+    pub fn new(species: usize, pairs: Vec<PairEntry>, walls: Vec<PairEntry>) -> Result<Self> {
+        if pairs.len() != species * species || walls.len() != species {
+            return Err(EngineError::Invalid(format!(
+                "materials for {species} species need {} pair entries and {species} wall \
+                 entries, got {} and {}",
+                species * species,
+                pairs.len(),
+                walls.len()
+            )));
+        }
+        Ok(Self {
+            species,
+            pairs,
+            walls,
+        })
+    }
+
+    /// Materials of spheres `species` (one material `law` for all, walls included).
+    pub fn of_spheres(law: &ForceLaw, species: &[Sphere]) -> Result<Self> {
+        let mut pairs = Vec::with_capacity(species.len() * species.len());
+        for a in species {
+            for b in species {
+                let props = PairProperties::spheres(a, b);
+                pairs.push(PairEntry::new(
+                    PairLaw::same_material(law, props.r_eff)?,
+                    props,
+                )?);
+            }
+        }
+        let walls = species
+            .iter()
+            .map(|s| {
+                let props = PairProperties::sphere_wall(s);
+                PairEntry::new(PairLaw::same_material(law, props.r_eff)?, props)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Self::new(species.len(), pairs, walls)
+    }
+
+    #[inline]
+    pub fn pair(&self, a: u32, b: u32) -> &PairEntry {
+        &self.pairs[a as usize * self.species + b as usize]
+    }
+
+    #[inline]
+    pub fn wall(&self, a: u32) -> &PairEntry {
+        &self.walls[a as usize]
+    }
+
+    pub fn species(&self) -> usize {
+        self.species
+    }
+}
+
+/// eMD* exception (b): which pending E^v events run early when a third particle hits
+/// a particle in its transient (Müller & Pöschel 2013, Sec. VI B 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Interference {
+    /// Only the particle that is hit (the paper's default; breaks angular momentum
+    /// conservation by a tiny amount).
+    HitOnly,
+    /// Both partners of the interrupted collision ("post-collisional communication").
+    BothPartners,
+}
+
+/// The collision rule of a run.
+pub enum Physics {
+    /// Instantaneous hard-sphere collisions with one constant ε (1 = elastic), walls
+    /// included.
+    HardSpheres { restitution: f64 },
+    /// Classic eMD: instantaneous collisions with the force law's central restitution
+    /// at the actual normal impact speed.
+    Emd(Materials),
+    /// eMD*: three events per collision with the matrix of restitution.
+    EmdStar {
+        materials: Materials,
+        mor: Box<dyn MorSource>,
+        interference: Interference,
+    },
+}
+
+impl Physics {
+    pub fn materials(&self) -> Option<&Materials> {
+        match self {
+            Self::HardSpheres { .. } => None,
+            Self::Emd(m) | Self::EmdStar { materials: m, .. } => Some(m),
+        }
+    }
+}

@@ -1,0 +1,141 @@
+//! End-to-end tests of the event-driven commands (`emdstar check`).
+
+use crate::{emdstar_error, emdstar_json};
+
+#[test]
+fn edmd_bouncing_ball_stable_never_fails() {
+    let v = emdstar_json(&["check", "bouncing-ball", "--samples", "2000", "--json"]);
+    assert_eq!(v["samples"], 2000);
+    assert_eq!(v["failures"], 0);
+    assert_eq!(v["mean_events"], 1000.0);
+    assert!(v["max_overlap"].as_f64().unwrap() < 1e-14);
+}
+
+#[test]
+fn edmd_bouncing_ball_naive_fails_often() {
+    let v = emdstar_json(&[
+        "check",
+        "bouncing-ball",
+        "--samples",
+        "2000",
+        "--naive",
+        "--json",
+    ]);
+    let failures = v["failures"].as_u64().unwrap();
+    assert!(failures > 200, "{v}");
+}
+
+#[test]
+fn edmd_bouncing_ball_rejects_elastic_balls() {
+    let err = emdstar_error(&[
+        "check",
+        "bouncing-ball",
+        "--restitution",
+        "1",
+        "--samples",
+        "5",
+    ]);
+    assert!(err.contains("--restitution"), "{err}");
+}
+
+#[test]
+fn edmd_inelastic_overlaps_stay_at_round_off() {
+    let v = emdstar_json(&[
+        "check",
+        "inelastic-overlaps",
+        "--cells",
+        "4",
+        "--collisions",
+        "20000",
+        "--json",
+    ]);
+    assert_eq!(v["particles"], 256);
+    assert!(v["max_impact_overlap"].as_f64().unwrap() < 1e-12, "{v}");
+}
+
+fn final_state(v: &serde_json::Value) -> Vec<f64> {
+    v["particles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| {
+            let x = p["position"].as_array().unwrap().clone();
+            let u = p["velocity"].as_array().unwrap().clone();
+            x.into_iter().chain(u).map(|c| c.as_f64().unwrap())
+        })
+        .collect()
+}
+
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Müller & Pöschel 2013, Fig. 6: eMD* reproduces the force-based trajectory (MD's own
+/// error is ≈1e-4 of l and |v| at its default step), classic eMD does not.
+#[test]
+fn edmd_pair_emdstar_follows_md_and_emd_does_not() {
+    let config = "tests/md/configs/oblique_linear.toml";
+    let md = final_state(&emdstar_json(&["pair", config, "--engine", "md", "--json"]));
+    let exact = emdstar_json(&[
+        "pair", config, "--engine", "emdstar", "--mor", "exact", "--json",
+    ]);
+    assert_eq!(exact["engine"], "emdstar");
+    assert_eq!(exact["stats"]["velocity_events"], 2);
+    let table = emdstar_json(&["pair", config, "--engine", "emdstar", "--json"]);
+    let emd = emdstar_json(&["pair", config, "--engine", "emd", "--json"]);
+    assert!(largest_difference(&final_state(&exact), &md) < 1e-4);
+    assert!(largest_difference(&final_state(&table), &md) < 1e-3);
+    assert!(largest_difference(&final_state(&emd), &md) > 0.1);
+}
+
+#[test]
+fn edmd_run_reports_events_exceptions_and_drift() {
+    let dir = std::env::temp_dir().join(format!("emdstar-edmd-run-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (traj, log) = (dir.join("g.xyz"), dir.join("g.log"));
+    let v = emdstar_json(&[
+        "run",
+        "tests/md/configs/gas_small.toml",
+        "--engine",
+        "emdstar",
+        "--mor",
+        "table-or-exact",
+        "--quiet",
+        "--trajectory",
+        traj.to_str().unwrap(),
+        "--log",
+        log.to_str().unwrap(),
+    ]);
+    assert_eq!(v["engine"], "emdstar");
+    assert!(v["stats"]["collisions"].as_u64().unwrap() > 10);
+    assert!(v["stats"]["exceptions"]["interference"].is_u64());
+    assert!(v["momentum_drift_relative"].as_f64().unwrap() < 1e-12);
+    // Dissipative gas: energy only decreases.
+    assert!(v["energy_final"].as_f64().unwrap() < v["energy_initial"].as_f64().unwrap());
+    let frames = std::fs::read_to_string(&traj).unwrap();
+    assert!(frames.lines().count() > 500);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn edmd_bad_configs_get_clear_errors() {
+    for (file, expect) in [
+        ("overlapping_pair", "overlap"),
+        ("wall_cuts_particle", "wall"),
+        ("impossible_packing", "impossible"),
+    ] {
+        let path = format!("tests/md/configs/bad/{file}.toml");
+        let err = emdstar_error(&["pair", &path, "--engine", "emdstar"]);
+        assert!(err.contains(expect), "{file}: {err}");
+    }
+    let err = emdstar_error(&[
+        "pair",
+        "tests/md/configs/oblique_linear.toml",
+        "--engine",
+        "emdx",
+    ]);
+    assert!(err.contains("emdstar"), "{err}");
+}
