@@ -4,15 +4,6 @@
 use crate::{emdstar_error, emdstar_json};
 use std::f64::consts::PI;
 
-const LINEAR: [&str; 6] = [
-    "mor",
-    "--model",
-    "linear",
-    "--stiffness",
-    "2000",
-    "--damping",
-];
-
 fn get(v: &serde_json::Value, path: &[&str]) -> f64 {
     path.iter()
         .fold(v, |v, k| &v[*k])
@@ -38,24 +29,13 @@ fn scaled_linear_elastic_central_is_half_a_period() {
 #[test]
 fn physical_central_dashpot_matches_schwager_poeschel() {
     // k = 2000 N/m, γ = 3 kg/s, R = 0.1 m, ρ = 1140 kg/m³: β < ω0/√2.
-    let v = emdstar_json(&[
-        LINEAR[0],
-        LINEAR[1],
-        LINEAR[2],
-        LINEAR[3],
-        LINEAR[4],
-        LINEAR[5],
-        "3",
-        "--radius",
-        "0.1",
-        "--density",
-        "1140",
-        "--speed",
-        "2",
-        "--eccentricity",
-        "0",
-        "--json",
-    ]);
+    let mut args = linear_with("--damping", "3");
+    for (flag, value) in [("--speed", "2"), ("--eccentricity", "0")] {
+        let at = args.iter().position(|a| *a == flag).unwrap() + 1;
+        args[at] = value;
+    }
+    args.push("--json");
+    let v = emdstar_json(&args);
     let m_eff = 4.0 / 3.0 * PI * 0.1f64.powi(3) * 1140.0 / 2.0;
     let w0 = (2000.0 / m_eff).sqrt();
     let beta = 3.0 / (2.0 * m_eff);
@@ -108,131 +88,67 @@ fn readable_summary_without_json() {
     assert!(text.contains("ε_φ") && text.contains("ε_t"), "{text}");
 }
 
+/// A valid linear-dashpot call with the value of `flag` replaced by `value`.
+fn linear_with(flag: &str, value: &'static str) -> Vec<&'static str> {
+    let mut args = vec![
+        "mor",
+        "--model",
+        "linear",
+        "--stiffness",
+        "2000",
+        "--damping",
+        "0",
+        "--radius",
+        "0.1",
+        "--density",
+        "1140",
+        "--speed",
+        "5",
+        "--eccentricity",
+        "0.3",
+    ];
+    let at = args
+        .iter()
+        .position(|a| *a == flag)
+        .expect("a flag of the call")
+        + 1;
+    args[at] = value;
+    args
+}
+
 #[test]
 fn bad_input_is_refused_with_a_reason() {
-    let base = |extra: &[&'static str]| {
-        let mut a = vec![
-            "mor",
-            "--model",
-            "linear",
-            "--stiffness",
-            "2000",
-            "--damping",
-            "0",
-            "--radius",
-            "0.1",
-            "--density",
-            "1140",
-            "--speed",
-            "5",
-            "--eccentricity",
-            "0.3",
-        ];
-        a.extend_from_slice(extra);
-        a
-    };
-    let cases: Vec<(Vec<&str>, &str)> = vec![
-        (base(&["--stiffness", "NaN"]), "stiffness"),
+    let mut cases: Vec<(Vec<&str>, &str)> = vec![
         (
-            vec![
-                "mor",
-                "--model",
-                "linear",
-                "--stiffness",
-                "-1",
-                "--damping",
-                "0",
-                "--radius",
-                "0.1",
-                "--density",
-                "1140",
-                "--speed",
-                "5",
-                "--eccentricity",
-                "0.3",
-            ],
-            "stiffness",
+            linear_with("--stiffness", "NaN"),
+            "stiffness must be a finite number",
         ),
         (
-            vec![
-                "mor",
-                "--model",
-                "linear",
-                "--stiffness",
-                "2000",
-                "--damping",
-                "0",
-                "--radius",
-                "0",
-                "--density",
-                "1140",
-                "--speed",
-                "5",
-                "--eccentricity",
-                "0.3",
-            ],
-            "radius",
+            linear_with("--stiffness", "-1"),
+            "stiffness must be greater than zero",
         ),
         (
-            vec![
-                "mor",
-                "--model",
-                "linear",
-                "--stiffness",
-                "2000",
-                "--damping",
-                "0",
-                "--radius",
-                "0.1",
-                "--density",
-                "1140",
-                "--speed",
-                "0",
-                "--eccentricity",
-                "0.3",
-            ],
-            "speed",
+            linear_with("--damping", "-0.5"),
+            "damping must not be negative",
         ),
         (
-            vec![
-                "mor",
-                "--model",
-                "linear",
-                "--stiffness",
-                "2000",
-                "--damping",
-                "0",
-                "--radius",
-                "0.1",
-                "--density",
-                "1140",
-                "--speed",
-                "5",
-                "--eccentricity",
-                "1",
-            ],
-            "eccentricity",
+            linear_with("--radius", "0"),
+            "radius must be greater than zero",
         ),
         (
-            vec![
-                "mor",
-                "--model",
-                "linear",
-                "--stiffness",
-                "2000",
-                "--damping",
-                "0",
-                "--radius",
-                "0.1",
-                "--density",
-                "1140",
-                "--speed",
-                "-5",
-                "--eccentricity",
-                "0.3",
-            ],
-            "speed",
+            linear_with("--density", "inf"),
+            "density must be a finite number",
         ),
+        (
+            linear_with("--speed", "0"),
+            "speed must be greater than zero",
+        ),
+        (
+            linear_with("--speed", "-5"),
+            "speed must be greater than zero",
+        ),
+        (linear_with("--eccentricity", "1"), "eccentricity"),
+        (linear_with("--eccentricity", "-0.1"), "eccentricity"),
         (
             vec![
                 "mor",
@@ -243,9 +159,8 @@ fn bad_input_is_refused_with_a_reason() {
                 "--radius",
                 "0.1",
             ],
-            "--damping",
+            "needs --damping",
         ),
-        (base(&["--young", "1e9"]), "--young"),
         (
             vec!["mor", "--model", "plastic", "--scaled", "1", "1", "1"],
             "plastic",
@@ -262,14 +177,17 @@ fn bad_input_is_refused_with_a_reason() {
             vec![
                 "mor", "--model", "hertz", "--scaled", "1", "1", "1", "--radius", "0.1",
             ],
-            "--radius",
+            "--radius cannot be combined with --scaled",
         ),
     ];
+    let mut foreign = linear_with("--speed", "5");
+    foreign.extend(["--young", "1e9"]);
+    cases.push((foreign, "--young does not belong to --model linear"));
     for (args, needle) in cases {
         let err = emdstar_error(&args);
         assert!(
             err.contains(needle),
-            "{args:?}: message {err:?} should name {needle}"
+            "{args:?}: message {err:?} should contain {needle:?}"
         );
     }
 }
