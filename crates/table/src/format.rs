@@ -1,13 +1,13 @@
 //! Reading and writing the table file (see the crate documentation for the layout).
 
 use crate::error::TableError;
-use crate::interp::{Axis, NQ};
+use crate::interp::{Axis, NQ, Stretch};
 use crate::npz::{Array, Data, read_npz, write_npz};
 use crate::table::Table;
 use emdstar_contact::{Model, Range, RectBounds};
 
 /// The file format version this crate reads and writes.
-pub const FORMAT_VERSION: i64 = 1;
+pub const FORMAT_VERSION: i64 = 2;
 
 /// Names of the four stored quantities of the main grid, in storage order.
 pub const QUANTITIES: [&str; NQ] = ["ln(1-eps_r)", "ln(-eps_rdot)", "ln(eps_phi)", "ln(eps_t)"];
@@ -43,6 +43,11 @@ impl Table {
         let [a, b, c] = self.axes;
         let (na, nb, nc) = (a.n, b.n, c.n);
         let axis = |ax: &Axis| Array::f64(vec![ax.n], (0..ax.n).map(|i| ax.node(i)).collect());
+        let stretch: Vec<f64> = self
+            .axes
+            .iter()
+            .flat_map(|x| [x.stretch.amount, x.stretch.knee])
+            .collect();
         let g = &self.bounds;
         let mut members: Vec<(&str, Array)> = vec![
             ("format_version", Array::i64(vec![], vec![FORMAT_VERSION])),
@@ -75,6 +80,7 @@ impl Table {
                 "order",
                 Array::i64(vec![3], self.axes.iter().map(|x| x.order as i64).collect()),
             ),
+            ("axis_stretch", Array::f64(vec![3, 2], stretch)),
             (
                 "values",
                 Array::f64(vec![na, nb, nc, NQ], self.main.clone()),
@@ -185,12 +191,8 @@ impl Table {
                 ));
             }
         };
-        let mut axes = [Axis {
-            min: 0.0,
-            max: 1.0,
-            n: 2,
-            order: 2,
-        }; 3];
+        let stretch_v = floats("axis_stretch", &[3, 2])?;
+        let mut axes = [Axis::uniform(0.0, 1.0, 2, 2); 3];
         for (k, (name, range)) in ["axis_a", "axis_b", "axis_c"]
             .into_iter()
             .zip(bounds.axes())
@@ -205,12 +207,17 @@ impl Table {
                     )));
                 }
             };
-            let ax = Axis {
-                min: nodes[0],
-                max: nodes[nodes.len() - 1],
-                n: nodes.len(),
-                order: order[k] as usize,
+            let stretch = Stretch {
+                amount: stretch_v[2 * k],
+                knee: stretch_v[2 * k + 1],
             };
+            let ax = Axis::new(
+                nodes[0],
+                nodes[nodes.len() - 1],
+                nodes.len(),
+                order[k] as usize,
+                stretch,
+            );
             ax.check()
                 .map_err(|why| TableError::Corrupt(format!("{name}: {why}")))?;
             let tol = 1e-9 * range.width().abs().max(1.0);
@@ -220,8 +227,17 @@ impl Table {
                     ax.min, ax.max, range.min, range.max
                 )));
             }
-            if nodes.iter().enumerate().any(|(i, &x)| x != ax.node(i)) {
-                return Err(TableError::Corrupt(format!("{name} is not a uniform grid")));
+            // Node positions come from ln_1p and Newton steps: allow the last digits to
+            // differ between platforms.
+            let tol = 1e-12 * (ax.max - ax.min);
+            if nodes
+                .iter()
+                .enumerate()
+                .any(|(i, &x)| (x - ax.node(i)).abs() > tol || x.is_nan())
+            {
+                return Err(TableError::Corrupt(format!(
+                    "{name} does not hold the nodes of its grid (uniform in w of axis_stretch)"
+                )));
             }
             axes[k] = ax;
         }

@@ -3,9 +3,10 @@
 //! The MoR {ε_r, ε_ṙ, ε_φ, ε_t} of a collision depends on three scaled parameters
 //! (l̃, c_φ, c_dis); the paper's rectangularised coordinates (a, b, c) of
 //! [`emdstar_contact::RectBounds`] map a box of physical parameters (its Tab. I or II)
-//! onto a rectangle, on which this crate stores the MoR on a uniform grid and
-//! interpolates it with local tensor-product Lagrange polynomials (4, 6 or 8 points per
-//! axis: tricubic to tri-septic).
+//! onto a rectangle, on which this crate stores the MoR on a grid (uniform, or with the
+//! nodes of an axis crowded towards its low end) and interpolates it with local
+//! tensor-product Lagrange polynomials (4, 6 or 8 points per axis: tricubic to
+//! tri-septic).
 //!
 //! The reader depends only on `emdstar-contact`; it does not solve the collision ODE.
 //! Points beyond the box are an explicit [`TableError::OutOfBox`], or a counted
@@ -24,22 +25,23 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! # File format (version 1)
+//! # File format (version 2)
 //!
 //! An uncompressed `.npz` archive (a zip of `.npy` arrays, as `numpy.savez` writes),
 //! read and written here by a small built-in codec. Members, in this order:
 //!
 //! | member | dtype, shape | content |
 //! |---|---|---|
-//! | `format_version` | int64, () | 1 |
+//! | `format_version` | int64, () | 2 |
 //! | `model` | str, () | `"linear"` or `"hertz"` |
 //! | `generator` | str, () | e.g. `"emdstar-tablegen 0.1.0"` |
 //! | `spec` | str, () | the TOML spec the table was built from |
 //! | `quantities` | str, (4,) | names of the four stored quantities |
 //! | `box_names`, `box_ranges` | str (p,), float64 (p, 2) | the physical box, SI units |
 //! | `bounds` | float64, (3, 2) | [g_min, g_max], [m_min, m_max], [c_min, c_max] of the rectangle |
-//! | `axis_a`, `axis_b`, `axis_c` | float64, (n_a,) … | the uniform grid nodes |
+//! | `axis_a`, `axis_b`, `axis_c` | float64, (n_a,) … | the grid nodes |
 //! | `order` | int64, (3,) | interpolation points per axis |
+//! | `axis_stretch` | float64, (3, 2) | [λ, d] per axis: nodes uniform in w = y + λ·ln(1 + y/d), y = x − min; λ = 0: uniform |
 //! | `values` | float64, (n_a, n_b, n_c, 4) | ln(1−ε_r), ln(−ε_ṙ), ln ε_φ, ln ε_t |
 //! | `elastic` | float64, (n_a, n_b, 4) | limit c_dis → 0: ln((1−ε_r)/e^c), 0, ln ε_φ, ln ε_t |
 //! | `central` | float64, (n_b, n_c, 4) | limit c_φ → 0: ln(1−ε_r), ln(−ε_ṙ), ln(ε_φ/s), ln ε_t |
@@ -71,5 +73,5 @@ mod defaults;
 pub use defaults::{default_table, default_table_bytes};
 pub use error::TableError;
 pub use format::{FORMAT_VERSION, QUANTITIES, TableInfo, fnv1a64};
-pub use interp::{Axis, MAX_ORDER, NQ};
+pub use interp::{Axis, MAX_ORDER, NQ, Stretch};
 pub use table::{PhysicalLookup, Source, Table, TableMor, TableParts, WithFallback, grid_axes};

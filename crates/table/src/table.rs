@@ -2,7 +2,7 @@
 
 use crate::TableInfo;
 use crate::error::TableError;
-use crate::interp::{Axis, NQ, Stencil, interp3};
+use crate::interp::{Axis, NQ, Stencil, Stretch, interp3};
 use emdstar_contact::{
     Impact, Model, PairLaw, PairProperties, RectBounds, RectCoords, ScaledParams, scale,
 };
@@ -73,10 +73,11 @@ pub struct PhysicalLookup {
 /// - both at once use the (b)-line of central elastic impacts, bilinearly in (s², u).
 ///
 /// Anything beyond the upper ends of a, b or c, or below b = 0, is a
-/// [`TableError::OutOfBox`]. Where the central limit does not exist (strongly damped
-/// Hertz impacts that end only thanks to the centrifugal force: the generator's solve
-/// at c_φ → 0 does not finish), the central slice holds NaN and a < 0 lookups there are
-/// [`TableError::NotTabulated`]. [`WithFallback`] turns both into a counted exact solve.
+/// [`TableError::OutOfBox`]. Where the central extension does not hold (strongly damped
+/// impacts whose end hinges on the centrifugal force: the generator's solve at c_φ → 0
+/// does not finish, or the extension misses exact solves at two points below the box by
+/// more than 3e-7 in a stored log), the central slice holds NaN and a < 0 lookups there
+/// are [`TableError::NotTabulated`]. [`WithFallback`] turns both into a counted exact solve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
     pub(crate) model: Model,
@@ -98,6 +99,8 @@ pub struct TableParts {
     pub n: [usize; 3],
     /// Interpolation points per axis.
     pub order: [usize; 3],
+    /// Node crowding per axis ([`Stretch::NONE`] for a uniform axis).
+    pub stretch: [Stretch; 3],
     /// `[na][nb][nc][4]`.
     pub main: Vec<f64>,
     /// `[na][nb][4]`, at u = 0.
@@ -110,20 +113,20 @@ pub struct TableParts {
 }
 
 /// Axes of a grid of `n` nodes with `order`-point stencils over the rectangle of `bounds`.
-pub fn grid_axes(bounds: &RectBounds, n: [usize; 3], order: [usize; 3]) -> [Axis; 3] {
+pub fn grid_axes(
+    bounds: &RectBounds,
+    n: [usize; 3],
+    order: [usize; 3],
+    stretch: [Stretch; 3],
+) -> [Axis; 3] {
     let r = bounds.axes();
-    [0, 1, 2].map(|k| Axis {
-        min: r[k].min,
-        max: r[k].max,
-        n: n[k],
-        order: order[k],
-    })
+    [0, 1, 2].map(|k| Axis::new(r[k].min, r[k].max, n[k], order[k], stretch[k]))
 }
 
 impl Table {
     /// Assembles a table, checking the sizes.
     pub fn from_parts(p: TableParts) -> Result<Self, TableError> {
-        let axes = grid_axes(&p.bounds, p.n, p.order);
+        let axes = grid_axes(&p.bounds, p.n, p.order, p.stretch);
         for (ax, name) in axes.iter().zip(["a", "b", "c"]) {
             ax.check()
                 .map_err(|why| TableError::Input(format!("axis {name}: {why}")))?;
@@ -182,7 +185,7 @@ impl Table {
     pub fn with_order(&self, order: [usize; 3]) -> Result<Self, TableError> {
         let mut t = self.clone();
         for (ax, o) in t.axes.iter_mut().zip(order) {
-            ax.order = o;
+            *ax = ax.with_order(o);
             ax.check().map_err(TableError::Input)?;
         }
         Ok(t)
@@ -202,6 +205,13 @@ impl Table {
 
     /// MoR and time scale of a physical impact: scaling (Eqs. 41, 43, 53), rectangular
     /// coordinates (Eqs. 45-61) and interpolation of all four components.
+    ///
+    /// The coordinates come straight from the physical parameters, in the paper's own
+    /// forms (three logarithms instead of the scaled parameters' six transcendental
+    /// calls), with s = v_t/v_n and v = |v|:
+    /// - a = ln s − g_min, Eq. (45);
+    /// - b = ln(lω/v) − m_min (linear, Eq. 48) or ln(l(κ/v²)^{2/5}) − m_min (Hertz, Eq. 56);
+    /// - c = ln(γ/(m_eff ω)) (linear, Eq. 43) or ln(3Av/(2l)) − c_min (Hertz, Eq. 59).
     #[inline]
     pub fn lookup(
         &self,
@@ -210,11 +220,61 @@ impl Table {
         impact: &Impact,
     ) -> Result<PhysicalLookup, TableError> {
         self.expect_model(law.model())?;
-        let s = scale(law, pair, impact)?;
+        let (v_n, v_t, m_eff, l) = (
+            impact.normal_speed,
+            impact.tangential_speed,
+            pair.m_eff,
+            pair.l,
+        );
+        let plausible = v_n > 0.0 && v_t >= 0.0 && m_eff > 0.0 && l > 0.0;
+        if !(plausible && v_n.is_finite() && v_t.is_finite() && m_eff.is_finite() && l.is_finite())
+        {
+            // Let the scaling say what is wrong.
+            scale(law, pair, impact)?;
+            return Err(TableError::Input(format!(
+                "impact {impact:?} or pair {pair:?} cannot be scaled"
+            )));
+        }
+        let v2 = v_n * v_n + v_t * v_t;
+        let bounds = &self.bounds;
+        let (time, b, c) = match *law {
+            PairLaw::Linear { stiffness, damping } => {
+                // Eq. (41): T = 1/ω = √(m_eff/k).
+                let omega2 = stiffness / m_eff;
+                let time = (m_eff / stiffness).sqrt();
+                let b = 0.5 * (l * l * omega2 / v2).ln() - bounds.m.min;
+                (time, b, (damping * time / m_eff).ln())
+            }
+            PairLaw::Hertz {
+                rho_el,
+                dissipation,
+            } => {
+                // Eq. (53): T = κ^{-2/5} v_n^{-1/5} = (κ² v_n)^{-1/5}.
+                let kappa = rho_el / m_eff;
+                let mut time = (kappa * kappa * v_n).powf(-0.2);
+                if !(time.is_finite() && time > 0.0) {
+                    time = kappa.powf(-0.4) * v_n.powf(-0.2);
+                }
+                let b = 0.4 * (l * l * l.sqrt() * kappa / v2).ln() - bounds.m.min;
+                let c = (1.5 * dissipation * v2.sqrt() / l).ln() - bounds.c.min;
+                (time, b, c)
+            }
+        };
+        let x = RectCoords {
+            a: (v_t / v_n).ln() - bounds.g.min,
+            b,
+            c,
+        };
+        if !(time.is_finite() && time > 0.0 && x.b.is_finite() && !x.c.is_nan()) {
+            scale(law, pair, impact)?;
+            return Err(TableError::Input(format!(
+                "the law {law:?} gives no finite scaling for impact {impact:?}"
+            )));
+        }
         Ok(PhysicalLookup {
-            mor: self.lookup_scaled(&s.params)?,
-            time: s.time,
-            length: s.length,
+            mor: self.lookup_rect(&x)?,
+            time,
+            length: v_n * time,
         })
     }
 
@@ -267,47 +327,67 @@ impl Table {
             cx.stencil(x.c)
         };
         let [na, nb, nc] = self.axes.map(|a| a.n);
-        let mut q = interp3(&self.main, [na, nb, nc], &[sa, sb, sc]);
         if !(central || elastic) {
-            return Ok(q);
+            return Ok(interp3(&self.main, [na, nb, nc], &[sa, sb, sc]));
         }
-        // Shift the face values to the extension forms ε_φ/s and (1−ε_r)/u.
-        let ln_s0 = self.bounds.g.min + ax.min;
-        if central {
-            q[2] -= ln_s0;
-        }
-        if elastic {
-            q[0] -= cx.min;
-        }
-        let one = Stencil::at(0);
         let ta = if central {
             (2.0 * (x.a - ax.min)).exp()
         } else {
             1.0
         };
         let tc = if elastic { (x.c - cx.min).exp() } else { 1.0 };
-        let lerp = |lo: [f64; NQ], hi: [f64; NQ], t: f64| -> [f64; NQ] {
+        // Face values in the extension forms ε_φ/s and (1−ε_r)/u. At t = 0 exactly
+        // (c_φ = 0 or c_dis = 0) the lerps below return their low end, so the face is
+        // not needed (and not computed: the elastic gas of eMD* lives there).
+        let ln_s0 = self.bounds.g.min + ax.min;
+        let face = || {
+            let mut q = interp3(&self.main, [na, nb, nc], &[sa, sb, sc]);
+            if central {
+                q[2] -= ln_s0;
+            }
+            if elastic {
+                q[0] -= cx.min;
+            }
+            q
+        };
+        let one = Stencil::at(0);
+        let lerp = |lo: [f64; NQ], hi: &dyn Fn() -> [f64; NQ], t: f64| -> [f64; NQ] {
+            if t == 0.0 {
+                return lo;
+            }
+            let hi = hi();
             std::array::from_fn(|i| lo[i] + t * (hi[i] - lo[i]))
         };
-        if central {
-            let mut qc = interp3(&self.central, [1, nb, nc], &[one, sb, sc]);
-            if elastic {
-                let mut qe = interp3(&self.elastic, [na, nb, 1], &[sa, sb, one]);
-                qc[0] -= cx.min;
+        let elastic_face = || {
+            let mut qe = interp3(&self.elastic, [na, nb, 1], &[sa, sb, one]);
+            if central {
                 qe[2] -= ln_s0;
+            }
+            qe
+        };
+        let mut q = if central {
+            let central_face = || {
+                let mut qc = interp3(&self.central, [1, nb, nc], &[one, sb, sc]);
+                if elastic {
+                    qc[0] -= cx.min;
+                }
+                qc
+            };
+            if elastic {
                 let qce = interp3(&self.central_elastic, [1, nb, 1], &[one, sb, one]);
-                q = lerp(lerp(qce, qc, tc), lerp(qe, q, tc), ta);
+                let low = lerp(qce, &central_face, tc);
+                lerp(low, &|| lerp(elastic_face(), &face, tc), ta)
             } else {
-                q = lerp(qc, q, ta);
+                lerp(central_face(), &face, ta)
             }
         } else {
-            let qe = interp3(&self.elastic, [na, nb, 1], &[sa, sb, one]);
-            q = lerp(qe, q, tc);
-        }
+            lerp(elastic_face(), &face, tc)
+        };
         if q.iter().any(|v| v.is_nan()) {
             return Err(TableError::NotTabulated(format!(
                 "near-central impact at (a, b, c) = ({}, {}, {}), where the central limit \
-                 c_phi -> 0 has no finite collision (strong damping)",
+                 c_phi -> 0 has no finite collision or the MoR is not smooth enough in c_phi \
+                 to be tabulated (strong damping, or nearly passing-through impacts)",
                 x.a, x.b, x.c
             )));
         }

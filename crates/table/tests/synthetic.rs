@@ -2,7 +2,7 @@
 //! the MoR (so these tests do not need the solver).
 
 use emdstar_contact::{ParameterBox, RectBounds, RectCoords};
-use emdstar_table::{NQ, Table, TableError, TableInfo, TableParts, grid_axes};
+use emdstar_table::{NQ, Stretch, Table, TableError, TableInfo, TableParts, grid_axes};
 
 /// Synthetic logs at (a, b, c) with s² = e^{2(a+g_min)}, u = e^c:
 /// 1−ε_r = u·A, −ε_ṙ = e^{−u·B/100}, ε_φ = s·C, ε_t = D, with A..D smooth in (s², b, u).
@@ -20,8 +20,12 @@ fn logs(bounds: &RectBounds, x: &RectCoords) -> [f64; NQ] {
 }
 
 pub fn synthetic_table(n: [usize; 3], order: [usize; 3]) -> Table {
+    stretched_table(n, order, [Stretch::NONE; 3])
+}
+
+pub fn stretched_table(n: [usize; 3], order: [usize; 3], stretch: [Stretch; 3]) -> Table {
     let bounds = ParameterBox::paper_table_1().bounds().unwrap();
-    let [ax, bx, cx] = grid_axes(&bounds, n, order);
+    let [ax, bx, cx] = grid_axes(&bounds, n, order, stretch);
     let mut main = vec![];
     let mut elastic = vec![];
     let mut central = vec![];
@@ -53,6 +57,7 @@ pub fn synthetic_table(n: [usize; 3], order: [usize; 3]) -> Table {
         bounds,
         n,
         order,
+        stretch,
         main,
         elastic,
         central,
@@ -103,6 +108,23 @@ fn error_falls_with_the_interpolation_order_and_the_grid() {
     assert!(fine4 < coarse4 / 8.0, "cubic: {coarse4:e} -> {fine4:e}");
     assert!(fine6 < fine4 / 4.0, "quintic {fine6:e} vs cubic {fine4:e}");
     assert!(fine6 < 1e-4, "{fine6:e}");
+}
+
+#[test]
+fn a_stretched_axis_interpolates_and_round_trips() {
+    let (lo_a, lo_c) = (0.0, ParameterBox::paper_table_1().bounds().unwrap().c.min);
+    let stretch = Stretch {
+        amount: 1.3,
+        knee: 0.7,
+    };
+    let t = stretched_table([23, 47, 47], [6; 3], [Stretch::NONE, stretch, stretch]);
+    let b = t.axes()[1];
+    // Nodes crowd towards b = 0: the first spacing is about d/(d + λ) of the last.
+    let (first, last) = (b.node(1) - b.node(0), b.node(b.n - 1) - b.node(b.n - 2));
+    assert!(first < 0.45 * last, "{first} vs {last}");
+    assert!(max_error(&t, lo_a, lo_c) < 1e-4);
+    let again = Table::from_bytes(&t.to_bytes()).unwrap();
+    assert_eq!(again, t);
 }
 
 #[test]
@@ -357,14 +379,14 @@ mod rejections {
     #[test]
     fn unknown_version() {
         let bytes = synthetic_table([6, 6, 6], [4; 3]).to_bytes();
-        let v2 = rewrite(&bytes, |name, a| {
+        let v1 = rewrite(&bytes, |name, a| {
             if name == "format_version" {
-                *a = Array::i64(vec![], vec![2]);
+                *a = Array::i64(vec![], vec![1]);
             }
         });
         assert_eq!(
-            message(Table::from_bytes(&v2)),
-            "unknown table format version 2 (this reader supports version 1); use a matching \
+            message(Table::from_bytes(&v1)),
+            "unknown table format version 1 (this reader supports version 2); use a matching \
              emdstar release or rebuild the table"
         );
     }

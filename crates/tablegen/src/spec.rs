@@ -8,10 +8,17 @@
 //! # ...                       # hertz:  young poisson radius density dissipation speed eccentricity
 //! nodes = [40, 80, 80]        # grid nodes along a, b, c
 //! order = [6, 6, 6]           # interpolation points per axis (4 cubic, 6 quintic, 8 septic)
+//! m_min = 0.6931              # optional: raise the lower end of m (b = 0) above the box's
+//! [stretch]                   # optional: crowd the nodes of an axis towards its low end,
+//! b = [1.3, 0.66]             # uniform in w = y + λ·ln(1 + y/d), y = b − b_min: [λ, d]
 //! ```
+//!
+//! `m_min` cuts off the impacts of the box with m = ln(lω/v) (linear) or
+//! ln(l(κ/v²)^{2/5}) (Hertz) below it: lookups there are out of the box (an error, or a
+//! counted exact solve). It may only raise m_min, never lower it below the box's value.
 
 use emdstar_contact::{HertzBox, LinearBox, Model, ParameterBox, Range, RectBounds};
-use emdstar_table::Axis;
+use emdstar_table::{Axis, Stretch};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -23,6 +30,7 @@ pub struct Spec {
     pub bounds: RectBounds,
     pub nodes: [usize; 3],
     pub order: [usize; 3],
+    pub stretch: [Stretch; 3],
     /// The spec's text, stored in the table file.
     pub text: String,
 }
@@ -35,6 +43,9 @@ struct RawSpec {
     parameter_box: RawBox,
     nodes: [usize; 3],
     order: [usize; 3],
+    m_min: Option<f64>,
+    #[serde(default)]
+    stretch: BTreeMap<String, [f64; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -70,10 +81,31 @@ impl Spec {
                 parameter_box.model()
             ));
         }
-        let bounds = parameter_box
+        let mut bounds = parameter_box
             .bounds()
             .map_err(|e| format!("invalid box: {e}"))?;
-        let axes = emdstar_table::grid_axes(&bounds, raw.nodes, raw.order);
+        if let Some(m) = raw.m_min {
+            if !(m.is_finite() && m >= bounds.m.min && m < bounds.m.max) {
+                return Err(format!(
+                    "m_min = {m} must lie in [{}, {}) (the box's range of m): it can only \
+                     cut impacts off, not add them",
+                    bounds.m.min, bounds.m.max
+                ));
+            }
+            bounds.m.min = m;
+        }
+        let mut stretch = [Stretch::NONE; 3];
+        for (name, [amount, knee]) in &raw.stretch {
+            let k = ["a", "b", "c"]
+                .iter()
+                .position(|a| a == name)
+                .ok_or_else(|| format!("[stretch] names axes a, b or c, not {name:?}"))?;
+            stretch[k] = Stretch {
+                amount: *amount,
+                knee: *knee,
+            };
+        }
+        let axes = emdstar_table::grid_axes(&bounds, raw.nodes, raw.order, stretch);
         for (ax, name) in axes.iter().zip(["a", "b", "c"]) {
             ax.check().map_err(|why| format!("axis {name}: {why}"))?;
         }
@@ -83,6 +115,7 @@ impl Spec {
             bounds,
             nodes: raw.nodes,
             order: raw.order,
+            stretch,
             text: text.to_string(),
         })
     }
@@ -96,7 +129,7 @@ impl Spec {
 
     /// The grid axes.
     pub fn axes(&self) -> [Axis; 3] {
-        emdstar_table::grid_axes(&self.bounds, self.nodes, self.order)
+        emdstar_table::grid_axes(&self.bounds, self.nodes, self.order, self.stretch)
     }
 }
 
@@ -195,6 +228,18 @@ mod tests {
             (
                 "model='linear'\nnodes=[6,6,6]\norder=[4,4,4]\n[box]\nk=[1.0,2.0]",
                 "unknown box",
+            ),
+            (
+                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\nm_min=-9.0",
+                "can only cut",
+            ),
+            (
+                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\n[stretch]\nq=[1.0,1.0]",
+                "axes a, b or c",
+            ),
+            (
+                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\n[stretch]\nb=[1.0,0.0]",
+                "knee > 0",
             ),
         ];
         for (text, want) in cases {

@@ -55,3 +55,49 @@ fn elastic_and_central_impacts_follow_the_limits() {
         "{got:?} vs {exact:?}"
     );
 }
+
+/// Where strong damping makes the MoR not smooth in c_φ², the near-central extension
+/// is refused (NotTabulated), not answered wrongly; elsewhere it matches exact solves.
+#[test]
+fn the_near_central_extension_is_refused_where_it_does_not_hold() {
+    let spec = Spec::parse(
+        "model = \"hertz\"\nbox = \"paper_table_2\"\nnodes = [6, 8, 8]\norder = [4, 4, 4]\n",
+    )
+    .unwrap();
+    let table = build(&spec, &exact_solver, false).unwrap();
+    let [ax, bx, cx] = *table.axes();
+    let (mut refused, mut answered) = (0, 0);
+    for j in 0..bx.n {
+        for k in 0..cx.n {
+            // Grid nodes of (b, c), so only the extension in a is tested.
+            let x = emdstar_contact::RectCoords {
+                a: ax.min - 1.0,
+                b: bx.node(j),
+                c: cx.node(k),
+            };
+            let p = table.bounds().from_rect(&x);
+            let exact = exact_solver(spec.model, &p);
+            match table.lookup_scaled(&p) {
+                Ok(got) => {
+                    answered += 1;
+                    let exact = exact.unwrap();
+                    for (g, e) in [
+                        (got.one_minus_eps_r, exact.one_minus_eps_r),
+                        (got.eps_rdot, exact.eps_rdot),
+                        (got.eps_phi, exact.eps_phi),
+                        (got.eps_t, exact.eps_t),
+                    ] {
+                        assert!(((g - e) / e).abs() < 1e-6, "{x:?}: {got:?} vs {exact:?}");
+                    }
+                }
+                Err(emdstar_table::TableError::NotTabulated(_)) => refused += 1,
+                Err(e) => panic!("{x:?}: {e}"),
+            }
+        }
+    }
+    // The paper's box reaches c_dis√ξ ≫ 1: the strongly damped part must be refused.
+    assert!(
+        refused > 0 && answered > 0,
+        "{refused} refused, {answered} answered"
+    );
+}

@@ -1,0 +1,231 @@
+//! Table lookup from physical parameters (two spheres and the impact: scaling,
+//! rectangular coordinates and interpolation of all four components) against an exact
+//! solve of the same impacts (the solver is a dev-dependency only).
+//!
+//! `cargo bench -p emdstar-table --bench lookup`
+//!
+//! Times are CPU time of the benchmark thread (on Linux; wall time elsewhere), so that
+//! other processes on a shared machine do not inflate them.
+//!
+//! The impacts are drawn log-uniformly from the table's own box (its Tab. I or II
+//! ranges), as `emdstar table check` does, and cycled through, so the lookups touch
+//! scattered parts of the table as a polydisperse gas would.
+
+use criterion::measurement::{Measurement, ValueFormatter, WallTime};
+use criterion::{Criterion, criterion_group, criterion_main};
+use emdstar_contact::{
+    ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, ScaledParams, Sphere,
+    ViscoelasticHertz, scale,
+};
+use emdstar_table::Table;
+use std::hint::black_box;
+
+type Case = (PairLaw, PairProperties, Impact);
+
+/// CPU time of the calling thread, in ns.
+#[cfg(target_os = "linux")]
+fn thread_cpu_ns() -> u64 {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    unsafe extern "C" {
+        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+    }
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut ts = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec to a valid pointer.
+    let ok = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(ok, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    ts.sec as u64 * 1_000_000_000 + ts.nsec as u64
+}
+
+#[cfg(not(target_os = "linux"))]
+fn thread_cpu_ns() -> u64 {
+    use std::sync::OnceLock;
+    static START: OnceLock<std::time::Instant> = OnceLock::new();
+    START
+        .get_or_init(std::time::Instant::now)
+        .elapsed()
+        .as_nanos() as u64
+}
+
+/// Criterion measurement of thread CPU time.
+struct CpuTime;
+
+static WALL: WallTime = WallTime;
+
+impl Measurement for CpuTime {
+    type Intermediate = u64;
+    type Value = u64;
+    fn start(&self) -> u64 {
+        thread_cpu_ns()
+    }
+    fn end(&self, start: u64) -> u64 {
+        thread_cpu_ns() - start
+    }
+    fn add(&self, a: &u64, b: &u64) -> u64 {
+        a + b
+    }
+    fn zero(&self) -> u64 {
+        0
+    }
+    fn to_f64(&self, v: &u64) -> f64 {
+        *v as f64
+    }
+    fn formatter(&self) -> &dyn ValueFormatter {
+        WALL.formatter()
+    }
+}
+
+/// A small deterministic generator (xorshift64*), uniform in [0, 1).
+struct Draw(u64);
+
+impl Draw {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn log_uniform(&mut self, r: [f64; 2]) -> f64 {
+        (r[0].ln() + (r[1].ln() - r[0].ln()) * self.next()).exp()
+    }
+}
+
+/// `n` physical impacts of the table's box that the table answers.
+fn impacts(table: &Table, n: usize, elastic: bool) -> Vec<Case> {
+    let info = table.info();
+    let range = |name: &str| {
+        let k = info.box_names.iter().position(|x| x == name).unwrap();
+        info.box_ranges[k]
+    };
+    let mut d = Draw(0x9e37_79b9_7f4a_7c15);
+    let mut out = Vec::new();
+    while out.len() < n {
+        let law = match table.model() {
+            Model::Linear => ForceLaw::Linear(
+                LinearDashpot::new(
+                    d.log_uniform(range("stiffness")),
+                    if elastic {
+                        0.0
+                    } else {
+                        d.log_uniform(range("damping"))
+                    },
+                )
+                .unwrap(),
+            ),
+            Model::Hertz => ForceLaw::Hertz(
+                ViscoelasticHertz::new(
+                    d.log_uniform(range("young")),
+                    d.log_uniform(range("poisson")),
+                    if elastic {
+                        0.0
+                    } else {
+                        d.log_uniform(range("dissipation"))
+                    },
+                )
+                .unwrap(),
+            ),
+        };
+        let s = Sphere::from_density(
+            d.log_uniform(range("radius")),
+            d.log_uniform(range("density")),
+        )
+        .unwrap();
+        let impact = Impact::from_speed_eccentricity(
+            d.log_uniform(range("speed")),
+            d.log_uniform(range("eccentricity")),
+        )
+        .unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        if table.lookup(&law, &pair, &impact).is_ok() {
+            out.push((law, pair, impact));
+        }
+    }
+    out
+}
+
+/// Impacts of a monodisperse gas of one material: speeds log-uniform over a factor of
+/// ten, eccentricities distributed as in a gas (e = √U, so P(e) ∝ e), inside the box.
+/// `elastic`: no dissipation (A = 0 or γ = 0, as in the gas of `emdstar bench edmd`).
+fn gas(table: &Table, n: usize, elastic: bool) -> Vec<Case> {
+    let damping = if elastic { 0.0 } else { 1.0 };
+    let (law, s, speeds) = match table.model() {
+        // The eMD* gas of `emdstar bench edmd` (Y = 1 GPa, R = 0.1 m), with A = 10 µs.
+        Model::Hertz => (
+            ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.4, 1e-5 * damping).unwrap()),
+            Sphere::from_density(0.1, 1140.0).unwrap(),
+            [0.3, 3.0],
+        ),
+        Model::Linear => (
+            ForceLaw::Linear(LinearDashpot::new(1e5, 0.5 * damping).unwrap()),
+            Sphere::from_density(0.01, 2500.0).unwrap(),
+            [0.1, 1.0],
+        ),
+    };
+    let pair = PairProperties::spheres(&s, &s);
+    let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+    let mut d = Draw(0x2545_f491_4f6c_dd1d);
+    let mut out = Vec::new();
+    while out.len() < n {
+        let impact =
+            Impact::from_speed_eccentricity(d.log_uniform(speeds), d.next().sqrt()).unwrap();
+        if table.lookup(&law, &pair, &impact).is_ok() {
+            out.push((law, pair, impact));
+        }
+    }
+    out
+}
+
+fn bench(c: &mut Criterion<CpuTime>) {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tables");
+    for model in [Model::Linear, Model::Hertz] {
+        let table = Table::open(format!("{dir}/{model}.npz")).unwrap();
+        for (label, cases) in [
+            ("_box", impacts(&table, 1024, false)),
+            ("_box_elastic", impacts(&table, 1024, true)),
+            ("_gas", gas(&table, 1024, false)),
+            ("_gas_elastic", gas(&table, 1024, true)),
+            ("_one_impact", gas(&table, 1, false)),
+        ] {
+            let mut i = 0;
+            c.bench_function(&format!("{model}/table_lookup_physical{label}"), |b| {
+                b.iter(|| {
+                    i = (i + 1) % cases.len();
+                    let (law, pair, impact) = &cases[i];
+                    black_box(table.lookup(black_box(law), pair, impact).unwrap())
+                })
+            });
+        }
+        let cases = impacts(&table, 1024, false);
+        let scaled: Vec<ScaledParams> = cases
+            .iter()
+            .map(|(l, p, im)| scale(l, p, im).unwrap().params)
+            .collect();
+        let mut j = 0;
+        c.bench_function(&format!("{model}/table_lookup_scaled"), |b| {
+            b.iter(|| {
+                j = (j + 1) % scaled.len();
+                black_box(table.lookup_scaled(black_box(&scaled[j])).unwrap())
+            })
+        });
+        let mut k = 0;
+        c.bench_function(&format!("{model}/exact_solve"), |b| {
+            b.iter(|| {
+                k = (k + 1) % scaled.len();
+                black_box(emdstar_mor::solve(model, black_box(&scaled[k])).unwrap())
+            })
+        });
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().with_measurement(CpuTime);
+    targets = bench
+}
+criterion_main!(benches);
