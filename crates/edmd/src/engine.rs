@@ -237,17 +237,22 @@ impl<Q: EventQueue> Engine<Q> {
         self.ev[i].partner == j as u32 && (j >= self.len() || self.ev[j].partner == i as u32)
     }
 
-    /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
-    /// keeping the earliest collision.
-    #[inline]
-    fn scan_cells(&mut self, i: usize, cells: &crate::cells::CellSet) {
+    /// The earliest collision of `i` (at time `now`, already advanced) with the
+    /// particles of `cells` (each with the shift of its periodic image) before `best`:
+    /// (time, partner or NONE, whether it is a stabilising collision now).
+    #[inline(always)]
+    fn earliest_in(
+        &self,
+        i: usize,
+        cells: impl Iterator<Item = (u32, [f64; 3])>,
+        mut best: f64,
+    ) -> (f64, u32, bool) {
         let now = self.time;
         let (pi, vi) = (self.kin[i].pos, self.kin[i].vel);
         let ri = self.kin[i].radius;
-        let mut best = self.ev[i].coll_time;
         let mut best_j = NONE;
         let mut best_now = false;
-        for (cell, shift) in cells.iter() {
+        for (cell, shift) in cells {
             // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
             let pi_rel = sub(pi, shift);
             let mut j = self.grid.first(cell);
@@ -266,12 +271,51 @@ impl<Q: EventQueue> Engine<Q> {
                 j = self.grid.next(j);
             }
         }
-        if best_j != NONE {
-            self.ev[i].coll_time = best;
-            self.ev[i].coll_partner = best_j;
-            self.ev[i].coll_counter = self.ev[best_j as usize].counter;
-            self.ev[i].coll_now = best_now;
+        (best, best_j, best_now)
+    }
+
+    /// Keeps the collision found by [`Engine::earliest_in`] if there is one.
+    #[inline(always)]
+    fn keep_earliest(&mut self, i: usize, (time, j, now): (f64, u32, bool)) {
+        if j != NONE {
+            self.ev[i].coll_time = time;
+            self.ev[i].coll_partner = j;
+            self.ev[i].coll_counter = self.ev[j as usize].counter;
+            self.ev[i].coll_now = now;
         }
+    }
+
+    /// Tests `i` against every particle of its own and the neighbouring cells.
+    #[inline]
+    fn scan_neighbourhood(&mut self, i: usize) {
+        let c = self.grid.coords[i];
+        let best = self.ev[i].coll_time;
+        let found = if let Some(base) = self.grid.interior(c) {
+            let cells = self.grid.interior_neighbours(base).map(|c| (c, [0.0; 3]));
+            self.earliest_in(i, cells, best)
+        } else {
+            let set = self.grid.neighbourhood(c);
+            self.earliest_in(i, set.iter(), best)
+        };
+        self.keep_earliest(i, found);
+    }
+
+    /// Tests `i`, which has just entered cell `c` moving in direction `dir` along
+    /// `axis`, against the layer of cells that became its neighbours.
+    #[inline]
+    fn scan_new_layer(&mut self, i: usize, c: [u32; 3], axis: usize, dir: i64) {
+        let best = self.ev[i].coll_time;
+        let found = if let Some(base) = self.grid.interior(c) {
+            let cells = self
+                .grid
+                .interior_layer(base, axis, dir)
+                .map(|c| (c, [0.0; 3]));
+            self.earliest_in(i, cells, best)
+        } else {
+            let set = self.grid.new_layer(c, axis, dir);
+            self.earliest_in(i, set.iter(), best)
+        };
+        self.keep_earliest(i, found);
     }
 
     /// Earliest cell crossing of `i` (advanced to now).
@@ -321,8 +365,7 @@ impl<Q: EventQueue> Engine<Q> {
         self.ev[i].coll_time = f64::INFINITY;
         self.ev[i].coll_partner = NONE;
         self.ev[i].coll_now = false;
-        let cells = self.grid.neighbourhood(self.grid.coords[i]);
-        self.scan_cells(i, &cells);
+        self.scan_neighbourhood(i);
         let n = self.len();
         for w in 0..self.walls.len() {
             if self.in_shared_transient(i, n + w) {
@@ -419,8 +462,7 @@ impl<Q: EventQueue> Engine<Q> {
         c[axis] = next;
         self.kin[i].pos[axis] += shift;
         self.grid.relocate(i, c);
-        let layer = self.grid.new_layer(c, axis, dir);
-        self.scan_cells(i, &layer);
+        self.scan_new_layer(i, c, axis, dir);
         self.predict_crossing(i);
         self.schedule(i);
     }
