@@ -32,7 +32,7 @@ pub enum QueueArg {
 #[derive(Args, Debug)]
 pub struct BenchEdmdArgs {
     /// Event queue.
-    #[arg(long, value_enum, default_value_t = QueueArg::Heap)]
+    #[arg(long, value_enum, default_value_t = QueueArg::Calendar)]
     pub queue: QueueArg,
     /// Runs of each benchmark; the best is reported (the machine may be shared).
     #[arg(long, default_value_t = 1)]
@@ -49,6 +49,9 @@ pub struct BenchEdmdArgs {
     /// Skip the eMD* gas.
     #[arg(long)]
     pub hard_spheres_only: bool,
+    /// Skip the hard-sphere gas (for profiling the eMD* gas alone).
+    #[arg(long, conflicts_with_all = ["hard_spheres_only", "scaling"])]
+    pub emdstar_only: bool,
     /// MoR source of the eMD* gas.
     #[arg(long, value_enum, default_value_t = MorArg::Table)]
     pub mor: MorArg,
@@ -191,10 +194,14 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.rounds == 0 {
         bail!("--rounds must be at least 1");
     }
-    let (hs_rate, hs) = best_of(a.rounds, || {
-        hard_spheres(20, a.hs_eta, a.per_particle, a.queue)
-    })?;
-    if !a.json {
+    let (hs_rate, hs) = if a.emdstar_only {
+        (f64::NAN, Value::Null)
+    } else {
+        best_of(a.rounds, || {
+            hard_spheres(20, a.hs_eta, a.per_particle, a.queue)
+        })?
+    };
+    if !a.json && !a.emdstar_only {
         println!(
             "elastic hard spheres, N = 32000, η = {}: {hs_rate:.3e} collisions/s{}",
             a.hs_eta,

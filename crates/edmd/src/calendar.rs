@@ -28,6 +28,8 @@ pub struct CalendarQueue {
     t0: f64,
     width: f64,
     current: usize,
+    /// Keys set since the buckets were last sized.
+    sets: u64,
 }
 
 #[inline(always)]
@@ -36,6 +38,9 @@ fn less(a: (f64, u32), b: (f64, u32)) -> bool {
 }
 
 impl CalendarQueue {
+    /// Keys in the current bucket that trigger a resize.
+    const CROWDED: usize = 32;
+
     fn buckets(&self) -> usize {
         self.heads.len() - 2
     }
@@ -139,29 +144,32 @@ impl CalendarQueue {
         }
     }
 
-    /// Starts a new window at the earliest overflow key, sized from the overflow's
-    /// spread. Returns false if nothing finite is left.
-    fn rebase(&mut self) -> bool {
+    /// Starts a new window at the earliest finite key, with buckets sized from the
+    /// keys' spread, and refiles every finite key. Returns false if none is left.
+    fn rebuild(&mut self) -> bool {
         let nb = self.buckets();
-        let mut ids = vec![];
-        let mut id = self.heads[nb];
-        while id != NONE {
-            ids.push(id as usize);
-            id = self.next[id as usize];
+        let mut ids: Vec<usize> = self.heap.drain(..).map(|(_, id)| id as usize).collect();
+        for head in &mut self.heads[..=nb] {
+            let mut id = std::mem::replace(head, NONE);
+            while id != NONE {
+                ids.push(id as usize);
+                id = self.next[id as usize];
+            }
         }
         if ids.is_empty() {
             return false;
         }
-        self.heads[nb] = NONE;
         let min = ids
             .iter()
             .map(|&i| self.keys[i])
             .fold(f64::INFINITY, f64::min);
         let mean = ids.iter().map(|&i| self.keys[i] - min).sum::<f64>() / ids.len() as f64;
-        // About two keys per bucket: the window spans twice the mean lead time.
+        // Each particle holds one key, so the keys' mean lead over the earliest is
+        // about N mean event intervals: about two keys per bucket near the front.
         self.width = (4.0 * mean / nb as f64).max(f64::MIN_POSITIVE);
         self.t0 = min;
         self.current = 0;
+        self.sets = 0;
         for i in ids {
             self.insert(i);
         }
@@ -184,6 +192,7 @@ impl EventQueue for CalendarQueue {
             t0: 0.0,
             width: 1.0,
             current: 0,
+            sets: 0,
         };
         for id in (0..len).rev() {
             q.link(id, NEVER);
@@ -192,6 +201,7 @@ impl EventQueue for CalendarQueue {
     }
 
     fn set(&mut self, id: usize, time: f64) {
+        self.sets += 1;
         if self.loc[id] == IN_HEAP {
             self.heap_remove(id);
         } else {
@@ -204,7 +214,7 @@ impl EventQueue for CalendarQueue {
     fn peek(&mut self) -> (usize, f64) {
         while self.heap.is_empty() {
             self.current += 1;
-            if self.current >= self.buckets() && !self.rebase() {
+            if self.current >= self.buckets() && !self.rebuild() {
                 // Only keys at +∞ are left: report the smallest id, as the heap does.
                 let mut id = self.heads[self.buckets() + 1];
                 let mut smallest = NONE;
@@ -230,6 +240,12 @@ impl EventQueue for CalendarQueue {
                 self.heap_push(id as usize);
                 id = next;
             }
+        }
+        // A crowded current bucket means badly sized buckets (the first window is
+        // sized before any key is known, and event rates drift): resize, at most
+        // once per 2·(number of buckets) keys set, which keeps it O(1) amortised.
+        if self.heap.len() > Self::CROWDED && self.sets > 2 * self.buckets() as u64 {
+            self.rebuild();
         }
         let (t, id) = self.heap[0];
         (id as usize, t)

@@ -3,10 +3,11 @@
 //! updates — each particle's state is stored at the time of its last event and moved
 //! on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
 
+use crate::calendar::CalendarQueue;
 use crate::cells::{CellGrid, NONE};
 use crate::detect::{sphere_sphere, sphere_wall};
 use crate::error::{EngineError, Result};
-use crate::queue::{EventQueue, IndexedHeap};
+use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::setup::{Physics, Wall};
 use crate::stats::Stats;
@@ -29,8 +30,9 @@ pub enum Event {
     Resolved(u32, u32),
 }
 
-/// The event-driven engine for hard spheres, eMD and eMD*.
-pub struct Engine<Q: EventQueue = IndexedHeap> {
+/// The event-driven engine for hard spheres, eMD and eMD*. The default queue is the
+/// calendar queue (O(1) per event); [`crate::IndexedHeap`] gives the same event order.
+pub struct Engine<Q: EventQueue = CalendarQueue> {
     /// Kinematic state, one cache line per particle (what neighbour scans read).
     pub(crate) kin: Vec<Kin>,
     pub(crate) mass: Vec<f64>,

@@ -2,7 +2,7 @@
 //! brute-force reference: every step advances all particles and tests every pair in
 //! all 27 periodic images with the textbook quadratic formula, O(N²) per collision.
 
-use emdstar_edmd::{CalendarQueue, Engine, Event, EventQueue, Physics, Setup, gas};
+use emdstar_edmd::{CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas};
 
 /// Elastic equal hard spheres of diameter 1 in the periodic cube of `setup`, run by
 /// brute force: the first `count` collisions as (i, j, time) with i < j.
@@ -92,7 +92,7 @@ fn collision_sequence_equals_the_brute_force_reference() {
         let setup = gas::fcc(cells, density, 1.0, 1.0, 1.0, 17);
         let reference = brute_force(&setup, count);
         let physics = || Physics::HardSpheres { restitution: 1.0 };
-        let heap: Engine = Engine::new(setup.clone(), physics()).unwrap();
+        let heap: Engine<IndexedHeap> = Engine::new(setup.clone(), physics()).unwrap();
         assert_same(&reference, &engine_collisions(heap, count), "heap");
         let calendar: Engine<CalendarQueue> = Engine::new(setup.clone(), physics()).unwrap();
         assert_same(&reference, &engine_collisions(calendar, count), "calendar");

@@ -2,7 +2,7 @@
 //! stability of inelastic runs, and bad input.
 
 use emdstar_edmd::{
-    CalendarQueue, Engine, EngineError, Event, EventQueue, Physics, Region, Setup, Wall, gas,
+    Engine, EngineError, Event, EventQueue, IndexedHeap, Physics, Region, Setup, Wall, gas,
 };
 
 fn elastic() -> Physics {
@@ -71,12 +71,12 @@ fn cells_agree_with_one_big_cell() {
     // Frequent spatial re-sorting renumbers slots but must not change the physics.
     let mut resorted: Engine = Engine::new(fine_setup.clone(), elastic()).unwrap();
     resorted.set_resort_interval(97);
-    // The calendar queue must give exactly the heap's event order.
-    let mut calendar: Engine<CalendarQueue> = Engine::new(fine_setup, elastic()).unwrap();
+    // The calendar queue (the default) must give exactly the heap's event order.
+    let mut heap: Engine<IndexedHeap> = Engine::new(fine_setup, elastic()).unwrap();
     let a = collisions(&mut fine, 300);
     let b = collisions(&mut coarse, 300);
     let c = collisions(&mut resorted, 300);
-    assert_eq!(collisions(&mut calendar, 300), a);
+    assert_eq!(collisions(&mut heap, 300), a);
     assert!(resorted.stats().resorts > 5);
     for (k, ((x, y), z)) in a.iter().zip(&b).zip(&c).enumerate() {
         assert_eq!((x.0, x.1), (y.0, y.1), "collision {k}: {x:?} {y:?}");
