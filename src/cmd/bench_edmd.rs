@@ -40,6 +40,9 @@ pub struct BenchEdmdArgs {
     /// Collisions per particle to time (after as many to equilibrate).
     #[arg(long, default_value_t = 20.0)]
     pub per_particle: f64,
+    /// FCC cells per side of the hard-sphere benchmark (N = 4·cells³).
+    #[arg(long, default_value_t = 20)]
+    pub hs_cells: usize,
     /// Packing fraction of the hard-sphere benchmark.
     #[arg(long, default_value_t = 0.10)]
     pub hs_eta: f64,
@@ -191,6 +194,9 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.per_particle.is_nan() || a.per_particle <= 0.0 {
         bail!("--per-particle must be positive");
     }
+    if a.hs_cells == 0 {
+        bail!("--hs-cells must be at least 1");
+    }
     if a.rounds == 0 {
         bail!("--rounds must be at least 1");
     }
@@ -198,12 +204,13 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         (f64::NAN, Value::Null)
     } else {
         best_of(a.rounds, || {
-            hard_spheres(20, a.hs_eta, a.per_particle, a.queue)
+            hard_spheres(a.hs_cells, a.hs_eta, a.per_particle, a.queue)
         })?
     };
     if !a.json && !a.emdstar_only {
         println!(
-            "elastic hard spheres, N = 32000, η = {}: {hs_rate:.3e} collisions/s{}",
+            "elastic hard spheres, N = {}, η = {}: {hs_rate:.3e} collisions/s{}",
+            hs["particles"],
             a.hs_eta,
             cpu_rate(&hs)
         );

@@ -172,30 +172,40 @@ impl<Q: EventQueue> Engine<Q> {
         let now = self.time;
         for (slot, &p) in parties.iter().enumerate() {
             let (x_new, x_old) = (new[slot], self.kin[p].pos);
-            let cells = self
-                .grid
-                .neighbourhood(self.grid.coords_of(self.wrap(x_new)));
-            for &cell in cells.as_slice() {
+            // Does a third particle in `cell` end up closer than contact and closer
+            // than before?
+            let blocks = |cell: u32| {
                 let mut k = self.grid.first(cell);
                 while k != NONE {
                     let ku = k as usize;
                     if !parties.contains(&ku) {
                         let (xk, _) = self.state_at(ku, now);
                         let contact = self.kin[p].radius + self.kin[ku].radius;
-                        let d_new = dot(
-                            self.min_image(sub(x_new, xk)),
-                            self.min_image(sub(x_new, xk)),
-                        )
-                        .sqrt();
-                        if d_new < contact {
+                        let d_new = self.min_image(sub(x_new, xk));
+                        let d_new = dot(d_new, d_new);
+                        if d_new < contact * contact {
                             let d_old = self.min_image(sub(x_old, xk));
-                            if d_new < dot(d_old, d_old).sqrt() {
+                            if d_new < dot(d_old, d_old) {
                                 return true;
                             }
                         }
                     }
                     k = self.grid.next(k);
                 }
+                false
+            };
+            let c = self.grid.coords_of(self.wrap(x_new));
+            let blocked = match self.grid.interior(c) {
+                Some(base) => self.grid.interior_neighbours(base).any(blocks),
+                None => self
+                    .grid
+                    .neighbourhood(c)
+                    .as_slice()
+                    .iter()
+                    .any(|&c| blocks(c)),
+            };
+            if blocked {
+                return true;
             }
             for wall in &self.walls {
                 let h_new = dot(wall.normal, sub(x_new, wall.point));
