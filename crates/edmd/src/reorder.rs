@@ -44,19 +44,17 @@ impl<Q: EventQueue> Engine<Q> {
         for (new, &old) in order.iter().enumerate() {
             new_index[old as usize] = new as u32;
         }
-        let mut s_kin = Vec::new();
-        permute(&mut self.kin, &order, &mut s_kin);
+        let mut s_slot = Vec::new();
+        permute(&mut self.slot, &order, &mut s_slot);
         let mut s_f = Vec::new();
         permute(&mut self.mass, &order, &mut s_f);
-        let mut s_e = Vec::new();
-        permute(&mut self.ev, &order, &mut s_e);
         let mut s_u = Vec::new();
         permute(&mut self.species, &order, &mut s_u);
         permute(&mut self.id, &order, &mut s_u);
 
         let mut s_v = Vec::new();
         permute(&mut self.pending_vel, &order, &mut s_v);
-        for e in &mut self.ev {
+        for e in self.slot.iter_mut().map(|s| &mut s.ev) {
             if (e.partner as usize) < n {
                 e.partner = new_index[e.partner as usize];
             }
