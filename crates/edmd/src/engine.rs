@@ -57,9 +57,8 @@ pub struct Engine<Q: EventQueue = CalendarQueue> {
     pub(crate) zero_streak: u64,
 }
 
-/// Everything an event reads of its own particle: the kinematics in the first cache
-/// line (all that neighbour scans read) and the own events in the second, so that
-/// the pair of lines comes in with one miss (adjacent-line prefetch).
+/// A particle's kinematics (the line neighbour scans read) and own events in one
+/// 128-byte block: an event's own particle costs one miss (adjacent-line prefetch).
 #[derive(Debug, Clone, Copy, Default)]
 #[repr(C, align(128))]
 pub(crate) struct Slot {
