@@ -1,7 +1,7 @@
 //! Building an engine: input checks with clear errors, the cell grid, first predictions.
 
 use crate::cells::{CellGrid, NONE};
-use crate::engine::{Engine, EventRec, Kin, dot, sub};
+use crate::engine::{Engine, EventRec, Kin, Slot, dot, sub};
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -196,12 +196,15 @@ impl<Q: EventQueue> Engine<Q> {
         let grid = CellGrid::new(region.lo, region.size, region.periodic, width, n);
         let has_gravity = setup.gravity.iter().any(|&g| g != 0.0);
         let mut engine = Self {
-            kin: (0..n)
-                .map(|i| Kin {
-                    pos: setup.position[i],
-                    stamp: 0.0,
-                    vel: setup.velocity[i],
-                    radius: setup.radius[i],
+            slot: (0..n)
+                .map(|i| Slot {
+                    kin: Kin {
+                        pos: setup.position[i],
+                        stamp: 0.0,
+                        vel: setup.velocity[i],
+                        radius: setup.radius[i],
+                    },
+                    ev: EventRec::default(),
                 })
                 .collect(),
             mass: setup.mass,
@@ -213,7 +216,6 @@ impl<Q: EventQueue> Engine<Q> {
             },
             since_resort: 0,
             species: setup.species,
-            ev: vec![EventRec::default(); n],
             pending_vel: vec![[0.0; 3]; n],
             grid,
             queue: Q::new(n),
@@ -227,8 +229,8 @@ impl<Q: EventQueue> Engine<Q> {
             zero_streak: 0,
         };
         for i in 0..n {
-            let x = engine.wrap(engine.kin[i].pos);
-            engine.kin[i].pos = x;
+            let x = engine.wrap(engine.slot[i].kin.pos);
+            engine.slot[i].kin.pos = x;
             let c = engine.grid.coords_of(x);
             engine.grid.insert(i, c);
         }
@@ -251,9 +253,9 @@ impl<Q: EventQueue> Engine<Q> {
                 while j != NONE {
                     let ju = j as usize;
                     if ju > i {
-                        let r = self.min_image(sub(self.kin[i].pos, self.kin[ju].pos));
+                        let r = self.min_image(sub(self.slot[i].kin.pos, self.slot[ju].kin.pos));
                         let distance = dot(r, r).sqrt();
-                        let contact = self.kin[i].radius + self.kin[ju].radius;
+                        let contact = self.slot[i].kin.radius + self.slot[ju].kin.radius;
                         if distance < contact {
                             return Err(EngineError::Overlap {
                                 i,

@@ -15,19 +15,29 @@ const NEVER: u32 = u32::MAX - 3;
 /// The calendar queue.
 #[derive(Debug, Clone)]
 pub struct CalendarQueue {
-    keys: Vec<f64>,
-    /// Bucket index, IN_HEAP, OVERFLOW or NEVER.
-    loc: Vec<u32>,
-    next: Vec<u32>,
-    prev: Vec<u32>,
+    /// Each id's key and place, in one record (one cache miss per id touched).
+    node: Vec<Node>,
     /// Heads of the bucket lists, then of OVERFLOW and NEVER (last two slots).
     heads: Vec<u32>,
     /// The sorted current bucket: (key, id) binary heap, with positions.
     heap: Vec<(f64, u32)>,
-    heap_pos: Vec<u32>,
     t0: f64,
     width: f64,
     current: usize,
+    /// Keys set since the buckets were last sized.
+    sets: u64,
+}
+
+/// An id's key, where it is filed and its list links or heap slot.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(32))]
+struct Node {
+    key: f64,
+    /// Bucket index, IN_HEAP, OVERFLOW or NEVER.
+    loc: u32,
+    next: u32,
+    prev: u32,
+    heap_pos: u32,
 }
 
 #[inline(always)]
@@ -36,6 +46,9 @@ fn less(a: (f64, u32), b: (f64, u32)) -> bool {
 }
 
 impl CalendarQueue {
+    /// Keys in the current bucket that trigger a resize.
+    const CROWDED: usize = 32;
+
     fn buckets(&self) -> usize {
         self.heads.len() - 2
     }
@@ -51,30 +64,30 @@ impl CalendarQueue {
 
     fn link(&mut self, id: usize, loc: u32) {
         let head = *self.list_head(loc);
-        self.next[id] = head;
-        self.prev[id] = NONE;
+        self.node[id].next = head;
+        self.node[id].prev = NONE;
         if head != NONE {
-            self.prev[head as usize] = id as u32;
+            self.node[head as usize].prev = id as u32;
         }
         *self.list_head(loc) = id as u32;
-        self.loc[id] = loc;
+        self.node[id].loc = loc;
     }
 
     fn unlink(&mut self, id: usize) {
-        let (p, n) = (self.prev[id], self.next[id]);
+        let (p, n) = (self.node[id].prev, self.node[id].next);
         if p == NONE {
-            *self.list_head(self.loc[id]) = n;
+            *self.list_head(self.node[id].loc) = n;
         } else {
-            self.next[p as usize] = n;
+            self.node[p as usize].next = n;
         }
         if n != NONE {
-            self.prev[n as usize] = p;
+            self.node[n as usize].prev = p;
         }
     }
 
     fn heap_place(&mut self, k: usize, item: (f64, u32)) {
         self.heap[k] = item;
-        self.heap_pos[item.1 as usize] = k as u32;
+        self.node[item.1 as usize].heap_pos = k as u32;
     }
 
     fn heap_fix(&mut self, mut k: usize) {
@@ -106,15 +119,15 @@ impl CalendarQueue {
     }
 
     fn heap_push(&mut self, id: usize) {
-        self.loc[id] = IN_HEAP;
-        self.heap.push((self.keys[id], id as u32));
+        self.node[id].loc = IN_HEAP;
+        self.heap.push((self.node[id].key, id as u32));
         let k = self.heap.len() - 1;
-        self.heap_pos[id] = k as u32;
+        self.node[id].heap_pos = k as u32;
         self.heap_fix(k);
     }
 
     fn heap_remove(&mut self, id: usize) {
-        let k = self.heap_pos[id] as usize;
+        let k = self.node[id].heap_pos as usize;
         let last = self.heap.pop().expect("id is in the heap");
         if k < self.heap.len() {
             self.heap_place(k, last);
@@ -124,7 +137,7 @@ impl CalendarQueue {
 
     /// Files `id` by its key.
     fn insert(&mut self, id: usize) {
-        let t = self.keys[id];
+        let t = self.node[id].key;
         if !t.is_finite() {
             self.link(id, NEVER);
             return;
@@ -139,29 +152,32 @@ impl CalendarQueue {
         }
     }
 
-    /// Starts a new window at the earliest overflow key, sized from the overflow's
-    /// spread. Returns false if nothing finite is left.
-    fn rebase(&mut self) -> bool {
+    /// Starts a new window at the earliest finite key, with buckets sized from the
+    /// keys' spread, and refiles every finite key. Returns false if none is left.
+    fn rebuild(&mut self) -> bool {
         let nb = self.buckets();
-        let mut ids = vec![];
-        let mut id = self.heads[nb];
-        while id != NONE {
-            ids.push(id as usize);
-            id = self.next[id as usize];
+        let mut ids: Vec<usize> = self.heap.drain(..).map(|(_, id)| id as usize).collect();
+        for head in &mut self.heads[..=nb] {
+            let mut id = std::mem::replace(head, NONE);
+            while id != NONE {
+                ids.push(id as usize);
+                id = self.node[id as usize].next;
+            }
         }
         if ids.is_empty() {
             return false;
         }
-        self.heads[nb] = NONE;
         let min = ids
             .iter()
-            .map(|&i| self.keys[i])
+            .map(|&i| self.node[i].key)
             .fold(f64::INFINITY, f64::min);
-        let mean = ids.iter().map(|&i| self.keys[i] - min).sum::<f64>() / ids.len() as f64;
-        // About two keys per bucket: the window spans twice the mean lead time.
+        let mean = ids.iter().map(|&i| self.node[i].key - min).sum::<f64>() / ids.len() as f64;
+        // Each particle holds one key, so the keys' mean lead over the earliest is
+        // about N mean event intervals: about two keys per bucket near the front.
         self.width = (4.0 * mean / nb as f64).max(f64::MIN_POSITIVE);
         self.t0 = min;
         self.current = 0;
+        self.sets = 0;
         for i in ids {
             self.insert(i);
         }
@@ -174,16 +190,22 @@ impl EventQueue for CalendarQueue {
         assert!(len < NEVER as usize, "too many ids for the calendar queue");
         let nb = len.next_power_of_two().max(16);
         let mut q = Self {
-            keys: vec![f64::INFINITY; len],
-            loc: vec![NEVER; len],
-            next: vec![NONE; len],
-            prev: vec![NONE; len],
+            node: vec![
+                Node {
+                    key: f64::INFINITY,
+                    loc: NEVER,
+                    next: NONE,
+                    prev: NONE,
+                    heap_pos: 0,
+                };
+                len
+            ],
             heads: vec![NONE; nb + 2],
             heap: Vec::with_capacity(64),
-            heap_pos: vec![0; len],
             t0: 0.0,
             width: 1.0,
             current: 0,
+            sets: 0,
         };
         for id in (0..len).rev() {
             q.link(id, NEVER);
@@ -192,25 +214,26 @@ impl EventQueue for CalendarQueue {
     }
 
     fn set(&mut self, id: usize, time: f64) {
-        if self.loc[id] == IN_HEAP {
+        self.sets += 1;
+        if self.node[id].loc == IN_HEAP {
             self.heap_remove(id);
         } else {
             self.unlink(id);
         }
-        self.keys[id] = time;
+        self.node[id].key = time;
         self.insert(id);
     }
 
     fn peek(&mut self) -> (usize, f64) {
         while self.heap.is_empty() {
             self.current += 1;
-            if self.current >= self.buckets() && !self.rebase() {
+            if self.current >= self.buckets() && !self.rebuild() {
                 // Only keys at +∞ are left: report the smallest id, as the heap does.
                 let mut id = self.heads[self.buckets() + 1];
                 let mut smallest = NONE;
                 while id != NONE {
                     smallest = smallest.min(id);
-                    id = self.next[id as usize];
+                    id = self.node[id as usize].next;
                 }
                 self.current = self.buckets();
                 return (
@@ -226,16 +249,22 @@ impl EventQueue for CalendarQueue {
             let mut id = self.heads[b as usize];
             self.heads[b as usize] = NONE;
             while id != NONE {
-                let next = self.next[id as usize];
+                let next = self.node[id as usize].next;
                 self.heap_push(id as usize);
                 id = next;
             }
+        }
+        // A crowded current bucket means badly sized buckets (the first window is
+        // sized before any key is known, and event rates drift): resize, at most
+        // once per 2·(number of buckets) keys set, which keeps it O(1) amortised.
+        if self.heap.len() > Self::CROWDED && self.sets > 2 * self.buckets() as u64 {
+            self.rebuild();
         }
         let (t, id) = self.heap[0];
         (id as usize, t)
     }
 
     fn key(&self, id: usize) -> f64 {
-        self.keys[id]
+        self.node[id].key
     }
 }

@@ -19,6 +19,10 @@ pub struct CellGrid {
     pub dims: [usize; 3],
     pub width: [f64; 3],
     head: Vec<u32>,
+    /// Index offsets of the 27 neighbours of an interior cell, and of the 9 cells of
+    /// the new layer for each face (axis·2 + 1 if moving up).
+    offsets: [isize; 27],
+    layers: [[isize; 9]; 6],
     next: Vec<u32>,
     prev: Vec<u32>,
     /// Cell coordinates of each particle.
@@ -71,6 +75,28 @@ impl CellGrid {
             }
         });
         let width = std::array::from_fn(|k| size[k] / dims[k] as f64);
+        let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];
+        let offset = |d: [isize; 3]| d[0] * stride[0] + d[1] * stride[1] + d[2] * stride[2];
+        let mut offsets = [0; 27];
+        let mut layers = [[0; 9]; 6];
+        let mut counts = [0; 6];
+        let mut m = 0;
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let d = [dx, dy, dz];
+                    offsets[m] = offset(d);
+                    m += 1;
+                    for (face, layer) in layers.iter_mut().enumerate() {
+                        let dir = if face % 2 == 1 { 1 } else { -1 };
+                        if d[face / 2] == dir {
+                            layer[counts[face]] = offset(d);
+                            counts[face] += 1;
+                        }
+                    }
+                }
+            }
+        }
         Self {
             lo,
             size,
@@ -78,6 +104,8 @@ impl CellGrid {
             dims,
             width,
             head: vec![NONE; dims.iter().product()],
+            offsets,
+            layers,
             next: vec![NONE; n],
             prev: vec![NONE; n],
             coords: vec![[0; 3]; n],
@@ -201,6 +229,39 @@ impl CellGrid {
         set
     }
 
+    /// The index of cell `c` if it is an interior cell, whose neighbours are distinct
+    /// and need no periodic shift.
+    #[inline]
+    pub fn interior(&self, c: [u32; 3]) -> Option<usize> {
+        (0..3)
+            .all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.dims[k])
+            .then(|| self.index(c))
+    }
+
+    /// The 27 neighbour cells of the interior cell with index `base` (see
+    /// [`CellGrid::interior`]).
+    #[inline]
+    pub fn interior_neighbours(&self, base: usize) -> impl Iterator<Item = u32> + '_ {
+        self.offsets
+            .iter()
+            .map(move |&o| (base as isize + o) as u32)
+    }
+
+    /// The 9 cells of the new layer of the interior cell with index `base` entered
+    /// through the face on `axis` moving in direction `dir` (as [`CellGrid::new_layer`]).
+    #[inline]
+    pub fn interior_layer(
+        &self,
+        base: usize,
+        axis: usize,
+        dir: i64,
+    ) -> impl Iterator<Item = u32> + '_ {
+        let face = 2 * axis + usize::from(dir > 0);
+        self.layers[face]
+            .iter()
+            .map(move |&o| (base as isize + o) as u32)
+    }
+
     /// The cell with coordinates `c` and its neighbours.
     #[inline]
     pub fn neighbourhood(&self, c: [u32; 3]) -> CellSet {
@@ -310,6 +371,20 @@ mod tests {
         let slow = g.product(std::array::from_fn(|k| g.axis_neighbours(k, c[k], &all)));
         assert_eq!(fast.as_slice(), slow.as_slice());
         assert_eq!(fast.shifts, slow.shifts);
+        let base = g.interior(c).unwrap();
+        assert_eq!(
+            g.interior_neighbours(base).collect::<Vec<_>>(),
+            fast.as_slice()
+        );
+        for axis in 0..3 {
+            for dir in [-1, 1] {
+                let layer = g.new_layer(c, axis, dir);
+                let got: Vec<_> = g.interior_layer(base, axis, dir).collect();
+                assert_eq!(got, layer.as_slice(), "axis {axis} dir {dir}");
+                assert!(layer.shifts[..layer.len].iter().all(|s| *s == [0.0; 3]));
+            }
+        }
+        assert!(g.interior([0, 2, 1]).is_none() && g.interior([2, 2, 3]).is_none());
     }
 
     #[test]

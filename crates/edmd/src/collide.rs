@@ -22,12 +22,12 @@ impl<Q: EventQueue> Engine<Q> {
     /// Runs the pending E^v of `i` early because a third party hits it (exception b),
     /// and with [`Interference::BothPartners`] that of its partner too.
     fn interrupt_transient(&mut self, i: usize, interference: Interference) {
-        let partner = self.ev[i].partner as usize;
+        let partner = self.slot[i].ev.partner as usize;
         self.finish_transient(i);
         if interference == Interference::BothPartners
             && partner < self.len()
-            && self.ev[partner].pending_time.is_finite()
-            && self.ev[partner].partner == i as u32
+            && self.slot[partner].ev.pending_time.is_finite()
+            && self.slot[partner].ev.partner == i as u32
         {
             self.finish_transient(partner);
             self.stats.early_partner_updates += 1;
@@ -44,7 +44,7 @@ impl<Q: EventQueue> Engine<Q> {
         };
         let mut clean = true;
         for &p in parties {
-            if self.ev[p].pending_time.is_finite() {
+            if self.slot[p].ev.pending_time.is_finite() {
                 clean = false;
                 self.interrupt_transient(p, interference);
             }
@@ -63,17 +63,17 @@ impl<Q: EventQueue> Engine<Q> {
         self.advance(i, now);
         self.advance(j, now);
         if !self.settle_transients(&[i, j]) {
-            let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
-            if dot(r, sub(self.kin[i].vel, self.kin[j].vel)) >= 0.0 {
+            let r = self.min_image(sub(self.slot[i].kin.pos, self.slot[j].kin.pos));
+            if dot(r, sub(self.slot[i].kin.vel, self.slot[j].kin.vel)) >= 0.0 {
                 self.stats.interference_resolved += 1;
                 self.predict(i);
                 self.predict(j);
                 return Ok(false);
             }
         }
-        let r = self.min_image(sub(self.kin[i].pos, self.kin[j].pos));
-        let v = sub(self.kin[i].vel, self.kin[j].vel);
-        let contact = self.kin[i].radius + self.kin[j].radius;
+        let r = self.min_image(sub(self.slot[i].kin.pos, self.slot[j].kin.pos));
+        let v = sub(self.slot[i].kin.vel, self.slot[j].kin.vel);
+        let contact = self.slot[i].kin.radius + self.slot[j].kin.radius;
         let distance = dot(r, r).sqrt();
         self.stats.record_impact(distance, contact);
         self.stats.pair_collisions += 1;
@@ -90,12 +90,12 @@ impl<Q: EventQueue> Engine<Q> {
         if let Some(eps) = eps {
             let (di, dj) = restitution_kick(r, v, mi, mj, eps);
             for k in 0..3 {
-                self.kin[i].vel[k] += di[k];
-                self.kin[j].vel[k] += dj[k];
+                self.slot[i].kin.vel[k] += di[k];
+                self.slot[j].kin.vel[k] += dj[k];
             }
         }
-        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
-        self.ev[j].counter = self.ev[j].counter.wrapping_add(1);
+        self.slot[i].ev.counter = self.slot[i].ev.counter.wrapping_add(1);
+        self.slot[j].ev.counter = self.slot[j].ev.counter.wrapping_add(1);
         self.predict(i);
         self.predict(j);
         Ok(true)
@@ -120,17 +120,17 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.mor_fallbacks += u64::from(fallback);
         let l = entry.props.l;
         // Unwrap i next to j so that the pair is contiguous.
-        let pj = self.kin[j].pos;
+        let pj = self.slot[j].kin.pos;
         let pi: [f64; 3] = std::array::from_fn(|k| pj[k] + r[k]);
         let bodies = [
             Body {
                 position: vec3(pi),
-                velocity: vec3(self.kin[i].vel),
+                velocity: vec3(self.slot[i].kin.vel),
                 mass: self.mass[i],
             },
             Body {
                 position: vec3(pj),
-                velocity: vec3(self.kin[j].vel),
+                velocity: vec3(self.slot[j].kin.vel),
                 mass: self.mass[j],
             },
         ];
@@ -147,21 +147,21 @@ impl<Q: EventQueue> Engine<Q> {
         let end = self.time + out.duration;
         for (slot, &p) in [i, j].iter().enumerate() {
             self.place(p, new[slot]);
-            self.kin[p].vel = arr(&out.transient_velocity);
+            self.slot[p].kin.vel = arr(&out.transient_velocity);
             let post = out.post_velocities[slot];
             self.pending_vel[p] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-            self.ev[p].pending_time = end;
+            self.slot[p].ev.pending_time = end;
         }
-        self.ev[i].partner = j as u32;
-        self.ev[j].partner = i as u32;
+        self.slot[i].ev.partner = j as u32;
+        self.slot[j].ev.partner = i as u32;
         Ok(None)
     }
 
     /// Puts particle `p` at position `x` now (wrapped, re-binned).
     fn place(&mut self, p: usize, x: [f64; 3]) {
         let x = self.wrap(x);
-        self.kin[p].pos = x;
-        self.kin[p].stamp = self.time;
+        self.slot[p].kin.pos = x;
+        self.slot[p].kin.stamp = self.time;
         let c = self.grid.coords_of(x);
         self.grid.relocate(p, c);
     }
@@ -171,36 +171,46 @@ impl<Q: EventQueue> Engine<Q> {
     fn rotation_blocked(&self, parties: &[usize], new: &[[f64; 3]]) -> bool {
         let now = self.time;
         for (slot, &p) in parties.iter().enumerate() {
-            let (x_new, x_old) = (new[slot], self.kin[p].pos);
-            let cells = self
-                .grid
-                .neighbourhood(self.grid.coords_of(self.wrap(x_new)));
-            for &cell in cells.as_slice() {
+            let (x_new, x_old) = (new[slot], self.slot[p].kin.pos);
+            // Does a third particle in `cell` end up closer than contact and closer
+            // than before?
+            let blocks = |cell: u32| {
                 let mut k = self.grid.first(cell);
                 while k != NONE {
                     let ku = k as usize;
                     if !parties.contains(&ku) {
                         let (xk, _) = self.state_at(ku, now);
-                        let contact = self.kin[p].radius + self.kin[ku].radius;
-                        let d_new = dot(
-                            self.min_image(sub(x_new, xk)),
-                            self.min_image(sub(x_new, xk)),
-                        )
-                        .sqrt();
-                        if d_new < contact {
+                        let contact = self.slot[p].kin.radius + self.slot[ku].kin.radius;
+                        let d_new = self.min_image(sub(x_new, xk));
+                        let d_new = dot(d_new, d_new);
+                        if d_new < contact * contact {
                             let d_old = self.min_image(sub(x_old, xk));
-                            if d_new < dot(d_old, d_old).sqrt() {
+                            if d_new < dot(d_old, d_old) {
                                 return true;
                             }
                         }
                     }
                     k = self.grid.next(k);
                 }
+                false
+            };
+            let c = self.grid.coords_of(self.wrap(x_new));
+            let blocked = match self.grid.interior(c) {
+                Some(base) => self.grid.interior_neighbours(base).any(blocks),
+                None => self
+                    .grid
+                    .neighbourhood(c)
+                    .as_slice()
+                    .iter()
+                    .any(|&c| blocks(c)),
+            };
+            if blocked {
+                return true;
             }
             for wall in &self.walls {
                 let h_new = dot(wall.normal, sub(x_new, wall.point));
                 let h_old = dot(wall.normal, sub(x_old, wall.point));
-                if h_new < self.kin[p].radius && h_new < h_old {
+                if h_new < self.slot[p].kin.radius && h_new < h_old {
                     return true;
                 }
             }
@@ -215,10 +225,10 @@ impl<Q: EventQueue> Engine<Q> {
         self.settle_transients(&[i]);
         let wall = self.walls[w];
         let n = wall.normal;
-        let vn = dot(n, self.kin[i].vel);
+        let vn = dot(n, self.slot[i].kin.vel);
         self.stats.wall_collisions += 1;
-        let height = dot(n, sub(self.kin[i].pos, wall.point));
-        if height < self.kin[i].radius && vn >= 0.0 {
+        let height = dot(n, sub(self.slot[i].kin.pos, wall.point));
+        if height < self.slot[i].kin.radius && vn >= 0.0 {
             self.stats.stabilising += 1;
         }
         let eps = if vn >= 0.0 {
@@ -235,10 +245,10 @@ impl<Q: EventQueue> Engine<Q> {
         if let Some(eps) = eps {
             let kick = (1.0 + eps) * vn;
             for (k, nk) in n.iter().enumerate() {
-                self.kin[i].vel[k] -= kick * nk;
+                self.slot[i].kin.vel[k] -= kick * nk;
             }
         }
-        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+        self.slot[i].ev.counter = self.slot[i].ev.counter.wrapping_add(1);
         self.predict(i);
         Ok(())
     }
@@ -259,8 +269,8 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.mor_fallbacks += u64::from(fallback);
         let wall = self.walls[w];
         let body = Body {
-            position: vec3(sub(self.kin[i].pos, wall.point)),
-            velocity: vec3(self.kin[i].vel),
+            position: vec3(sub(self.slot[i].kin.pos, wall.point)),
+            velocity: vec3(self.slot[i].kin.vel),
             mass: self.mass[i],
         };
         let out = resolve_wall(&body, &vec3(wall.normal), entry.props.l, &m, scaled.time);
@@ -271,12 +281,12 @@ impl<Q: EventQueue> Engine<Q> {
             return Ok(Some(-m.eps_rdot));
         }
         self.place(i, new[0]);
-        self.kin[i].vel = arr(&out.transient_velocity);
+        self.slot[i].kin.vel = arr(&out.transient_velocity);
         let post = out.post_velocities[0];
         let g = self.gravity;
         self.pending_vel[i] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-        self.ev[i].pending_time = self.time + out.duration;
-        self.ev[i].partner = (self.len() + w) as u32;
+        self.slot[i].ev.pending_time = self.time + out.duration;
+        self.slot[i].ev.partner = (self.len() + w) as u32;
         Ok(None)
     }
 }

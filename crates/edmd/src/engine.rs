@@ -3,10 +3,11 @@
 //! updates — each particle's state is stored at the time of its last event and moved
 //! on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
 
+use crate::calendar::CalendarQueue;
 use crate::cells::{CellGrid, NONE};
 use crate::detect::{sphere_sphere, sphere_wall};
 use crate::error::{EngineError, Result};
-use crate::queue::{EventQueue, IndexedHeap};
+use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::setup::{Physics, Wall};
 use crate::stats::Stats;
@@ -29,10 +30,11 @@ pub enum Event {
     Resolved(u32, u32),
 }
 
-/// The event-driven engine for hard spheres, eMD and eMD*.
-pub struct Engine<Q: EventQueue = IndexedHeap> {
-    /// Kinematic state, one cache line per particle (what neighbour scans read).
-    pub(crate) kin: Vec<Kin>,
+/// The event-driven engine for hard spheres, eMD and eMD*. The default queue is the
+/// calendar queue (O(1) per event); [`crate::IndexedHeap`] gives the same event order.
+pub struct Engine<Q: EventQueue = CalendarQueue> {
+    /// Per-particle kinematics and own events, one 128-byte block each.
+    pub(crate) slot: Vec<Slot>,
     pub(crate) mass: Vec<f64>,
     /// Original particle number of each slot (slots are re-sorted in space).
     pub(crate) id: Vec<u32>,
@@ -40,8 +42,6 @@ pub struct Engine<Q: EventQueue = IndexedHeap> {
     pub(crate) resort_every: u64,
     pub(crate) since_resort: u64,
     pub(crate) species: Vec<u32>,
-    /// Each particle's own next events and counters, one cache line per particle.
-    pub(crate) ev: Vec<EventRec>,
     /// eMD*: the velocity the pending E^v event applies.
     pub(crate) pending_vel: Vec<[f64; 3]>,
     pub(crate) grid: CellGrid,
@@ -55,6 +55,15 @@ pub struct Engine<Q: EventQueue = IndexedHeap> {
     pub(crate) stats: Stats,
     /// Consecutive events at one instant (an inelastic collapse never ends).
     pub(crate) zero_streak: u64,
+}
+
+/// A particle's kinematics (the line neighbour scans read) and own events in one
+/// 128-byte block: an event's own particle costs one miss (adjacent-line prefetch).
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(128))]
+pub(crate) struct Slot {
+    pub kin: Kin,
+    pub ev: EventRec,
 }
 
 /// A particle's position and velocity, valid at time `stamp` (delayed update), and
@@ -149,12 +158,12 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// Number of particles.
     pub fn len(&self) -> usize {
-        self.kin.len()
+        self.slot.len()
     }
 
     /// True without particles.
     pub fn is_empty(&self) -> bool {
-        self.kin.is_empty()
+        self.slot.is_empty()
     }
 
     /// Current simulation time.
@@ -170,8 +179,8 @@ impl<Q: EventQueue> Engine<Q> {
     /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
     #[inline(always)]
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
-        let dt = t - self.kin[j].stamp;
-        let (p, v) = (self.kin[j].pos, self.kin[j].vel);
+        let dt = t - self.slot[j].kin.stamp;
+        let (p, v) = (self.slot[j].kin.pos, self.slot[j].kin.vel);
         if self.has_gravity {
             let g = self.gravity;
             (
@@ -186,11 +195,11 @@ impl<Q: EventQueue> Engine<Q> {
     /// Moves particle `i` on to time `t` (the delayed update).
     #[inline]
     pub(crate) fn advance(&mut self, i: usize, t: f64) {
-        if self.kin[i].stamp != t {
+        if self.slot[i].kin.stamp != t {
             let (p, v) = self.state_at(i, t);
-            self.kin[i].pos = p;
-            self.kin[i].vel = v;
-            self.kin[i].stamp = t;
+            self.slot[i].kin.pos = p;
+            self.slot[i].kin.vel = v;
+            self.slot[i].kin.stamp = t;
         }
     }
 
@@ -234,20 +243,26 @@ impl<Q: EventQueue> Engine<Q> {
     /// in their common velocity must not trigger a spurious stabilising collision.
     #[inline]
     pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
-        self.ev[i].partner == j as u32 && (j >= self.len() || self.ev[j].partner == i as u32)
+        self.slot[i].ev.partner == j as u32
+            && (j >= self.len() || self.slot[j].ev.partner == i as u32)
     }
 
-    /// Tests `i` (at time `now`, already advanced) against the particles of `cells`,
-    /// keeping the earliest collision.
-    #[inline]
-    fn scan_cells(&mut self, i: usize, cells: &crate::cells::CellSet) {
+    /// The earliest collision of `i` (at time `now`, already advanced) with the
+    /// particles of `cells` (each with the shift of its periodic image) before `best`:
+    /// (time, partner or NONE, whether it is a stabilising collision now).
+    #[inline(always)]
+    fn earliest_in(
+        &self,
+        i: usize,
+        cells: impl Iterator<Item = (u32, [f64; 3])>,
+        mut best: f64,
+    ) -> (f64, u32, bool) {
         let now = self.time;
-        let (pi, vi) = (self.kin[i].pos, self.kin[i].vel);
-        let ri = self.kin[i].radius;
-        let mut best = self.ev[i].coll_time;
+        let (pi, vi) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
+        let ri = self.slot[i].kin.radius;
         let mut best_j = NONE;
         let mut best_now = false;
-        for (cell, shift) in cells.iter() {
+        for (cell, shift) in cells {
             // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
             let pi_rel = sub(pi, shift);
             let mut j = self.grid.first(cell);
@@ -256,7 +271,7 @@ impl<Q: EventQueue> Engine<Q> {
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
                     let r = sub(pi_rel, pj);
-                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.kin[ju].radius);
+                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.slot[ju].kin.radius);
                     if now + dt < best {
                         best = now + dt;
                         best_j = j;
@@ -266,19 +281,58 @@ impl<Q: EventQueue> Engine<Q> {
                 j = self.grid.next(j);
             }
         }
-        if best_j != NONE {
-            self.ev[i].coll_time = best;
-            self.ev[i].coll_partner = best_j;
-            self.ev[i].coll_counter = self.ev[best_j as usize].counter;
-            self.ev[i].coll_now = best_now;
+        (best, best_j, best_now)
+    }
+
+    /// Keeps the collision found by [`Engine::earliest_in`] if there is one.
+    #[inline(always)]
+    fn keep_earliest(&mut self, i: usize, (time, j, now): (f64, u32, bool)) {
+        if j != NONE {
+            self.slot[i].ev.coll_time = time;
+            self.slot[i].ev.coll_partner = j;
+            self.slot[i].ev.coll_counter = self.slot[j as usize].ev.counter;
+            self.slot[i].ev.coll_now = now;
         }
+    }
+
+    /// Tests `i` against every particle of its own and the neighbouring cells.
+    #[inline]
+    fn scan_neighbourhood(&mut self, i: usize) {
+        let c = self.grid.coords[i];
+        let best = self.slot[i].ev.coll_time;
+        let found = if let Some(base) = self.grid.interior(c) {
+            let cells = self.grid.interior_neighbours(base).map(|c| (c, [0.0; 3]));
+            self.earliest_in(i, cells, best)
+        } else {
+            let set = self.grid.neighbourhood(c);
+            self.earliest_in(i, set.iter(), best)
+        };
+        self.keep_earliest(i, found);
+    }
+
+    /// Tests `i`, which has just entered cell `c` moving in direction `dir` along
+    /// `axis`, against the layer of cells that became its neighbours.
+    #[inline]
+    fn scan_new_layer(&mut self, i: usize, c: [u32; 3], axis: usize, dir: i64) {
+        let best = self.slot[i].ev.coll_time;
+        let found = if let Some(base) = self.grid.interior(c) {
+            let cells = self
+                .grid
+                .interior_layer(base, axis, dir)
+                .map(|c| (c, [0.0; 3]));
+            self.earliest_in(i, cells, best)
+        } else {
+            let set = self.grid.new_layer(c, axis, dir);
+            self.earliest_in(i, set.iter(), best)
+        };
+        self.keep_earliest(i, found);
     }
 
     /// Earliest cell crossing of `i` (advanced to now).
     #[inline]
     fn predict_crossing(&mut self, i: usize) {
         let c = self.grid.coords[i];
-        let (p, v) = (self.kin[i].pos, self.kin[i].vel);
+        let (p, v) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
         let mut best = f64::INFINITY;
         let mut face = 0u8;
         for k in 0..3 {
@@ -299,17 +353,18 @@ impl<Q: EventQueue> Engine<Q> {
                 }
             }
         }
-        self.ev[i].cross_time = self.time + best;
-        self.ev[i].cross_face = face;
+        self.slot[i].ev.cross_time = self.time + best;
+        self.slot[i].ev.cross_face = face;
     }
 
     /// Pushes the particle's earliest own event to the queue.
     #[inline]
     pub(crate) fn schedule(&mut self, i: usize) {
-        let t = self.ev[i]
+        let t = self.slot[i]
+            .ev
             .coll_time
-            .min(self.ev[i].cross_time)
-            .min(self.ev[i].pending_time);
+            .min(self.slot[i].ev.cross_time)
+            .min(self.slot[i].ev.pending_time);
         self.queue.set(i, t);
     }
 
@@ -318,28 +373,27 @@ impl<Q: EventQueue> Engine<Q> {
     pub(crate) fn predict(&mut self, i: usize) {
         let now = self.time;
         self.advance(i, now);
-        self.ev[i].coll_time = f64::INFINITY;
-        self.ev[i].coll_partner = NONE;
-        self.ev[i].coll_now = false;
-        let cells = self.grid.neighbourhood(self.grid.coords[i]);
-        self.scan_cells(i, &cells);
+        self.slot[i].ev.coll_time = f64::INFINITY;
+        self.slot[i].ev.coll_partner = NONE;
+        self.slot[i].ev.coll_now = false;
+        self.scan_neighbourhood(i);
         let n = self.len();
         for w in 0..self.walls.len() {
             if self.in_shared_transient(i, n + w) {
                 continue;
             }
             let wall = self.walls[w];
-            let h = dot(wall.normal, sub(self.kin[i].pos, wall.point));
+            let h = dot(wall.normal, sub(self.slot[i].kin.pos, wall.point));
             let dt = sphere_wall(
                 h,
-                dot(wall.normal, self.kin[i].vel),
+                dot(wall.normal, self.slot[i].kin.vel),
                 dot(wall.normal, self.gravity),
-                self.kin[i].radius,
+                self.slot[i].kin.radius,
             );
-            if now + dt < self.ev[i].coll_time {
-                self.ev[i].coll_time = now + dt;
-                self.ev[i].coll_partner = (n + w) as u32;
-                self.ev[i].coll_now = false;
+            if now + dt < self.slot[i].ev.coll_time {
+                self.slot[i].ev.coll_time = now + dt;
+                self.slot[i].ev.coll_partner = (n + w) as u32;
+                self.slot[i].ev.coll_now = false;
             }
         }
         self.predict_crossing(i);
@@ -378,26 +432,26 @@ impl<Q: EventQueue> Engine<Q> {
             self.stats.events -= 1;
             return self.step();
         }
-        if self.ev[i].pending_time <= t {
+        if self.slot[i].ev.pending_time <= t {
             self.velocity_event(i);
             return Ok(Event::Velocity(self.id[i]));
         }
-        if self.ev[i].cross_time < self.ev[i].coll_time {
+        if self.slot[i].ev.cross_time < self.slot[i].ev.coll_time {
             self.crossing(i);
             return Ok(Event::Crossing(self.id[i]));
         }
-        let j = self.ev[i].coll_partner as usize;
+        let j = self.slot[i].ev.coll_partner as usize;
         let n = self.len();
         if j >= n {
             self.wall_collision(i, j - n)?;
             return Ok(Event::Wall(self.id[i], (j - n) as u32));
         }
-        if self.ev[j].counter != self.ev[i].coll_counter {
+        if self.slot[j].ev.counter != self.slot[i].ev.coll_counter {
             self.stats.stale += 1;
             self.predict(i);
             return Ok(Event::Stale(self.id[i]));
         }
-        if self.ev[i].coll_now {
+        if self.slot[i].ev.coll_now {
             self.stats.stabilising += 1;
         }
         if self.pair_collision(i, j)? {
@@ -412,15 +466,14 @@ impl<Q: EventQueue> Engine<Q> {
         self.stats.crossings += 1;
         let now = self.time;
         self.advance(i, now);
-        let face = self.ev[i].cross_face as usize;
+        let face = self.slot[i].ev.cross_face as usize;
         let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
         let mut c = self.grid.coords[i];
         let (next, shift) = self.grid.step(axis, c[axis], dir);
         c[axis] = next;
-        self.kin[i].pos[axis] += shift;
+        self.slot[i].kin.pos[axis] += shift;
         self.grid.relocate(i, c);
-        let layer = self.grid.new_layer(c, axis, dir);
-        self.scan_cells(i, &layer);
+        self.scan_new_layer(i, c, axis, dir);
         self.predict_crossing(i);
         self.schedule(i);
     }
@@ -438,13 +491,13 @@ impl<Q: EventQueue> Engine<Q> {
         let now = self.time;
         self.advance(i, now);
         // The stored velocity includes gravity up to the E^v time; undo the rest.
-        let early = self.ev[i].pending_time - now;
+        let early = self.slot[i].ev.pending_time - now;
         let g = self.gravity;
         let v = self.pending_vel[i];
-        self.kin[i].vel = std::array::from_fn(|k| v[k] - g[k] * early);
-        self.ev[i].pending_time = f64::INFINITY;
-        self.ev[i].partner = NONE;
-        self.ev[i].counter = self.ev[i].counter.wrapping_add(1);
+        self.slot[i].kin.vel = std::array::from_fn(|k| v[k] - g[k] * early);
+        self.slot[i].ev.pending_time = f64::INFINITY;
+        self.slot[i].ev.partner = NONE;
+        self.slot[i].ev.counter = self.slot[i].ev.counter.wrapping_add(1);
     }
 
     /// Runs until time `t_end` (all events before it), leaving every particle's
@@ -476,7 +529,7 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// Positions at the current time (call [`Engine::sync`] first).
     pub fn positions(&self) -> Vec<[f64; 3]> {
-        self.in_original_order(|i| self.kin[i].pos)
+        self.in_original_order(|i| self.slot[i].kin.pos)
     }
 
     /// `f(slot)` for every particle, listed by original particle number.
@@ -491,14 +544,14 @@ impl<Q: EventQueue> Engine<Q> {
     /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
     /// eMD* transient show their centre-of-mass velocity.
     pub fn velocities(&self) -> Vec<[f64; 3]> {
-        self.in_original_order(|i| self.kin[i].vel)
+        self.in_original_order(|i| self.slot[i].kin.vel)
     }
 
     /// Velocity of slot `i` now, counting a pending E^v as done (what the particle will
     /// have once its collision is over; use for energy and momentum balances).
     pub(crate) fn settled_velocity(&self, i: usize) -> [f64; 3] {
-        if self.ev[i].pending_time.is_finite() {
-            let early = self.ev[i].pending_time - self.time;
+        if self.slot[i].ev.pending_time.is_finite() {
+            let early = self.slot[i].ev.pending_time - self.time;
             let v = self.pending_vel[i];
             std::array::from_fn(|k| v[k] - self.gravity[k] * early)
         } else {
@@ -538,7 +591,7 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// Radii and masses, in particle order.
     pub fn radii(&self) -> Vec<f64> {
-        self.in_original_order(|i| self.kin[i].radius)
+        self.in_original_order(|i| self.slot[i].kin.radius)
     }
 
     pub fn masses(&self) -> Vec<f64> {

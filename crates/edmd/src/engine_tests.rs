@@ -27,7 +27,7 @@ fn three_body_overlap_resolves_by_a_stabilising_collision() {
     )
     .unwrap();
     // The invalid state of Fig. 4: C overlapping B by 1e-7 σ, receding at 1e-7.
-    e.kin[2].pos[0] = 1.0 - 1e-7;
+    e.slot[2].kin.pos[0] = 1.0 - 1e-7;
     for i in 0..3 {
         e.predict(i);
     }
@@ -73,8 +73,9 @@ fn without_the_stabilising_rule_the_pair_would_pass_through() {
 
 impl Engine {
     fn queue_is_empty_of_collisions(&self) -> bool {
-        (0..self.len())
-            .all(|i| !self.ev[i].coll_time.is_finite() && !self.ev[i].pending_time.is_finite())
+        (0..self.len()).all(|i| {
+            !self.slot[i].ev.coll_time.is_finite() && !self.slot[i].ev.pending_time.is_finite()
+        })
     }
 }
 
@@ -110,12 +111,14 @@ fn transient_partners_are_not_tested_against_each_other() {
     let mut e: Engine = Engine::new(setup, physics).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     let now = e.time();
-    assert!(e.ev[0].pending_time > now && e.ev[0].pending_time == e.ev[1].pending_time);
+    assert!(
+        e.slot[0].ev.pending_time > now && e.slot[0].ev.pending_time == e.slot[1].ev.pending_time
+    );
     // Round-off-sized approach between the partners.
     approach(&mut e, 1e-13);
     e.predict(0);
     e.predict(1);
-    assert!(e.ev[0].coll_time.is_infinite() && e.ev[1].coll_time.is_infinite());
+    assert!(e.slot[0].ev.coll_time.is_infinite() && e.slot[1].ev.coll_time.is_infinite());
     // The next events are the two E^v at t* + τ.
     let mut next = vec![];
     while next.len() < 2 {
@@ -130,17 +133,17 @@ fn transient_partners_are_not_tested_against_each_other() {
     let mut e: Engine = Engine::new(setup, physics).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     approach(&mut e, 1e-13);
-    e.ev[0].partner = crate::cells::NONE;
+    e.slot[0].ev.partner = crate::cells::NONE;
     e.predict(0);
-    assert!(e.ev[0].coll_time < e.ev[0].pending_time && e.ev[0].coll_partner == 1);
+    assert!(e.slot[0].ev.coll_time < e.slot[0].ev.pending_time && e.slot[0].ev.coll_partner == 1);
 }
 
 /// Makes particles 0 and 1 approach along their line of centres by `speed`.
 fn approach(e: &mut Engine, speed: f64) {
-    let r = crate::engine::sub(e.kin[0].pos, e.kin[1].pos);
+    let r = crate::engine::sub(e.slot[0].kin.pos, e.slot[1].kin.pos);
     let norm = crate::engine::dot(r, r).sqrt();
     for (k, rk) in r.iter().enumerate() {
-        e.kin[0].vel[k] -= 0.5 * speed * rk / norm;
-        e.kin[1].vel[k] += 0.5 * speed * rk / norm;
+        e.slot[0].kin.vel[k] -= 0.5 * speed * rk / norm;
+        e.slot[1].kin.vel[k] += 0.5 * speed * rk / norm;
     }
 }

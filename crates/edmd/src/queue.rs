@@ -181,4 +181,28 @@ mod tests {
             h.set(a, t);
         }
     }
+
+    #[test]
+    fn calendar_follows_event_rates_over_many_decades() {
+        // The buckets are first sized before any key is known, and then resized as
+        // the lead times swing from 1e-7 to 1e5: the order must stay the heap's.
+        let n = 1000;
+        let mut q = crate::CalendarQueue::new(n);
+        let mut h = IndexedHeap::new(n);
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for id in 0..n {
+            let t = 1e-7 * rng.random::<f64>();
+            q.set(id, t);
+            h.set(id, t);
+        }
+        for step in 0..200_000 {
+            let scale = [1e-7, 1e5, 1e-3, 1.0][step / 50_000];
+            let (a, ta) = q.peek();
+            let (b, tb) = h.peek();
+            assert_eq!((a, ta), (b, tb), "step {step}");
+            let t = ta + scale * rng.random::<f64>();
+            q.set(a, t);
+            h.set(a, t);
+        }
+    }
 }

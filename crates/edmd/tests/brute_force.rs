@@ -1,0 +1,103 @@
+//! The engine (cells, crossing events, delayed updates, queue) against an independent
+//! brute-force reference: every step advances all particles and tests every pair in
+//! all 27 periodic images with the textbook quadratic formula, O(N²) per collision.
+
+use emdstar_edmd::{CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas};
+
+/// Elastic equal hard spheres of diameter 1 in the periodic cube of `setup`, run by
+/// brute force: the first `count` collisions as (i, j, time) with i < j.
+fn brute_force(setup: &Setup, count: usize) -> Vec<(u32, u32, f64)> {
+    let side = setup.region.expect("a periodic box").size[0];
+    let mut x = setup.position.clone();
+    let mut v = setup.velocity.clone();
+    let n = x.len();
+    let mut time = 0.0;
+    let mut out = Vec::with_capacity(count);
+    while out.len() < count {
+        let mut best = (f64::INFINITY, 0, 0, [0.0; 3]);
+        for i in 0..n {
+            for j in i + 1..n {
+                // The nearest image and its 26 neighbours.
+                let near: [f64; 3] =
+                    std::array::from_fn(|k| ((x[i][k] - x[j][k]) / side).round() * side);
+                for image in 0..27 {
+                    let m = [image % 3, image / 3 % 3, image / 9];
+                    let s: [f64; 3] = std::array::from_fn(|k| near[k] + (m[k] as f64 - 1.0) * side);
+                    let r: [f64; 3] = std::array::from_fn(|k| x[i][k] - x[j][k] - s[k]);
+                    let u: [f64; 3] = std::array::from_fn(|k| v[i][k] - v[j][k]);
+                    let b: f64 = (0..3).map(|k| r[k] * u[k]).sum();
+                    let r2: f64 = (0..3).map(|k| r[k] * r[k]).sum();
+                    let u2: f64 = (0..3).map(|k| u[k] * u[k]).sum();
+                    let disc = b * b - u2 * (r2 - 1.0);
+                    if b < 0.0 && disc > 0.0 {
+                        let t = (-b - disc.sqrt()) / u2;
+                        if t < best.0 {
+                            best = (t, i, j, s);
+                        }
+                    }
+                }
+            }
+        }
+        let (dt, i, j, s) = best;
+        for (p, w) in x.iter_mut().zip(&v) {
+            for k in 0..3 {
+                p[k] += w[k] * dt;
+            }
+        }
+        time += dt;
+        // Equal masses: exchange the normal components of the velocities.
+        let r: [f64; 3] = std::array::from_fn(|k| x[i][k] - x[j][k] - s[k]);
+        let r2: f64 = (0..3).map(|k| r[k] * r[k]).sum();
+        let vn: f64 = (0..3).map(|k| r[k] * (v[i][k] - v[j][k])).sum::<f64>() / r2;
+        for k in 0..3 {
+            v[i][k] -= vn * r[k];
+            v[j][k] += vn * r[k];
+        }
+        out.push((i as u32, j as u32, time));
+    }
+    out
+}
+
+fn engine_collisions<Q: EventQueue>(mut e: Engine<Q>, count: usize) -> Vec<(u32, u32, f64)> {
+    let mut out = vec![];
+    while out.len() < count {
+        if let Event::Collision(i, j) = e.step().unwrap() {
+            out.push((i.min(j), i.max(j), e.time()));
+        }
+    }
+    out
+}
+
+/// Same pairs in the same order; times agree to what round-off grows to in a chaotic
+/// gas over a few collisions per particle.
+fn assert_same(reference: &[(u32, u32, f64)], got: &[(u32, u32, f64)], what: &str) {
+    for (k, (a, b)) in reference.iter().zip(got).enumerate() {
+        assert_eq!(
+            (a.0, a.1),
+            (b.0, b.1),
+            "{what}, collision {k}: {a:?} vs {b:?}"
+        );
+        assert!(
+            (a.2 - b.2).abs() < 1e-7 * a.2.max(1.0),
+            "{what}, collision {k}: {a:?} vs {b:?}"
+        );
+    }
+}
+
+#[test]
+fn collision_sequence_equals_the_brute_force_reference() {
+    // N = 108 in a box 7 cells wide (interior and border cells) and N = 32 in a box of
+    // three cells, where every neighbour cell is reached through a periodic image.
+    for (cells, density, count) in [(3, 0.2, 150), (2, 0.15, 150)] {
+        let setup = gas::fcc(cells, density, 1.0, 1.0, 1.0, 17);
+        let reference = brute_force(&setup, count);
+        let physics = || Physics::HardSpheres { restitution: 1.0 };
+        let heap: Engine<IndexedHeap> = Engine::new(setup.clone(), physics()).unwrap();
+        assert_same(&reference, &engine_collisions(heap, count), "heap");
+        let calendar: Engine<CalendarQueue> = Engine::new(setup.clone(), physics()).unwrap();
+        assert_same(&reference, &engine_collisions(calendar, count), "calendar");
+        let mut resorted: Engine = Engine::new(setup, physics()).unwrap();
+        resorted.set_resort_interval(53);
+        assert_same(&reference, &engine_collisions(resorted, count), "re-sorted");
+    }
+}
