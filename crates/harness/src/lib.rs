@@ -18,11 +18,14 @@
 //! - [`engines`]: building systems and driving the three engines on them.
 
 pub mod check;
+pub mod cooling;
 pub mod engines;
+pub mod exceptions;
 pub mod fig6;
 pub mod pair_summary;
 pub mod pairs;
 pub mod plot;
+pub mod speed;
 pub mod stats;
 
 mod error;
