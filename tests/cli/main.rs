@@ -2,6 +2,7 @@
 
 mod edmd;
 mod mor;
+mod validate;
 
 use std::process::{Command, Output};
 

@@ -257,3 +257,20 @@ pub fn plot(gases: &[Cooling], path: &Path) -> std::result::Result<(), String> {
     }
     write_png(path, (1500, 650), 1, gases.len(), &panels)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fit_recovers_a_known_power_law() {
+        let times: Vec<f64> = (0..50).map(|k| k as f64 * 0.1).collect();
+        let temps: Vec<f64> = times
+            .iter()
+            .map(|t| 3.0 * (1.0 + t / 0.7).powf(-5.0 / 3.0))
+            .collect();
+        let f = fit_power(&times, &temps);
+        assert!((f.exponent - 5.0 / 3.0).abs() < 0.02, "{f:?}");
+        assert!((f.t0 / 0.7 - 1.0).abs() < 0.03, "{f:?}");
+    }
+}
