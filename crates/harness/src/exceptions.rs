@@ -7,7 +7,7 @@
 
 use crate::Result;
 use crate::engines::{EventKind, event_engine, lattice_gas};
-use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
+use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use serde::Serialize;
 use std::path::Path;
@@ -70,13 +70,13 @@ pub fn plot(
     by_young: &[ExceptionPoint],
     path: &Path,
 ) -> std::result::Result<(), String> {
-    // A zero count cannot go on a log axis: it is drawn at 1e-4 ‰ (the axis floor).
-    let floor = 1e-4;
-    let pts = |v: &[ExceptionPoint],
-               x: &dyn Fn(&ExceptionPoint) -> f64,
-               y: &dyn Fn(&ExceptionPoint) -> f64| {
+    // A zero count cannot go on a log axis: it is left out of the line and named in
+    // a note under the lowest point.
+    type Pick<'a> = &'a dyn Fn(&ExceptionPoint) -> f64;
+    let pts = |v: &[ExceptionPoint], x: Pick, y: Pick| {
         v.iter()
-            .map(|p| (x(p), y(p).max(floor)))
+            .filter(|p| y(p) > 0.0)
+            .map(|p| (x(p), y(p)))
             .collect::<Vec<_>>()
     };
     let young = by_eta.first().map_or(0.0, |p| p.young);
@@ -113,6 +113,24 @@ pub fn plot(
             PALETTE[3],
             Style::LinePoints(5),
         ));
+        let lowest = v
+            .iter()
+            .map(|p| p.per_mille_a.min(p.per_mille_b))
+            .filter(|f| *f > 0.0)
+            .fold(1.0, f64::min);
+        for p in v.iter().filter(|p| p.rotation == 0 || p.interference == 0) {
+            let which = match (p.rotation, p.interference) {
+                (0, 0) => "a, b",
+                (0, _) => "a",
+                _ => "b",
+            };
+            panel.annotations.push(Annotation::Text {
+                // Left of the point (both x axes are logarithmic), so it stays inside.
+                at: (x(p) / 20.0, lowest / 2.0),
+                text: format!("at {:.0e}: no {which} in {} collisions", x(p), p.collisions),
+                color: PALETTE[0],
+            });
+        }
         let xs: Vec<f64> = v.iter().map(x).collect();
         let (lo, hi) = (
             xs.iter().copied().fold(f64::MAX, f64::min),

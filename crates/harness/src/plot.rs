@@ -70,13 +70,14 @@ impl Series {
 /// Extra marks in data coordinates.
 #[derive(Debug, Clone)]
 pub enum Annotation {
-    /// A dashed circle (e.g. a sphere at impact).
+    /// A dashed circle (e.g. a sphere at impact); linear axes only.
     Circle {
         centre: (f64, f64),
         radius: f64,
         color: RGBColor,
     },
-    /// Text whose top-left corner is at the point.
+    /// Text whose top-left corner is at the point (data coordinates, mapped like the
+    /// series on logarithmic axes).
     Text {
         at: (f64, f64),
         text: String,
@@ -184,7 +185,12 @@ fn data_range(panel: &Panel, axis: &Axis, pick: impl Fn((f64, f64)) -> f64) -> (
                 let c = pick(*centre);
                 vals.extend([c - radius, c + radius]);
             }
-            Annotation::Text { at, .. } => vals.push(pick(*at)),
+            Annotation::Text { at, .. } => {
+                let at = (panel.x.map(at.0), panel.y.map(at.1));
+                if let (Some(x), Some(y)) = at {
+                    vals.push(pick((x, y)));
+                }
+            }
         }
     }
     let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
@@ -294,10 +300,13 @@ fn draw_panel(area: &DrawingArea<BitMapBackend, Shift>, panel: &Panel) -> Result
                     .map_err(err)?;
             }
             Annotation::Text { at, text, color } => {
+                let (Some(x), Some(y)) = (panel.x.map(at.0), panel.y.map(at.1)) else {
+                    continue;
+                };
                 chart
                     .draw_series(std::iter::once(Text::new(
                         text.clone(),
-                        *at,
+                        (x, y),
                         (FAMILY, 15).into_font().color(color),
                     )))
                     .map_err(err)?;

@@ -93,13 +93,13 @@ fn fig6(args: &ValidateArgs) -> Result<StageOutput> {
             1e-3,
         ),
         Check::at_most(
-            "2c",
+            "2b",
             "Fig. 6: eMD* (exact MoR) distance from MD at markers 7-11, units of 2R",
             f.emdstar_exact_deviation_after,
             1e-5,
         ),
         Check::at_least(
-            "2b",
+            "2c",
             "Fig. 6: eMD distance from MD at markers 7-11, units of 2R (the paper: differs significantly)",
             f.emd_deviation_after,
             1e-2,
@@ -345,7 +345,7 @@ fn speed(args: &ValidateArgs) -> Result<StageOutput> {
     let (count, budget) = if args.full {
         (10_000, 10.0)
     } else {
-        (1_000, 1.0)
+        (2_000, 2.0)
     };
     let b = bar("speed", (etas.len() * youngs.len()) as u64);
     b.set_message(format!(
