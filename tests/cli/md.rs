@@ -1,27 +1,10 @@
 //! End-to-end tests of `emdstar pair|run|bench --engine md` and of the example configs.
 
+use super::{emdstar, emdstar_json};
 use emdstar_contact::{PairLaw, PairProperties, Sphere, Vec3};
 use emdstar_mor::rule::{Body, exact_collision};
 use emdstar_system::Config;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn emdstar(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_emdstar"))
-        .args(args)
-        .output()
-        .expect("the emdstar binary runs")
-}
-
-fn json_of(args: &[&str]) -> serde_json::Value {
-    let out = emdstar(args);
-    assert!(
-        out.status.success(),
-        "emdstar {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("valid JSON on stdout")
-}
 
 fn configs() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/md/configs")
@@ -82,7 +65,7 @@ fn pair_default_dt_is_within_1e_4_of_the_exact_collision() {
         "central_hertz_elastic.toml",
     ] {
         let path = config(name);
-        let out = json_of(&["pair", &path, "--engine", "md", "--json"]);
+        let out = emdstar_json(&["pair", &path, "--engine", "md", "--json"]);
         assert_eq!(out["engine"], "md");
         let (exact, l, v_rel) = exact_pair(&path);
         let mut err: f64 = 0.0;
@@ -154,7 +137,7 @@ fn run_writes_trajectory_log_and_summary() {
     let dir = std::env::temp_dir().join(format!("emdstar_md_run_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let (traj, log) = (dir.join("gas.xyz"), dir.join("gas.log"));
-    let summary = json_of(&[
+    let summary = emdstar_json(&[
         "run",
         &config("gas_small.toml"),
         "--engine",
@@ -197,7 +180,7 @@ fn run_writes_trajectory_log_and_summary() {
 
 #[test]
 fn a_ball_bounces_on_the_floor_and_stays_in_the_box() {
-    let out = json_of(&[
+    let out = emdstar_json(&[
         "pair",
         &config("falling_on_floor.toml"),
         "--engine",

@@ -1,33 +1,7 @@
 //! End-to-end tests of `emdstar table ...` and `emdstar mor --table`.
 
+use super::{error_in, stdout_in};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn emdstar_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_emdstar"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("the emdstar binary runs")
-}
-
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let out = emdstar_in(dir, args);
-    assert!(
-        out.status.success(),
-        "emdstar {args:?} failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn fails(dir: &Path, args: &[&str]) -> String {
-    let out = emdstar_in(dir, args);
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "emdstar {args:?} should fail");
-    assert!(!err.contains("panicked"), "{err}");
-    err
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("emdstar-table-cli-{name}-{}", std::process::id()));
@@ -58,7 +32,7 @@ fn mor_json(dir: &Path, extra: &[&str]) -> serde_json::Value {
     args.extend(LINEAR_IMPACT);
     args.push("--json");
     args.extend(extra);
-    serde_json::from_str(&ok(dir, &args)).unwrap()
+    serde_json::from_str(&stdout_in(dir, &args)).unwrap()
 }
 
 #[test]
@@ -84,14 +58,14 @@ fn mor_table_refuses_points_outside_the_box_and_wrong_models() {
     args.extend(LINEAR_IMPACT);
     args.extend(["--table", "default"]);
     args[12] = "1e-7"; // --speed far below the box: b = ln(l̃/l̃_min) too large
-    let err = fails(&dir, &args);
+    let err = error_in(&dir, &args);
     assert!(err.contains("outside the table's box"), "{err}");
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let hertz = root.join("tables/hertz.npz");
     let mut args = vec!["mor"];
     args.extend(LINEAR_IMPACT);
     args.extend(["--table", hertz.to_str().unwrap()]);
-    let err = fails(&dir, &args);
+    let err = error_in(&dir, &args);
     assert!(
         err.contains("wrong model: the table is for the hertz model"),
         "{err}"
@@ -106,16 +80,16 @@ fn build_shard_merge_verify_check_and_plot_a_tiny_table() {
         "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 6]\norder = [4, 4, 4]\n",
     )
     .unwrap();
-    ok(&dir, &["table", "build", "tiny.toml", "--threads", "2"]);
+    stdout_in(&dir, &["table", "build", "tiny.toml", "--threads", "2"]);
     let single = std::fs::read(dir.join("tiny.npz")).unwrap();
     // A job array of three: each job builds its shard, one job merges.
     for i in 0..3 {
-        ok(
+        stdout_in(
             &dir,
             &["table", "build", "tiny.toml", "--shard", &format!("{i}/3")],
         );
     }
-    ok(
+    stdout_in(
         &dir,
         &[
             "table",
@@ -128,24 +102,24 @@ fn build_shard_merge_verify_check_and_plot_a_tiny_table() {
         ],
     );
     assert!(std::fs::read(dir.join("merged.npz")).unwrap() == single);
-    let out = ok(&dir, &["table", "verify", "tiny.toml", "--threads", "1"]);
+    let out = stdout_in(&dir, &["table", "verify", "tiny.toml", "--threads", "1"]);
     assert!(out.contains("matches"), "{out}");
     std::fs::write(
         dir.join("tiny.toml"),
         "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 7]\norder = [4, 4, 4]\n",
     )
     .unwrap();
-    let err = fails(&dir, &["table", "verify", "tiny.toml"]);
+    let err = error_in(&dir, &["table", "verify", "tiny.toml"]);
     assert!(err.contains("does not match its spec"), "{err}");
-    let out = ok(&dir, &["table", "check", "tiny.npz", "--samples", "40"]);
+    let out = stdout_in(&dir, &["table", "check", "tiny.npz", "--samples", "40"]);
     for name in ["1-eps_r", "eps_rdot", "eps_phi", "eps_t"] {
         assert!(out.lines().any(|l| l.starts_with(name)), "{out}");
     }
-    let err = fails(&dir, &["table", "build", "tiny.toml", "--shard", "3/3"]);
+    let err = error_in(&dir, &["table", "build", "tiny.toml", "--shard", "3/3"]);
     assert!(err.contains("need 0 <= I < N"), "{err}");
     let font = Path::new("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
     if font.exists() {
-        ok(
+        stdout_in(
             &dir,
             &[
                 "table", "plot", "tiny.npz", "--out", "plots", "--c=-3,1", "--res", "20",
