@@ -196,6 +196,37 @@ pub fn checks(s: &ModelSummary, n: usize) -> Vec<Check> {
     ]
 }
 
+/// Medians of y in ten bins of x (equal width, or equal in log x), bins with at least
+/// five points.
+fn binned_medians(pts: &[(f64, f64)], log_x: bool) -> Vec<(f64, f64)> {
+    let f = |x: f64| if log_x { x.ln() } else { x };
+    let xs: Vec<f64> = pts
+        .iter()
+        .map(|p| f(p.0))
+        .filter(|x| x.is_finite())
+        .collect();
+    let (lo, hi) = (
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    );
+    let width = (hi - lo) / 10.0;
+    (0..10)
+        .filter_map(|b| {
+            let (a, z) = (lo + b as f64 * width, lo + (b + 1) as f64 * width);
+            let ys: Vec<f64> = pts
+                .iter()
+                .filter(|p| {
+                    let x = f(p.0);
+                    x >= a && (x < z || (b == 9 && x <= z))
+                })
+                .map(|p| p.1)
+                .collect();
+            let mid = (a + z) / 2.0;
+            (ys.len() >= 5).then(|| (if log_x { mid.exp() } else { mid }, quantile(&ys, 0.5)))
+        })
+        .collect()
+}
+
 /// Picks one error of an impact (None: not part of the sample).
 type Pick = Box<dyn Fn(&ImpactResult) -> Option<f64>>;
 
@@ -271,37 +302,70 @@ pub fn plots(sweep: &PairSweep, dir: &Path) -> Result<Vec<PathBuf>, String> {
     write_png(&path, (1500, 650), 1, 2, &panels)?;
     written.push(path);
 
-    // 2. eMD error against eccentricity and softness (the paper's central point).
-    let mut by_e = Panel::new(
-        "eMD position error per unit softness against eccentricity",
+    // 2. eMD error against eccentricity and softness (the paper's central point):
+    // each impact as a light dot, the median of each bin as a dark line.
+    let mut vel = Panel::new(
+        "eMD velocity error against eccentricity",
         Axis::linear("eccentricity e = v_t/|v| at contact"),
-        Axis::log("eMD position error |Δx|/X (X: deformation length scale)"),
+        Axis::log("eMD velocity error |Δv|/|v|"),
+    );
+    let mut by_e = Panel::new(
+        "eMD position error per unit softness",
+        Axis::linear("eccentricity e = v_t/|v| at contact"),
+        Axis::log("eMD position error |Δx|/X (X: deformation scale)"),
     );
     let mut by_soft = Panel::new(
         "eMD position error against softness",
-        Axis::log("softness X/l (deformation length scale over contact distance)"),
+        Axis::log("softness X/l (deformation scale over contact distance)"),
         Axis::log("eMD position error |Δx|/l"),
     );
-    by_soft.legend = LegendAt::LowerRight;
-    by_e.legend = LegendAt::LowerRight;
-    for (model, c) in [("linear", 3), ("hertz", 1)] {
+    for p in [&mut vel, &mut by_e, &mut by_soft] {
+        p.legend = LegendAt::LowerRight;
+    }
+    let light = [
+        plotters::style::RGBColor(160, 195, 225),
+        plotters::style::RGBColor(240, 170, 170),
+    ];
+    for (k, (model, c)) in [("linear", 3), ("hertz", 1)].into_iter().enumerate() {
         let rs: Vec<&ImpactResult> = sweep.impacts.iter().filter(|r| r.model == model).collect();
-        let per_x: Vec<(f64, f64)> = rs
-            .iter()
-            .map(|r| (r.eccentricity, r.emd.position * r.l_tilde))
-            .collect();
-        let per_l: Vec<(f64, f64)> = rs
-            .iter()
-            .map(|r| (1.0 / r.l_tilde, r.emd.position))
-            .collect();
-        by_e.series
-            .push(Series::new(model, per_x, PALETTE[c], Style::Points(3)));
-        by_soft
-            .series
-            .push(Series::new(model, per_l, PALETTE[c], Style::Points(3)));
+        let sets: [(&mut Panel, Vec<(f64, f64)>, bool); 3] = [
+            (
+                &mut vel,
+                rs.iter()
+                    .map(|r| (r.eccentricity, r.emd.velocity))
+                    .collect(),
+                false,
+            ),
+            (
+                &mut by_e,
+                rs.iter()
+                    .map(|r| (r.eccentricity, r.emd.position * r.l_tilde))
+                    .collect(),
+                false,
+            ),
+            (
+                &mut by_soft,
+                rs.iter()
+                    .map(|r| (1.0 / r.l_tilde, r.emd.position))
+                    .collect(),
+                true,
+            ),
+        ];
+        for (panel, pts, log_x) in sets {
+            let medians = binned_medians(&pts, log_x);
+            panel
+                .series
+                .push(Series::new("", pts, light[k], Style::Points(2)));
+            panel.series.push(Series::new(
+                format!("{model}, median"),
+                medians,
+                PALETTE[c],
+                Style::LinePoints(4),
+            ));
+        }
     }
     let path = dir.join("pairs_emd_error.png");
-    write_png(&path, (1500, 650), 1, 2, &[by_e, by_soft])?;
+    write_png(&path, (1950, 650), 1, 3, &[vel, by_e, by_soft])?;
     written.push(path);
 
     // 3. MD convergence.

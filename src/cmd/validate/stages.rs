@@ -58,6 +58,7 @@ fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
         row("eMD* (table, in box)".into(), &s.emdstar_table);
         row("table MoR rel. error".into(), &s.table_mor_error);
         row("eMD".into(), &s.emd);
+        row("eMD velocity error /|v|".into(), &s.emd_velocity);
         for (k, q) in s.md.iter().enumerate() {
             row(format!("MD dt = τ/{}", s.md_steps_per_contact[k]), q);
         }
