@@ -227,6 +227,9 @@ fn binned_medians(pts: &[(f64, f64)], log_x: bool) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A panel, its points, and whether its x axis is logarithmic.
+type PanelPoints<'a> = (&'a mut Panel, Vec<(f64, f64)>, bool);
+
 /// Picks one error of an impact (None: not part of the sample).
 type Pick = Box<dyn Fn(&ImpactResult) -> Option<f64>>;
 
@@ -328,7 +331,7 @@ pub fn plots(sweep: &PairSweep, dir: &Path) -> Result<Vec<PathBuf>, String> {
     ];
     for (k, (model, c)) in [("linear", 3), ("hertz", 1)].into_iter().enumerate() {
         let rs: Vec<&ImpactResult> = sweep.impacts.iter().filter(|r| r.model == model).collect();
-        let sets: [(&mut Panel, Vec<(f64, f64)>, bool); 3] = [
+        let sets: [PanelPoints; 3] = [
             (
                 &mut vel,
                 rs.iter()
