@@ -100,3 +100,28 @@ fn cooling_linear_gas_follows_haff_and_md() {
     let worst = c.agreement[1].iter().copied().fold(0.0, f64::max);
     assert!(worst < 0.1, "eMD* vs MD {worst}");
 }
+
+#[test]
+fn pair_sweep_does_not_depend_on_the_thread_count() {
+    let settings = PairSettings {
+        impacts_per_model: 6,
+        md_steps_per_contact: vec![25, 50],
+        unequal_fraction: 0.5,
+        seed: 11,
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| sweep(&settings, &|| {}).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    let key = |s: &emdstar_harness::pairs::PairSweep| {
+        s.impacts
+            .iter()
+            .map(|r| (r.emd, r.emdstar_table, r.emdstar_exact, r.md.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(key(&one), key(&two));
+}
