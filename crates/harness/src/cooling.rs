@@ -122,7 +122,8 @@ fn build(s: &CoolingSettings) -> Result<System> {
     )
 }
 
-/// Runs MD, eMD and eMD* (table) from the same state; `progress(k)` after each engine.
+/// Runs MD, eMD and eMD* (table) from the same state; `progress(engine)` after each of
+/// the `samples` temperature samples of each engine.
 pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
     if s.samples < 8 {
         return Err(HarnessError::Invalid(
@@ -146,6 +147,7 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
         let steps = ((t - md.time()) / md_dt).round().max(0.0) as u64;
         md.advance(steps)?;
         temps.push(md.system().particles.granular_temperature());
+        progress("MD");
     }
     curves.push(Curve {
         engine: "MD".into(),
@@ -153,7 +155,6 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
         collisions: 0,
         wall_seconds: start.elapsed().as_secs_f64(),
     });
-    progress("MD");
 
     for kind in [EventKind::Emd, EventKind::EmdStarTable] {
         let start = std::time::Instant::now();
@@ -163,6 +164,7 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
             e.run_until(t)?;
             e.sync();
             temps.push(temperature(&mass, e.positions(), e.settled_velocities()));
+            progress(kind.name());
         }
         curves.push(Curve {
             engine: kind.name().into(),
@@ -170,7 +172,6 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
             collisions: e.stats().pair_collisions,
             wall_seconds: start.elapsed().as_secs_f64(),
         });
-        progress(kind.name());
     }
     let fits = curves
         .iter()

@@ -8,7 +8,8 @@
 //!
 //! - [`pairs`]: random oblique impacts over the paper's Tab. I and Tab. II boxes,
 //!   through MD at several time steps, eMD and eMD* (table and exact MoR), compared with
-//!   the exact two-body outcome after the collision;
+//!   the exact two-body outcome after the collision; [`pair_summary`] gives the error
+//!   distributions, their checks and figures;
 //! - [`fig6`]: the two trajectories of the paper's Fig. 6 (MD against eMD and eMD*);
 //! - [`exceptions`]: the exception frequencies of eMD* in a free elastic gas, Fig. 7;
 //! - [`cooling`]: freely cooling gases, temperature by MD, eMD and eMD*, with the

@@ -254,7 +254,8 @@ fn cooling_settings(args: &ValidateArgs) -> Result<Vec<emdstar_harness::cooling:
 fn cooling(args: &ValidateArgs) -> Result<StageOutput> {
     use emdstar_harness::cooling::{plot, run};
     let settings = cooling_settings(args)?;
-    let b = bar("cooling", 3 * settings.len() as u64);
+    let total: usize = settings.iter().map(|s| 3 * s.samples).sum();
+    let b = bar("cooling", total as u64);
     let mut gases = Vec::new();
     for s in &settings {
         b.set_message(format!(
