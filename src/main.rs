@@ -29,7 +29,7 @@ enum Command {
     Run(cmd::run::RunArgs),
     /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
     Bench(cmd::bench::BenchArgs),
-    /// Cross-validate eMD* against eMD against MD; numbered checks and a report.
+    // The help text is ValidateArgs' doc comment (its long form lists the scenarios).
     Validate(cmd::validate::ValidateArgs),
 }
 

@@ -26,10 +26,11 @@ mod stages;
 ///      eMD and eMD* from one initial state; Haff's law and T ∝ t^(-5/3);
 ///   5. speed: wall time of MD and eMD* for the same simulated time.
 ///
-/// The default (quick) run takes about a minute on 2 cores and uses the default tables
-/// built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴ impacts;
-/// about 7 CPU-minutes, 20 minutes on a busy 2-core machine). The report directory gets report.json, report.md and
-/// every figure (PNG). The exit code is 1 when a check fails, 2 on an error.
+/// The default (quick) run takes about a minute on 2 cores and uses the default
+/// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
+/// impacts; about 7 CPU-minutes, 20 minutes on a busy 2-core machine). The report
+/// directory gets report.json, report.md and every figure (PNG). The exit code is 1
+/// when a check fails, 2 on an error.
 ///
 /// Example:
 ///   emdstar validate                 # quick, writes ./validate-report/
