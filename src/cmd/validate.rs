@@ -158,7 +158,7 @@ fn write_report(args: &ValidateArgs, outputs: &[(&str, StageOutput)], seconds: f
                 if c.passed { "pass" } else { "**FAIL**" },
                 c.value_text(),
                 c.bar_text(),
-                c.name
+                c.name.replace('|', "\\|")
             ));
         }
     }

@@ -52,7 +52,12 @@ pub struct ModelSummary {
     /// (in-box impacts; the 1e-12 floor is round-off).
     pub table_ratio_max: f64,
     pub emd: Spread,
+    /// Velocity errors (units of the impact speed |v₁ − v₂|).
     pub emd_velocity: Spread,
+    pub emdstar_exact_velocity: Spread,
+    pub emdstar_table_velocity: Spread,
+    /// MD's velocity error at each time step.
+    pub md_velocity: Vec<Spread>,
     /// MD: steps per contact, and the position-error spread at each.
     pub md_steps_per_contact: Vec<u32>,
     pub md: Vec<Spread>,
@@ -133,6 +138,27 @@ pub fn summarise(sweep: &PairSweep, model: &str) -> ModelSummary {
         table_ratio_max: ratio,
         emd: Spread::of(&positions(&rs, |r| r.emd)),
         emd_velocity: Spread::of(&rs.iter().map(|r| r.emd.velocity).collect::<Vec<_>>()),
+        emdstar_exact_velocity: Spread::of(
+            &rs.iter()
+                .map(|r| r.emdstar_exact.velocity)
+                .collect::<Vec<_>>(),
+        ),
+        emdstar_table_velocity: Spread::of(
+            &boxed
+                .iter()
+                .map(|r| r.emdstar_table.velocity)
+                .collect::<Vec<_>>(),
+        ),
+        md_velocity: (0..steps.len())
+            .map(|k| {
+                Spread::of(
+                    &full_md
+                        .iter()
+                        .map(|r| r.md[k].map_or(f64::NAN, |e| e.velocity))
+                        .collect::<Vec<_>>(),
+                )
+            })
+            .collect(),
         md_steps_per_contact: steps.clone(),
         md,
         md_failures: rs.len() - full_md.len(),

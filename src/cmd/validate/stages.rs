@@ -35,7 +35,8 @@ fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
         String::new(),
         format!(
             "{} impacts per force law over Tab. I/II, {:.0}% with unequal radii; {} skipped \
-             (no exact reference). Position errors in units of l = R1 + R2 after the collision.",
+             (no exact reference). Errors after the collision: positions in units of \
+             l = R1 + R2, velocities in units of the impact speed.",
             settings.impacts_per_model,
             100.0 * settings.unequal_fraction,
             result.skipped.len()
@@ -58,7 +59,24 @@ fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
         row("eMD* (table, in box)".into(), &s.emdstar_table);
         row("table MoR rel. error".into(), &s.table_mor_error);
         row("eMD".into(), &s.emd);
-        row("eMD velocity error /|v|".into(), &s.emd_velocity);
+        row(
+            "velocity error / speed: eMD* (exact MoR)".into(),
+            &s.emdstar_exact_velocity,
+        );
+        row(
+            "velocity error / speed: eMD* (table, in box)".into(),
+            &s.emdstar_table_velocity,
+        );
+        row("velocity error / speed: eMD".into(), &s.emd_velocity);
+        if let Some(q) = s.md_velocity.last() {
+            row(
+                format!(
+                    "velocity error / speed: MD dt = τ/{}",
+                    s.md_steps_per_contact.last().unwrap_or(&0)
+                ),
+                q,
+            );
+        }
         for (k, q) in s.md.iter().enumerate() {
             row(format!("MD dt = τ/{}", s.md_steps_per_contact[k]), q);
         }
