@@ -28,7 +28,7 @@ mod stages;
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
-/// impacts; about 7 CPU-minutes, 20 minutes on a busy 2-core machine). The report
+/// impacts; about 8 CPU-minutes, 11-22 minutes on a busy 2-core machine). The report
 /// directory gets report.json, report.md and every figure (PNG). The exit code is 1
 /// when a check fails, 2 on an error.
 ///

@@ -39,6 +39,7 @@ pub struct SpeedPoint {
 pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Result<SpeedPoint> {
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0)?);
     let system = lattice_gas(&law, DENSITY, RADIUS, count, eta, RMS_SPEED, seed)?;
+    // Cap on eMD*'s simulated time (s): a gas that hardly collides cannot loop for ever.
     let horizon = 1e3;
     let tc = shortest_contact_time(&system, 0.0)?.unwrap_or(1.0);
     let md_dt = DEFAULT_DT_FRACTION * tc;
