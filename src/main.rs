@@ -29,6 +29,8 @@ enum Command {
     Run(cmd::run::RunArgs),
     /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
     Bench(cmd::bench::BenchArgs),
+    // The help text is ValidateArgs' doc comment (its long form lists the scenarios).
+    Validate(cmd::validate::ValidateArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +42,11 @@ fn main() -> ExitCode {
         Command::Pair(args) => cmd::pair::run(&args),
         Command::Run(args) => cmd::run::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
+        Command::Validate(args) => match cmd::validate::run(&args) {
+            Ok(true) => Ok(()),
+            Ok(false) => return ExitCode::from(1),
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -9,3 +9,4 @@ pub mod mor;
 pub mod pair;
 pub mod run;
 pub mod table;
+pub mod validate;

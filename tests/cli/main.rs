@@ -4,6 +4,7 @@ mod edmd;
 mod md;
 mod mor;
 mod table;
+mod validate;
 
 use std::path::Path;
 use std::process::{Command, Output};

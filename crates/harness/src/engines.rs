@@ -1,0 +1,157 @@
+//! Building systems and driving the three engines on them, with the default MoR tables.
+
+use crate::Result;
+use emdstar_contact::{ForceLaw, Model};
+use emdstar_dem::{Md, MdOptions};
+use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_system::{Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, System};
+use serde::Serialize;
+
+/// The event-driven engines.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum EventKind {
+    /// Classic eMD: instantaneous collisions with the central restitution ε(v_n).
+    Emd,
+    /// eMD* with the default table; impacts outside its box solved exactly (counted).
+    EmdStarTable,
+    /// eMD* with the exact solver for every collision.
+    EmdStarExact,
+}
+
+impl EventKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Emd => "eMD",
+            Self::EmdStarTable => "eMD* (table)",
+            Self::EmdStarExact => "eMD* (exact)",
+        }
+    }
+}
+
+/// The `[material]` section of a force law with density `density` (kg/m³).
+pub fn material(law: &ForceLaw, density: f64) -> MaterialConfig {
+    let mut m = MaterialConfig {
+        model: law.model().name().to_string(),
+        stiffness: None,
+        damping: None,
+        young: None,
+        poisson: None,
+        dissipation: None,
+        density: Some(density),
+    };
+    match law {
+        ForceLaw::Linear(l) => {
+            m.stiffness = Some(l.stiffness);
+            m.damping = Some(l.damping);
+        }
+        ForceLaw::Hertz(h) => {
+            m.young = Some(h.young);
+            m.poisson = Some(h.poisson);
+            m.dissipation = Some(h.dissipation);
+        }
+    }
+    m
+}
+
+fn config(material: MaterialConfig, t_end: f64) -> Config {
+    Config {
+        t_end,
+        gravity: None,
+        material,
+        particles: Vec::new(),
+        gas: None,
+        sim_box: None,
+        walls: Vec::new(),
+        output: None,
+        md: None,
+    }
+}
+
+/// Free spheres (radius, position, velocity) of one material in open space.
+pub fn free_spheres(
+    law: &ForceLaw,
+    density: f64,
+    spheres: &[(f64, [f64; 3], [f64; 3])],
+) -> Result<System> {
+    let mut c = config(material(law, density), 1.0);
+    c.particles = spheres
+        .iter()
+        .map(|&(radius, position, velocity)| ParticleConfig {
+            radius,
+            position,
+            velocity,
+            mass: None,
+        })
+        .collect();
+    Ok(c.build()?)
+}
+
+/// A gas of `count` equal spheres on a simple cubic lattice in a cubic periodic box at
+/// packing fraction `eta`, with Maxwell velocities of rms speed `rms_speed` (m/s).
+pub fn lattice_gas(
+    law: &ForceLaw,
+    density: f64,
+    radius: f64,
+    count: usize,
+    eta: f64,
+    rms_speed: f64,
+    seed: u64,
+) -> Result<System> {
+    let mut c = config(material(law, density), 1.0);
+    c.gas = Some(GasConfig {
+        count,
+        radius,
+        mass: None,
+        arrangement: Arrangement::Lattice,
+        packing_fraction: Some(eta),
+        rms_speed,
+        seed,
+    });
+    Ok(c.build()?)
+}
+
+/// The MoR source of an eMD* kind.
+fn mor_source(kind: EventKind, model: Model) -> Result<Box<dyn MorSource>> {
+    Ok(match kind {
+        EventKind::EmdStarExact => Box::new(ExactMor),
+        _ => Box::new(TableMorSource::default_for(model, true)?),
+    })
+}
+
+/// An event engine of `kind` on `system`.
+pub fn event_engine(system: &System, kind: EventKind) -> Result<Engine> {
+    let materials = Materials::from_system(system)?;
+    let physics = match kind {
+        EventKind::Emd => Physics::Emd(materials),
+        _ => Physics::EmdStar {
+            materials,
+            mor: mor_source(kind, system.material.model())?,
+            interference: Interference::HitOnly,
+        },
+    };
+    Ok(Engine::new(Setup::from_system(system), physics)?)
+}
+
+/// Positions and velocities of an event engine at its current time, by particle number,
+/// pending E^v velocities applied.
+pub fn event_state(engine: &mut Engine) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    engine.sync();
+    (engine.positions(), engine.settled_velocities())
+}
+
+/// An MD engine with time step `dt` (s), contacts ending at F = 0, default skin.
+pub fn md_engine(system: System, dt: f64, t_end: f64) -> Result<Md> {
+    let opts = MdOptions {
+        dt,
+        contact_end: Default::default(),
+        skin: None,
+    };
+    Ok(Md::new(system, opts, t_end)?)
+}
+
+/// Positions and velocities of an MD engine, by particle number.
+pub fn md_state(md: &Md) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let p = md.particles_in_config_order();
+    (p.position, p.velocity)
+}

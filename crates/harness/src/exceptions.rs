@@ -1,0 +1,147 @@
+//! Fig. 7 of Müller & Pöschel 2013 (Sec. VI B 6): how often eMD* meets its exceptions in
+//! a free gas of elastic viscoelastic-Hertz spheres (A = 0, ρ = 1140 kg/m³, R = 0.1 m,
+//! ν = 0.4), started on a lattice with thermal speed about 2 m/s, in a periodic box:
+//! (a) the rotation of E^φ would overlap a third particle (eMD fallback), and (b) a third
+//! particle hits one in its transient between E^φ and E^v. The frequencies are per
+//! collision; the paper finds "about 0.1 %" for typical parameters.
+
+use crate::Result;
+use crate::engines::{EventKind, event_engine, lattice_gas};
+use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
+use emdstar_contact::{ForceLaw, ViscoelasticHertz};
+use serde::Serialize;
+use std::path::Path;
+
+pub const RADIUS: f64 = 0.1;
+pub const DENSITY: f64 = 1140.0;
+pub const POISSON: f64 = 0.4;
+/// Root-mean-square speed of the initial Maxwell velocities, m/s.
+pub const RMS_SPEED: f64 = 2.0;
+
+/// One gas of the figure.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExceptionPoint {
+    pub packing_fraction: f64,
+    /// Young's modulus, Pa.
+    pub young: f64,
+    pub particles: usize,
+    pub collisions: u64,
+    /// Exception (a): rotation impossible, eMD rule used instead.
+    pub rotation: u64,
+    /// Exception (b): interference of a third particle.
+    pub interference: u64,
+    /// Impacts outside the table's box, solved exactly instead (counted).
+    pub table_fallbacks: u64,
+    /// Exception frequencies per 1000 collisions (the paper's unit).
+    pub per_mille_a: f64,
+    pub per_mille_b: f64,
+}
+
+/// Runs one gas until `collisions_per_particle`·N/2 collisions are done.
+pub fn run_point(
+    eta: f64,
+    young: f64,
+    count: usize,
+    collisions_per_particle: f64,
+    seed: u64,
+) -> Result<ExceptionPoint> {
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0)?);
+    let system = lattice_gas(&law, DENSITY, RADIUS, count, eta, RMS_SPEED, seed)?;
+    let mut engine = event_engine(&system, EventKind::EmdStarTable)?;
+    engine.run_collisions((collisions_per_particle * count as f64 / 2.0).ceil() as u64)?;
+    let s = engine.stats();
+    let n = s.pair_collisions.max(1) as f64;
+    Ok(ExceptionPoint {
+        packing_fraction: eta,
+        young,
+        particles: count,
+        collisions: s.pair_collisions,
+        rotation: s.exception_rotation,
+        interference: s.exception_interference,
+        table_fallbacks: s.mor_fallbacks,
+        per_mille_a: 1000.0 * s.exception_rotation as f64 / n,
+        per_mille_b: 1000.0 * s.exception_interference as f64 / n,
+    })
+}
+
+/// Writes the two panels: against η at Y = `young_a`, and against Y at η = `eta_b`.
+pub fn plot(
+    by_eta: &[ExceptionPoint],
+    by_young: &[ExceptionPoint],
+    path: &Path,
+) -> std::result::Result<(), String> {
+    // A zero count cannot go on a log axis: it is left out of the line and named in
+    // a note under the lowest point.
+    type Pick<'a> = &'a dyn Fn(&ExceptionPoint) -> f64;
+    let pts = |v: &[ExceptionPoint], x: Pick, y: Pick| {
+        v.iter()
+            .filter(|p| y(p) > 0.0)
+            .map(|p| (x(p), y(p)))
+            .collect::<Vec<_>>()
+    };
+    let young = by_eta.first().map_or(0.0, |p| p.young);
+    let eta = by_young.first().map_or(0.0, |p| p.packing_fraction);
+    let mut a = Panel::new(
+        format!("a) against packing fraction, Y = {young:.0e} Pa"),
+        Axis::log("packing fraction η"),
+        Axis::log("exception frequency f_e (per 1000 collisions)"),
+    );
+    let mut b = Panel::new(
+        format!("b) against Young's modulus, η = {eta}"),
+        Axis::log("Young's modulus Y (Pa)"),
+        Axis::log("exception frequency f_e (per 1000 collisions)"),
+    );
+    a.legend = LegendAt::UpperLeft;
+    b.legend = LegendAt::UpperRight;
+    for (panel, v, x) in [
+        (
+            &mut a,
+            by_eta,
+            &(|p: &ExceptionPoint| p.packing_fraction) as &dyn Fn(&ExceptionPoint) -> f64,
+        ),
+        (&mut b, by_young, &|p: &ExceptionPoint| p.young),
+    ] {
+        panel.series.push(Series::new(
+            "type a: rotation impossible",
+            pts(v, x, &|p| p.per_mille_a),
+            PALETTE[1],
+            Style::LinePoints(5),
+        ));
+        panel.series.push(Series::new(
+            "type b: third particle in the transient",
+            pts(v, x, &|p| p.per_mille_b),
+            PALETTE[3],
+            Style::LinePoints(5),
+        ));
+        let lowest = v
+            .iter()
+            .map(|p| p.per_mille_a.min(p.per_mille_b))
+            .filter(|f| *f > 0.0)
+            .fold(1.0, f64::min);
+        for p in v.iter().filter(|p| p.rotation == 0 || p.interference == 0) {
+            let which = match (p.rotation, p.interference) {
+                (0, 0) => "a, b",
+                (0, _) => "a",
+                _ => "b",
+            };
+            panel.annotations.push(Annotation::Text {
+                // Left of the point (both x axes are logarithmic), so it stays inside.
+                at: (x(p) / 20.0, lowest / 2.0),
+                text: format!("at {:.0e}: no {which} in {} collisions", x(p), p.collisions),
+                color: PALETTE[0],
+            });
+        }
+        let xs: Vec<f64> = v.iter().map(x).collect();
+        let (lo, hi) = (
+            xs.iter().copied().fold(f64::MAX, f64::min),
+            xs.iter().copied().fold(f64::MIN, f64::max),
+        );
+        panel.series.push(Series::new(
+            "paper: about 1 per 1000",
+            vec![(lo, 1.0), (hi, 1.0)],
+            PALETTE[7],
+            Style::Dashed,
+        ));
+    }
+    write_png(path, (1000, 1300), 2, 1, &[a, b])
+}

@@ -1,0 +1,127 @@
+//! Quick versions of the validation scenarios, run by `cargo test`. Every bar comes from
+//! an independent reference: the exact two-body solution (MoR solver) for the engines,
+//! MD's convergence to it (MD shares no code with the MoR solver), conservation laws,
+//! and the paper's figures.
+
+use emdstar_contact::{ForceLaw, LinearDashpot, ViscoelasticHertz};
+use emdstar_harness::cooling::{CoolingSettings, run as cool};
+use emdstar_harness::engines::{EventKind, event_engine, lattice_gas};
+use emdstar_harness::pair_summary::summarise;
+use emdstar_harness::pairs::{PairSettings, sweep};
+
+#[test]
+fn pair_sweep_engines_against_the_exact_solution() {
+    let settings = PairSettings {
+        impacts_per_model: 24,
+        md_steps_per_contact: vec![50, 100, 200, 400],
+        unequal_fraction: 0.5,
+        seed: 7,
+    };
+    let result = sweep(&settings, &|| {}).unwrap();
+    assert!(result.skipped.is_empty(), "{:?}", result.skipped);
+    for model in ["linear", "hertz"] {
+        let s = summarise(&result, model);
+        assert_eq!(s.impacts, 24);
+        assert!(s.unequal_radii > 0);
+        // eMD* with the exact MoR reproduces the exact outcome up to round-off.
+        assert!(s.emdstar_exact.max < 1e-8, "{model}: {:?}", s.emdstar_exact);
+        // MD converges to the same solution, at second order (linear) or about 1.5
+        // (Hertz: √ξ at touch and strong damping).
+        assert!(s.md_order > 1.4, "{model}: MD order {}", s.md_order);
+        assert!(s.md.last().unwrap().median < 1e-6, "{model}: {:?}", s.md);
+        // The table only adds its own interpolation error.
+        assert!(s.table_ratio_max < 2.0, "{model}: {}", s.table_ratio_max);
+        // Classic eMD misses the rotation and the duration (Sec. VI A).
+        assert!(
+            s.emd.median > 100.0 * s.emdstar_table.median,
+            "{model}: {:?}",
+            s.emd
+        );
+    }
+}
+
+#[test]
+fn fig6_emdstar_follows_md_and_emd_does_not() {
+    let f = emdstar_harness::fig6::run(100).unwrap();
+    assert!(
+        f.emdstar_exact_deviation_after < 1e-5,
+        "{}",
+        f.emdstar_exact_deviation_after
+    );
+    assert!(
+        f.emdstar_deviation_after < 1e-3,
+        "{}",
+        f.emdstar_deviation_after
+    );
+    assert!(f.emd_deviation_after > 1e-2, "{}", f.emd_deviation_after);
+}
+
+#[test]
+fn elastic_emdstar_gas_conserves_energy_and_momentum() {
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.4, 0.0).unwrap());
+    let system = lattice_gas(&law, 1140.0, 0.1, 1000, 0.05, 2.0, 3).unwrap();
+    let e0 = system.particles.kinetic_energy();
+    let mut e = event_engine(&system, EventKind::EmdStarTable).unwrap();
+    e.run_collisions(2000).unwrap();
+    let drift = (e.kinetic_energy() - e0) / e0;
+    assert!(drift.abs() < 1e-9, "energy drift {drift}");
+    let p = e.momentum();
+    let scale = system.particles.total_mass() * 2.0;
+    assert!(p.iter().all(|c| c.abs() < 1e-9 * scale), "momentum {p:?}");
+}
+
+#[test]
+fn cooling_linear_gas_follows_haff_and_md() {
+    let s = CoolingSettings {
+        name: "linear".into(),
+        law: ForceLaw::Linear(LinearDashpot::new(1e4, 0.6).unwrap()),
+        particles: 343,
+        packing_fraction: 0.05,
+        radius: 0.01,
+        density: 1140.0,
+        rms_speed: 2.0,
+        t_end: 1.5,
+        samples: 31,
+        seed: 2,
+    };
+    let c = cool(&s, &|_| {}).unwrap();
+    // Haff's law: T ∝ (1 + t/t0)^-2 for a constant coefficient of restitution.
+    for (curve, fit) in c.curves.iter().zip(&c.fits) {
+        assert!(
+            (fit.exponent - 2.0).abs() < 0.4,
+            "{}: p = {}",
+            curve.engine,
+            fit.exponent
+        );
+    }
+    let t = &c.curves[0].temperature;
+    assert!(t.last().unwrap() / t[0] < 0.2, "the gas cooled too little");
+    // eMD* against MD, small gas: within 10 %.
+    let worst = c.agreement[1].iter().copied().fold(0.0, f64::max);
+    assert!(worst < 0.1, "eMD* vs MD {worst}");
+}
+
+#[test]
+fn pair_sweep_does_not_depend_on_the_thread_count() {
+    let settings = PairSettings {
+        impacts_per_model: 6,
+        md_steps_per_contact: vec![25, 50],
+        unequal_fraction: 0.5,
+        seed: 11,
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| sweep(&settings, &|| {}).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    let key = |s: &emdstar_harness::pairs::PairSweep| {
+        s.impacts
+            .iter()
+            .map(|r| (r.emd, r.emdstar_table, r.emdstar_exact, r.md.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(key(&one), key(&two));
+}
