@@ -1,0 +1,263 @@
+//! The hybrid engine against independent references: the exact two-body solution,
+//! the eMD* engine on a dilute gas, the MD engine on a dense gas and on collisions
+//! where particles switch modes, and conservation laws.
+
+use emdstar_contact::Vec3;
+use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
+use emdstar_edmd::detect::sphere_sphere;
+use emdstar_edmd::rules::ExactMor;
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use emdstar_mor::rule::{Body, exact_collision};
+use emdstar_system::{Config, Particles, System};
+
+fn system(text: &str) -> System {
+    Config::from_toml(text).unwrap().build().unwrap()
+}
+
+/// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
+/// a whole number of times.
+fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {
+    let tc = shortest_contact_time(system, t_end).unwrap().unwrap();
+    let steps = (t_end / (fraction * tc)).ceil();
+    (t_end / steps, steps as u64)
+}
+
+fn hybrid(system: &System, dt: f64, adaptive: bool, t_end: f64) -> Hybrid {
+    let opts = HybridOptions {
+        adaptive,
+        ..HybridOptions::with_dt(dt)
+    };
+    Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
+}
+
+fn md(system: &System, dt: f64, skin: f64, t_end: f64) -> Md {
+    let opts = MdOptions {
+        dt,
+        contact_end: ContactEnd::ForceZero,
+        skin: Some(skin),
+    };
+    Md::new(system.clone(), opts, t_end).unwrap()
+}
+
+/// Largest difference of positions (minimum image) and of velocities.
+fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f64) {
+    let mut dx: f64 = 0.0;
+    let mut dv: f64 = 0.0;
+    for i in 0..a.len() {
+        let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
+        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
+        let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
+        dx = dx.max(Vec3::from(d).norm());
+        dv = dv.max(Vec3::from(w).norm());
+    }
+    (dx, dv)
+}
+
+const TWO_BODY: &str = r#"
+t_end = 0.4
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 0.5
+density = 1140.0
+[[particles]]
+radius = 0.1
+position = [0.0, -0.3, 0.0]
+velocity = [1.25, 2.5, 0.0]
+[[particles]]
+radius = 0.1
+position = [0.06, 0.3, 0.0]
+velocity = [1.25, -2.5, 0.0]
+"#;
+
+#[test]
+fn an_event_driven_collision_equals_the_exact_two_body_solution() {
+    let sys = system(TWO_BODY);
+    let t_end = 0.4;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut h = hybrid(&sys, dt, false, t_end);
+    h.set_mode(0, Mode::Event).unwrap();
+    h.set_mode(1, Mode::Event).unwrap();
+    h.advance(steps).unwrap();
+    let got = h.particles();
+    assert_eq!(h.count(Mode::Event), 2);
+    assert_eq!(h.stats().pair_collisions, 1);
+    assert_eq!(h.stats().td_particle_steps, 0);
+
+    // Reference: touch time from the free flight, exact collision, free flight on.
+    let p = &sys.particles;
+    let r: [f64; 3] = std::array::from_fn(|k| p.position[0][k] - p.position[1][k]);
+    let v: [f64; 3] = std::array::from_fn(|k| p.velocity[0][k] - p.velocity[1][k]);
+    let t_touch = sphere_sphere(r, v, 0.2);
+    assert!(t_touch.is_finite());
+    let bodies = [0, 1].map(|i| Body {
+        position: Vec3::from(p.position[i]) + Vec3::from(p.velocity[i]) * t_touch,
+        velocity: Vec3::from(p.velocity[i]),
+        mass: p.mass[i],
+    });
+    let (law, props) = sys.pair(0, 0).unwrap();
+    let (out, _) = exact_collision(&law, &props, &bodies).unwrap();
+    let rest = t_end - t_touch - out.duration;
+    assert!(rest > 0.0, "the collision must be over by t_end");
+    for i in 0..2 {
+        let x = out.after[i].position + out.after[i].velocity * rest;
+        let dx = (Vec3::from(got.position[i]) - x).norm();
+        let dv = (Vec3::from(got.velocity[i]) - out.after[i].velocity).norm();
+        assert!(
+            dx < 1e-12 && dv < 1e-12,
+            "particle {i}: |dx| = {dx:e}, |dv| = {dv:e}"
+        );
+    }
+}
+
+fn dilute_gas() -> System {
+    system(
+        r#"
+t_end = 5.0
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+[gas]
+count = 64
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.01
+rms_speed = 1.0
+seed = 3
+"#,
+    )
+}
+
+#[test]
+fn a_dilute_gas_runs_fully_event_driven_and_equals_the_emdstar_engine() {
+    let sys = dilute_gas();
+    let t_end = 5.0;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut h = hybrid(&sys, dt, true, t_end);
+    assert_eq!(h.count(Mode::Event), 64);
+    h.advance(steps).unwrap();
+    assert_eq!(h.count(Mode::Event), 64);
+    assert_eq!(h.stats().td_particle_steps, 0);
+    assert_eq!(h.stats().to_time, 0);
+
+    let physics = Physics::EmdStar {
+        materials: Materials::from_system(&sys).unwrap(),
+        mor: Box::new(ExactMor),
+        interference: Interference::HitOnly,
+    };
+    let mut e: Engine = Engine::new(Setup::from_system(&sys), physics).unwrap();
+    e.run_until(t_end).unwrap();
+    let mut reference = sys.particles.clone();
+    e.write_state(&mut reference);
+    assert!(e.stats().pair_collisions > 20, "too few collisions to test");
+    assert_eq!(h.stats().pair_collisions, e.stats().pair_collisions);
+    let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
+    eprintln!(
+        "dilute: {} collisions, {} wall, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {:?}",
+        e.stats().pair_collisions,
+        e.stats().wall_collisions,
+        h.stats()
+    );
+    assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
+}
+
+fn dense_gas() -> System {
+    system(
+        r#"
+t_end = 0.1
+[material]
+model = "hertz"
+young = 1e9
+poisson = 0.4
+dissipation = 1e-4
+density = 1140.0
+[gas]
+count = 64
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.3
+rms_speed = 1.0
+seed = 5
+"#,
+    )
+}
+
+#[test]
+fn a_dense_gas_runs_fully_time_driven_and_equals_md() {
+    let sys = dense_gas();
+    let t_end = 0.1;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut h = hybrid(&sys, dt, true, t_end);
+    assert_eq!(h.count(Mode::Time), 64);
+    let mut m = md(&sys, dt, h.skin(), t_end);
+    h.advance(steps).unwrap();
+    m.advance(steps).unwrap();
+    assert_eq!(h.count(Mode::Time), 64);
+    assert_eq!(h.stats().to_event, 0);
+    assert_eq!(h.stats().events, 0);
+    let th = m.thermo();
+    // Collisions happened: the damped contacts took energy out.
+    let e0 = sys.particles.kinetic_energy();
+    assert!(th.total_energy() < 0.95 * e0, "{} {e0}", th.total_energy());
+    let (dx, dv) = max_difference(&h.particles(), &m.particles_in_config_order(), &sys);
+    eprintln!(
+        "dense: {} steps, contacts {}, |dx| = {dx:e}, |dv| = {dv:e}",
+        steps, th.contacts
+    );
+    assert!(
+        dx < 1e-10 && dv < 1e-8,
+        "|dx| = {dx:e} m, |dv| = {dv:e} m/s"
+    );
+    let (eh, em) = (h.thermo().total_energy(), th.total_energy());
+    assert!((eh - em).abs() < 1e-9 * em.abs(), "{eh} {em}");
+}
+
+const HEAD_ON: &str = r#"
+t_end = 0.5
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+[[particles]]
+radius = 0.1
+position = [0.0, 0.0, 0.0]
+[[particles]]
+radius = 0.1
+position = [0.6, 0.05, 0.0]
+velocity = [-2.0, 0.0, 0.0]
+"#;
+
+#[test]
+fn an_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md() {
+    let sys = system(HEAD_ON);
+    let t_end = 0.5;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut h = hybrid(&sys, dt, false, t_end);
+    h.set_mode(1, Mode::Event).unwrap();
+    let mut m = md(&sys, dt, h.skin(), t_end);
+    let e0 = h.thermo();
+    h.advance(steps).unwrap();
+    m.advance(steps).unwrap();
+    let s = h.stats();
+    eprintln!("head-on: {s:?}");
+    assert_eq!(s.guard_conversions, 1);
+    assert_eq!(s.late_conversions, 0);
+    assert_eq!(h.count(Mode::Time), 2);
+    let (dx, dv) = max_difference(&h.particles(), &m.particles_in_config_order(), &sys);
+    assert!(
+        dx < 1e-12 && dv < 1e-12,
+        "|dx| = {dx:e} m, |dv| = {dv:e} m/s"
+    );
+    // Momentum is conserved by the switch and the MD contact.
+    let (p0, p1) = (e0.momentum, h.thermo().momentum);
+    for k in 0..3 {
+        assert!((p1[k] - p0[k]).abs() < 1e-12 * 10.0, "{p0:?} {p1:?}");
+    }
+    // The collision dissipates as in MD: same kinetic energy.
+    let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
+    assert!((eh - em).abs() < 1e-12 * e0.total_energy(), "{eh} {em}");
+}
