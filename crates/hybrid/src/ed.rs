@@ -368,7 +368,7 @@ impl Hybrid {
         // Displacements, applied to each particle's own (possibly wrapped) coordinates.
         let di: [f64; 3] = std::array::from_fn(|k| out.rotated_positions[0][k] - xi_unwrapped[k]);
         let dj: [f64; 3] = std::array::from_fn(|k| out.rotated_positions[1][k] - xj[k]);
-        if self.rotation_blocked(&[(i, di), (j, dj)], t) {
+        if self.rotation_blocked(&[(i, di), (j, dj)], None, t) {
             self.stats.exception_rotation += 1;
             let (ki, kj) = restitution_kick(r, v, mi, mj, -mor.eps_rdot);
             let p = &mut self.system.particles;
@@ -403,8 +403,14 @@ impl Hybrid {
     }
 
     /// Exception (a): would displacing the parties push any of them deeper into a third
-    /// particle (ED or TD) or a wall? TD particles are extrapolated from the step start.
-    fn rotation_blocked(&self, parties: &[(usize, [f64; 3])], t: f64) -> bool {
+    /// particle (ED or TD) or a wall other than `own_wall` (the one being hit)? TD
+    /// particles are extrapolated from the step start.
+    fn rotation_blocked(
+        &self,
+        parties: &[(usize, [f64; 3])],
+        own_wall: Option<usize>,
+        t: f64,
+    ) -> bool {
         let p = &self.system.particles;
         let t0 = self.time();
         for &(q, d) in parties {
@@ -428,7 +434,10 @@ impl Hybrid {
                     return true;
                 }
             }
-            for w in &self.system.walls {
+            for (index, w) in self.system.walls.iter().enumerate() {
+                if own_wall == Some(index) {
+                    continue;
+                }
                 let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
                 if h_new < p.radius[q] && h_new < h_old {
                     return true;
@@ -472,7 +481,7 @@ impl Hybrid {
             let out = resolve_wall(&body, &vec3(n), entry.props.l, &mor, scaled.time);
             let rel = out.rotated_positions[0];
             let d: [f64; 3] = std::array::from_fn(|k| rel[k] + wall.point[k] - x[k]);
-            if self.rotation_blocked(&[(i, d)], t) {
+            if self.rotation_blocked(&[(i, d)], Some(w), t) {
                 self.stats.exception_rotation += 1;
                 let kick = (1.0 - mor.eps_rdot) * vn;
                 self.system.particles.velocity[i] = std::array::from_fn(|k| vi[k] - kick * n[k]);
@@ -480,9 +489,16 @@ impl Hybrid {
                 self.system.particles.position[i] = std::array::from_fn(|k| x[k] + d[k]);
                 self.system.particles.velocity[i] = arr(&out.transient_velocity);
                 let post = out.post_velocities[0];
+                // During the contact the wall carries the normal part of gravity: an
+                // elastic sphere leaves a wall under gravity with its impact speed
+                // (energy balance at ξ = 0), so only the tangential part of g acts
+                // over τ. (Adding all of g·τ, as for a freely falling pair, would
+                // take g_n·τ off every rebound.)
                 let g = self.system.gravity;
+                let g_n = dot(g, n);
+                let g_t: [f64; 3] = std::array::from_fn(|k| g[k] - g_n * n[k]);
                 let rec = &mut self.ed[i];
-                rec.pending_vel = std::array::from_fn(|k| post[k] + g[k] * out.duration);
+                rec.pending_vel = std::array::from_fn(|k| post[k] + g_t[k] * out.duration);
                 rec.pending_time = t + out.duration;
                 rec.partner = (self.mode.len() + w) as u32;
                 self.record_jump(i, d);

@@ -261,3 +261,118 @@ fn an_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md()
     let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
     assert!((eh - em).abs() < 1e-12 * e0.total_energy(), "{eh} {em}");
 }
+
+/// 64 elastic spheres in a 4 × 4 × 4 block with gaps of 5 % of a radius, flying apart
+/// with random velocities of zero total momentum into a large periodic box.
+fn expanding_cluster() -> System {
+    let mut text = String::from(
+        "t_end = 1.5\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n\
+         [box]\nsize = [4.0, 4.0, 4.0]\nlo = [-2.0, -2.0, -2.0]\n",
+    );
+    let mut seed: u64 = 12345;
+    let mut uniform = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    };
+    let mut v: Vec<[f64; 3]> = (0..64).map(|_| [uniform(), uniform(), uniform()]).collect();
+    let mean: [f64; 3] = std::array::from_fn(|k| v.iter().map(|w| w[k]).sum::<f64>() / 64.0);
+    for w in &mut v {
+        *w = std::array::from_fn(|k| 2.0 * (w[k] - mean[k]));
+    }
+    for (n, w) in v.iter().enumerate() {
+        let c = [n % 4, (n / 4) % 4, n / 16].map(|c| (c as f64 - 1.5) * 0.205);
+        text += &format!("[[particles]]\nradius = 0.1\nposition = {c:?}\nvelocity = {w:?}\n");
+    }
+    system(&text)
+}
+
+#[test]
+fn a_dense_cluster_that_dilutes_switches_to_events_conserving_energy_and_momentum() {
+    let sys = expanding_cluster();
+    let t_end = 1.5;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut h = hybrid(&sys, dt, true, t_end);
+    assert!(h.count(Mode::Time) > 32, "the block must start dense");
+    let mut m = md(&sys, dt, h.skin(), t_end);
+    let e0 = h.thermo().total_energy();
+    h.advance(steps).unwrap();
+    m.advance(steps).unwrap();
+    let s = *h.stats();
+    let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
+    let (dh, dm) = ((eh - e0).abs() / e0, (em - e0).abs() / e0);
+    let p = h.thermo().momentum;
+    eprintln!(
+        "cluster: ΔE/E hybrid {dh:e}, MD {dm:e}, P {p:?}, {} ED, {s:?}",
+        h.count(Mode::Event)
+    );
+    assert!(
+        s.to_event > 32,
+        "the particles must turn event-driven as the block dilutes"
+    );
+    assert!(
+        s.pair_collisions > 0,
+        "some collisions must be event-driven"
+    );
+    assert!(m.thermo().contacts == 0 && h.thermo().contacts == 0);
+    // Energy to the accuracy of the force law's integration (MD's own error at this dt).
+    assert!(
+        dh <= 2.0 * dm + 1e-9,
+        "hybrid ΔE/E = {dh:e}, MD ΔE/E = {dm:e}"
+    );
+    let p_scale = sys.particles.total_mass() * 1.0;
+    assert!(p.iter().all(|c| c.abs() < 1e-12 * p_scale), "{p:?}");
+}
+
+const INCLINE: &str = r#"
+t_end = 0.45
+gravity = [0.0, 0.0, -9.81]
+[material]
+model = "linear"
+stiffness = 2e6
+damping = 50.0
+density = 1140.0
+[[walls]]
+normal = [0.29552020666133955, 0.0, 0.955336489125606]
+point = [0.0, 0.0, 0.0]
+[[particles]]
+radius = 0.1
+position = [0.0, 0.0, 0.5]
+velocity = [0.2, 0.1, 0.0]
+"#;
+
+#[test]
+fn both_modes_bounce_off_an_inclined_wall_under_gravity_like_md() {
+    let sys = system(INCLINE);
+    let t_end = 0.45;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let mut td = hybrid(&sys, dt, false, t_end);
+    let mut ed = hybrid(&sys, dt, false, t_end);
+    ed.set_mode(0, Mode::Event).unwrap();
+    let mut m = md(&sys, dt, td.skin(), t_end);
+    td.advance(steps).unwrap();
+    ed.advance(steps).unwrap();
+    m.advance(steps).unwrap();
+    let reference = m.particles_in_config_order();
+    let (dx_td, dv_td) = max_difference(&td.particles(), &reference, &sys);
+    let (dx_ed, dv_ed) = max_difference(&ed.particles(), &reference, &sys);
+    eprintln!(
+        "incline: TD {dx_td:e} {dv_td:e}; ED {dx_ed:e} {dv_ed:e}; {:?}",
+        ed.stats()
+    );
+    assert_eq!(ed.stats().wall_collisions, 1);
+    assert_eq!(ed.stats().exception_rotation, 0);
+    assert_eq!(ed.count(Mode::Event), 1);
+    assert!(dx_td < 1e-12 && dv_td < 1e-12);
+    // eMD* leaves out how gravity deforms the contact itself. With the wall carrying
+    // the normal part of g during the contact, what remains is of second order in
+    // g·τ/v_n (τ the contact duration, v_n ≥ 2 m/s the impact speed here) in velocity,
+    // plus the sinking ½·g·τ² during the transient in position.
+    let (law, props) = sys.wall_pair(0).unwrap();
+    let tau = law.elastic_duration(props.m_eff, 2.0).unwrap();
+    let g_tau = 9.81 * tau;
+    let dv_bound = g_tau * g_tau / 2.0;
+    assert!(dv_ed < dv_bound, "|dv| = {dv_ed:e} ≥ {dv_bound:e}");
+    assert!(dx_ed < dv_bound * t_end + g_tau * tau, "|dx| = {dx_ed:e}");
+}
