@@ -1,7 +1,7 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::{EdRec, QueueEntry};
-use crate::list::{FullList, local_volume_fractions};
+use crate::list::{FullList, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
 use emdstar_edmd::Materials;
@@ -304,7 +304,7 @@ impl Hybrid {
     fn decide_modes(&mut self, t: f64) {
         let p = &self.system.particles;
         let min_cell = 2.0 * self.system.max_radius() + self.skin;
-        let phi = local_volume_fractions(&self.list.grid, &p.position, &p.radius, min_cell);
+        let phi = volume_fractions_on(&self.list.grid, &p.position, &p.radius, min_cell);
         let n = self.mode.len();
         let candidate: Vec<Mode> = (0..n)
             .map(|i| match self.mode[i] {
