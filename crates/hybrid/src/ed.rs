@@ -422,6 +422,7 @@ impl Hybrid {
                     continue;
                 }
                 let xk = match self.mode[k] {
+                    Mode::Removed => continue,
                     Mode::Event => self.state_at(k, t).0,
                     Mode::Time => {
                         std::array::from_fn(|c| p.position[k][c] + p.velocity[k][c] * (t - t0))

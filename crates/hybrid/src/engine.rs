@@ -231,8 +231,19 @@ impl Hybrid {
                 self.sync(i, t);
             }
         }
+        if let Some(outlet) = self.opts.outlet {
+            for i in 0..n {
+                let gone = outlet.distance(self.system.particles.position[i]) < 0.0;
+                if gone && self.mode[i] != Mode::Removed {
+                    self.remove(i, t);
+                }
+            }
+        }
         let p = &mut self.system.particles;
         for i in 0..n {
+            if self.mode[i] == Mode::Removed {
+                continue;
+            }
             let (x, v) = (p.position[i], p.velocity[i]);
             if !x.iter().chain(&v).all(|c| c.is_finite()) {
                 return Err(HybridError::BlewUp { id: p.id[i], t });
@@ -279,6 +290,19 @@ impl Hybrid {
         Ok(())
     }
 
+    /// Takes particle `i` out through the outlet at time `t` (a transient it shares is
+    /// finished for both partners first).
+    fn remove(&mut self, i: usize, t: f64) {
+        if self.mode[i] == Mode::Event {
+            self.switch_to_td(i, t);
+            self.converted.retain(|&c| c as usize != i);
+        }
+        self.mode[i] = Mode::Removed;
+        self.contact_acc[i] = [0.0; 3];
+        self.td_dirty = true;
+        self.stats.removed += 1;
+    }
+
     /// Number of particles or walls `i` touches now (centre distance below contact).
     fn contacts_of(&self, i: usize) -> usize {
         let p = &self.system.particles;
@@ -287,7 +311,7 @@ impl Hybrid {
         for &entry in self.list.of(i) {
             let (j, s) = self.list.split(entry);
             let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-            if norm(d) < p.radius[i] + p.radius[j] {
+            if norm(d) < p.radius[i] + p.radius[j] && self.mode[j] != Mode::Removed {
                 count += 1;
             }
         }
@@ -304,7 +328,16 @@ impl Hybrid {
     fn decide_modes(&mut self, t: f64) {
         let p = &self.system.particles;
         let min_cell = 2.0 * self.system.max_radius() + self.skin;
-        let phi = volume_fractions_on(&self.list.grid, &p.position, &p.radius, min_cell);
+        let radius: Vec<f64> = (0..p.len())
+            .map(|i| {
+                if self.mode[i] == Mode::Removed {
+                    0.0
+                } else {
+                    p.radius[i]
+                }
+            })
+            .collect();
+        let phi = volume_fractions_on(&self.list.grid, &p.position, &radius, min_cell);
         let n = self.mode.len();
         let candidate: Vec<Mode> = (0..n)
             .map(|i| match self.mode[i] {
@@ -322,6 +355,7 @@ impl Hybrid {
                         Mode::Event
                     }
                 }
+                Mode::Removed => Mode::Removed,
             })
             .collect();
         for i in 0..n {
@@ -336,6 +370,7 @@ impl Hybrid {
                 match target {
                     Mode::Time => self.switch_to_td(i, t),
                     Mode::Event => self.switch_to_ed(i, t),
+                    Mode::Removed => {}
                 }
             }
         }
@@ -368,12 +403,18 @@ impl Hybrid {
         if mode == self.mode[i] {
             return Ok(());
         }
+        if mode == Mode::Removed || self.mode[i] == Mode::Removed {
+            return Err(HybridError::Invalid(format!(
+                "particle {i}: only the outlet removes particles, and they do not come back"
+            )));
+        }
         let t = self.time();
         match mode {
             Mode::Time => {
                 self.switch_to_td(i, t);
                 self.add_converted_forces();
             }
+            Mode::Removed => unreachable!("refused above"),
             Mode::Event => {
                 if self.contacts_of(i) > 0 {
                     return Err(HybridError::Invalid(format!(
@@ -409,13 +450,24 @@ impl Hybrid {
     /// Energies, temperature, momentum and contacts now (pending eMD* velocities
     /// applied). The potential energy is the elastic energy of the TD contacts,
     /// ½kξ² or (2/5)ρ_el ξ^{5/2} (Müller & Pöschel 2013, Eqs. 40 and 51), plus −Σ m g·x.
+    /// Removed particles are left out of the energies and the momentum (the granular
+    /// temperature still counts them).
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.gravity;
         let mut potential = 0.0;
         let mut contacts = 0;
+        let mut kinetic = 0.0;
+        let mut momentum = [0.0; 3];
         for i in 0..p.len() {
-            let xi = p.position[i];
+            if self.mode[i] == Mode::Removed {
+                continue;
+            }
+            let (xi, vi) = (p.position[i], p.velocity[i]);
+            kinetic += 0.5 * p.mass[i] * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
+            for k in 0..3 {
+                momentum[k] += p.mass[i] * vi[k];
+            }
             potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
             if self.mode[i] != Mode::Time {
                 continue;
@@ -445,10 +497,10 @@ impl Hybrid {
         Thermo {
             t: self.time(),
             step: self.steps,
-            kinetic_energy: p.kinetic_energy(),
+            kinetic_energy: kinetic,
             potential_energy: potential,
             granular_temperature: p.granular_temperature(),
-            momentum: p.momentum(),
+            momentum,
             contacts,
         }
     }

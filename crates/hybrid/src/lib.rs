@@ -68,6 +68,11 @@
 //! hits a particle in its transient: that E^v runs early), from
 //! [`emdstar_mor::rule`].
 //!
+//! # Outlet
+//! [`HybridOptions::outlet`] is a plane behind which particles leave the system
+//! ([`Mode::Removed`], checked at rebuilds): the discharge of a hopper. Removed
+//! particles keep their last state but take no further part.
+//!
 //! # Limits
 //! - Only the force-zero contact end (F = max(0, …)) is supported: the switch relies on
 //!   the force staying zero at the end of an eMD* contact.

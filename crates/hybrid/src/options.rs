@@ -9,6 +9,8 @@ pub enum Mode {
     Event,
     /// Time-driven: velocity Verlet with contact forces.
     Time,
+    /// Left through the outlet ([`HybridOptions::outlet`]); no longer simulated.
+    Removed,
 }
 
 /// Options of the hybrid engine.
@@ -29,6 +31,9 @@ pub struct HybridOptions {
     pub adaptive: bool,
     /// Events of one ED particle within one step above which it becomes TD.
     pub max_events_per_step: u32,
+    /// An outlet: particles whose centre has passed behind this plane (distance < 0)
+    /// leave the system at the next list rebuild (a hopper's discharge).
+    pub outlet: Option<emdstar_system::Wall>,
 }
 
 impl HybridOptions {
@@ -42,6 +47,7 @@ impl HybridOptions {
             phi_event: 0.1,
             adaptive: true,
             max_events_per_step: 50,
+            outlet: None,
         }
     }
 }
@@ -82,6 +88,8 @@ pub struct HybridStats {
     pub early_transient_ends: u64,
     /// Particle-steps done by TD particles (Σ over steps of N_TD).
     pub td_particle_steps: u64,
+    /// Particles removed through the outlet.
+    pub removed: u64,
 }
 
 /// Errors of the hybrid engine.
