@@ -46,6 +46,7 @@ fn stats_json(s: &HybridStats) -> Value {
             "to_event_driven": s.to_event,
             "guard": s.guard_conversions,
             "guard_late": s.late_conversions,
+            "guard_late_max_overlap": s.max_late_overlap,
             "event_budget": s.budget_conversions,
             "transients_ended_early": s.early_transient_ends,
         },

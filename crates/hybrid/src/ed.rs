@@ -413,6 +413,7 @@ impl Hybrid {
     ) -> bool {
         let p = &self.system.particles;
         let t0 = self.time();
+        let td_margin = 2.0 * (self.v_max_td + self.v_max_ed) * self.opts.dt;
         for &(q, d) in parties {
             let x_old = p.position[q];
             let x_new: [f64; 3] = std::array::from_fn(|k| x_old[k] + d[k]);
@@ -421,14 +422,18 @@ impl Hybrid {
                 if parties.iter().any(|&(o, _)| o == k) {
                     continue;
                 }
-                let xk = match self.mode[k] {
+                // A jump must not bring an ED particle within one step's reach of a TD
+                // particle either: the guard, which runs at step boundaries, would then
+                // find the pair already in contact.
+                let (xk, margin) = match self.mode[k] {
                     Mode::Removed => continue,
-                    Mode::Event => self.state_at(k, t).0,
-                    Mode::Time => {
-                        std::array::from_fn(|c| p.position[k][c] + p.velocity[k][c] * (t - t0))
-                    }
+                    Mode::Event => (self.state_at(k, t).0, 0.0),
+                    Mode::Time => (
+                        std::array::from_fn(|c| p.position[k][c] + p.velocity[k][c] * (t - t0)),
+                        td_margin,
+                    ),
                 };
-                let contact = p.radius[q] + p.radius[k];
+                let contact = p.radius[q] + p.radius[k] + margin;
                 let d_new = norm(std::array::from_fn(|c| x_new[c] - xk[c] - s[c]));
                 let d_old = norm(std::array::from_fn(|c| x_old[c] - xk[c] - s[c]));
                 if d_new < contact && d_new < d_old {

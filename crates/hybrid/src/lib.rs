@@ -25,11 +25,15 @@
 //! There are no ED–TD contacts. Every soft contact is either a full eMD* collision
 //! (both ED) or a full MD contact (both TD, or a TD particle and a wall). This is
 //! enforced by a **guard** at the start of every time step: an ED particle that could
-//! reach a TD particle within the step (gap < 2·(|v_ij|·dt + |a_i|·dt²) + v_ED,max·dt,
-//! a bound on the approach in one step including a velocity change of the ED particle
-//! by an event within the step) becomes TD at once, before the contact starts. Guard
-//! conversions that find the pair already overlapping are counted
-//! ([`HybridStats::late_conversions`]); in the tests they do not occur.
+//! reach a TD particle within the step (gap < 2·(|v_ij|·dt + |a_i|·dt² + v_ED,max·dt),
+//! a bound on the approach in one step that allows for a velocity change of the ED
+//! particle by an event within the step) becomes TD at once, before the contact
+//! starts. An eMD* position jump (E^φ) may not bring an ED particle that close to a TD
+//! particle either (else exception (a): the eMD rule). Guard switches that find the
+//! pair already overlapping and approaching are counted
+//! ([`HybridStats::late_conversions`]; none in the tests and the hopper example). A
+//! pair just out of an eMD* collision overlaps by l(1 − ε_r) while it separates with
+//! zero force: that is not a contact.
 //!
 //! # Switching without jumps
 //! A switch changes only how a particle is moved, never its state:

@@ -79,9 +79,11 @@ pub struct HybridStats {
     pub to_event: u64,
     /// ED → TD switches made by the per-step guard.
     pub guard_conversions: u64,
-    /// Guard switches of a particle already overlapping a TD particle (the guard came
-    /// too late; should be 0).
+    /// Guard switches of a particle already overlapping and approaching a TD particle
+    /// (the guard came too late; should be 0).
     pub late_conversions: u64,
+    /// Largest overlap (m) found at a late guard switch.
+    pub max_late_overlap: f64,
     /// ED → TD switches because of the event budget per step.
     pub budget_conversions: u64,
     /// Transients ended early by a switch (exception (b) at a switch).

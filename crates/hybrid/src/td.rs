@@ -202,10 +202,15 @@ impl Hybrid {
                 let gap =
                     norm(d) - self.system.particles.radius[i] - self.system.particles.radius[j];
                 let v_rel = norm(std::array::from_fn(|k| vi[k] - vj[k]));
-                let reach = 2.0 * (v_rel * dt + ai * dt * dt) + self.v_max_ed * dt;
+                let reach = 2.0 * (v_rel * dt + ai * dt * dt + self.v_max_ed * dt);
                 if gap < reach {
-                    if gap < 0.0 && self.ed[j].partner as usize != i {
+                    // Overlapping and approaching: a contact the guard missed. (A pair
+                    // just out of an eMD* collision overlaps by l(1 − ε_r) while it
+                    // separates with zero force; that is no contact.)
+                    let approach: f64 = (0..3).map(|k| d[k] * (vi[k] - vj[k])).sum();
+                    if gap < 0.0 && approach < 0.0 {
                         self.stats.late_conversions += 1;
+                        self.stats.max_late_overlap = self.stats.max_late_overlap.max(-gap);
                     }
                     let partner = self.ed[j].partner as usize;
                     self.switch_to_td(j, t);
