@@ -1,7 +1,7 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::{EdRec, QueueEntry};
-use crate::list::{FullList, volume_fractions_on};
+use crate::list::{FullList, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
 use emdstar_edmd::Materials;
@@ -15,6 +15,8 @@ pub struct Hybrid {
     pub(crate) system: System,
     pub(crate) opts: HybridOptions,
     pub(crate) skin: f64,
+    /// The skin of the current list: `skin`, or wider while no particle is TD.
+    pub(crate) list_skin: f64,
     pub(crate) mode: Vec<Mode>,
     pub(crate) steps: u64,
     pub(crate) inv_mass: Vec<f64>,
@@ -106,6 +108,7 @@ impl Hybrid {
             system,
             opts,
             skin,
+            list_skin: skin,
             mode: vec![Mode::Time; n],
             steps: 0,
             inv_mass,
@@ -189,7 +192,7 @@ impl Hybrid {
         let g = norm(self.system.gravity);
         let v_bound = (self.v_max_td + 0.5 * self.a_max_td * dt).max(self.v_max_ed) + g * dt;
         // Written so that NaN (a blow-up) rebuilds, where it is reported.
-        let list_holds = 2.0 * (self.drift_bound + self.max_jump + v_bound * dt) <= self.skin;
+        let list_holds = 2.0 * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
         if !list_holds {
             self.rebuild()?;
             if 2.0 * v_bound * dt > self.skin {
@@ -270,6 +273,24 @@ impl Hybrid {
         if self.opts.adaptive {
             self.decide_modes(t);
         }
+        // Without TD particles the list serves the events only: a wider skin means
+        // fewer rebuilds (each re-predicts every ED particle).
+        self.refresh_td();
+        self.list_skin = if self.td.is_empty() {
+            self.event_skin()
+        } else {
+            self.skin
+        };
+        if self.list_skin > self.skin {
+            let p = &self.system.particles;
+            self.list.build(
+                &p.position,
+                &p.radius,
+                self.system.sim_box.as_ref(),
+                2.0 * self.system.max_radius() + self.list_skin,
+                self.list_skin,
+            )?;
+        }
         self.heap.clear();
         self.v_max_ed = 0.0;
         for i in 0..n {
@@ -288,6 +309,24 @@ impl Hybrid {
         self.max_jump = 0.0;
         self.stats.rebuilds += 1;
         Ok(())
+    }
+
+    /// The list skin while every particle is ED: half the mean particle spacing (the
+    /// event engine's cell width, emdstar-edmd), at least the MD skin, and small
+    /// enough for 3 cells along every periodic axis.
+    fn event_skin(&self) -> f64 {
+        let p = &self.system.particles;
+        let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
+        let (_, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let r2 = 2.0 * self.system.max_radius();
+        let volume: f64 = extent.iter().map(|e| e.max(r2)).product();
+        let mut skin = self.skin.max(0.5 * (volume / active.max(1) as f64).cbrt());
+        for k in 0..3 {
+            if periodic[k] {
+                skin = skin.min(extent[k] / 3.0 - r2);
+            }
+        }
+        skin.max(self.skin)
     }
 
     /// Takes particle `i` out through the outlet at time `t` (a transient it shares is
