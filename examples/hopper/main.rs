@@ -110,9 +110,27 @@ fn hopper(seed: u64) -> System {
     }
 }
 
+/// CPU time of this process in s (user + system, from /proc/self/stat, in clock
+/// ticks of 10 ms): robust against other processes sharing the cores, which wall
+/// time is not. Falls back to 0 where /proc is missing.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which is in parentheses): state is field 3,
+    // utime and stime are fields 14 and 15.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |k: usize| {
+        fields
+            .get(k - 3)
+            .and_then(|f| f.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    (ticks(14) + ticks(15)) / 100.0
+}
+
 /// What one run records.
 struct Run {
-    /// (t, wall-clock s, ED particles, particles left) every [`SAMPLE`].
+    /// (t, CPU s, ED particles, particles left) every [`SAMPLE`].
     series: Vec<(f64, f64, usize, usize)>,
     /// Bin sums over the sampling window: solid area, Σ|v|, particle count.
     area: Vec<f64>,
@@ -120,6 +138,7 @@ struct Run {
     count: Vec<f64>,
     snapshots: usize,
     wall_s: f64,
+    cpu_s: f64,
     stats: emdstar_hybrid::HybridStats,
 }
 
@@ -155,15 +174,17 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
         count: vec![0.0; NX * NY],
         snapshots: 0,
         wall_s: 0.0,
+        cpu_s: 0.0,
         stats: *h.stats(),
     };
     let start = Instant::now();
+    let cpu_start = cpu_seconds();
     for _ in 0..samples {
         h.advance(per_sample).expect("hopper run");
-        let wall = start.elapsed().as_secs_f64();
+        let cpu = cpu_seconds() - cpu_start;
         let t = h.time();
         out.series
-            .push((t, wall, h.count(Mode::Event), h.count(Mode::Removed)));
+            .push((t, cpu, h.count(Mode::Event), h.count(Mode::Removed)));
         if t >= window.0 - 1e-12 && t <= window.1 + 1e-12 {
             let p = h.particles();
             out.snapshots += 1;
@@ -183,6 +204,7 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
         }
     }
     out.wall_s = start.elapsed().as_secs_f64();
+    out.cpu_s = cpu_seconds() - cpu_start;
     out.stats = *h.stats();
     out
 }
@@ -239,8 +261,9 @@ fn main() {
         for md in [true, false] {
             let r = run(seed, md, t_end, window);
             eprintln!(
-                "seed {seed} {}: {:.1} s wall, {} removed, {} ED at the end, {:?}",
+                "seed {seed} {}: {:.1} s CPU, {:.1} s wall, {} removed, {} ED at the end, {:?}",
                 if md { "MD" } else { "hybrid" },
+                r.cpu_s,
                 r.wall_s,
                 r.stats.removed,
                 r.series.last().map_or(0, |s| s.2),
@@ -274,13 +297,21 @@ fn main() {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let md_wall: f64 = md_runs.iter().map(|r| r.wall_s).sum();
     let hy_wall: f64 = hybrid_runs.iter().map(|r| r.wall_s).sum();
+    let md_cpu: f64 = md_runs.iter().map(|r| r.cpu_s).sum();
+    let hy_cpu: f64 = hybrid_runs.iter().map(|r| r.cpu_s).sum();
+    let md_steps: u64 = md_runs.iter().map(|r| r.stats.td_particle_steps).sum();
+    let hy_steps: u64 = hybrid_runs.iter().map(|r| r.stats.td_particle_steps).sum();
     let summary = format!(
         "{{\n  \"seeds\": {seeds},\n  \"t_end\": {t_end},\n  \"md_wall_s\": {md_wall:.3},\n  \
-         \"hybrid_wall_s\": {hy_wall:.3},\n  \"speed_ratio_md_over_hybrid\": {:.3},\n  \
+         \"hybrid_wall_s\": {hy_wall:.3},\n  \"md_cpu_s\": {md_cpu:.2},\n  \
+         \"hybrid_cpu_s\": {hy_cpu:.2},\n  \"cpu_ratio_md_over_hybrid\": {:.3},\n  \
+         \"td_particle_steps_md\": {md_steps},\n  \"td_particle_steps_hybrid\": {hy_steps},\n  \
+         \"speed_ratio_wall_md_over_hybrid\": {:.3},\n  \
          \"rms_phi_hybrid_vs_md_same_seed\": {:?},\n  \"rms_phi_md_vs_md_other_seed\": {:?},\n  \
          \"rms_speed_hybrid_vs_md_same_seed\": {:?},\n  \"rms_speed_md_vs_md_other_seed\": {:?},\n  \
          \"mean\": {{\"phi_same\": {:.4e}, \"phi_noise\": {:.4e}, \"speed_same\": {:.4e}, \
          \"speed_noise\": {:.4e}}}\n}}\n",
+        md_cpu / hy_cpu,
         md_wall / hy_wall,
         same.0,
         noise.0,

@@ -162,7 +162,7 @@ pub fn curves(out: &Path, md: &Series, hybrid: &Series) -> Result<(), Box<dyn st
     };
     line_chart(
         &out.join("cpu_time.png"),
-        "CPU time per simulated time",
+        "CPU time per simulated time (process CPU time, 10 ms ticks)",
         "t_CPU / t",
         &[
             ("MD", cpu(md), RGBColor(200, 30, 30)),

@@ -376,3 +376,58 @@ fn both_modes_bounce_off_an_inclined_wall_under_gravity_like_md() {
     assert!(dv_ed < dv_bound, "|dv| = {dv_ed:e} ≥ {dv_bound:e}");
     assert!(dx_ed < dv_bound * t_end + g_tau * tau, "|dx| = {dx_ed:e}");
 }
+
+const FALLING: &str = r#"
+t_end = 0.3
+gravity = [0.0, -9.81, 0.0]
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+[[particles]]
+radius = 0.1
+position = [0.0, 0.2, 0.0]
+velocity = [0.0, -1.0, 0.0]
+[[particles]]
+radius = 0.1
+position = [2.0, 2.0, 0.0]
+"#;
+
+#[test]
+fn particles_behind_the_outlet_leave_and_the_rest_falls_freely() {
+    let sys = system(FALLING);
+    let t_end = 0.3;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions {
+        outlet: Some(emdstar_system::Wall {
+            normal: [0.0, 1.0, 0.0],
+            point: [0.0, 0.0, 0.0],
+        }),
+        ..HybridOptions::with_dt(dt)
+    };
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    h.advance(steps).unwrap();
+    assert_eq!(h.modes()[0], Mode::Removed);
+    assert_ne!(h.modes()[1], Mode::Removed);
+    assert_eq!(h.stats().removed, 1);
+    // Only the remaining particle counts, in free fall from rest: p = m·g·t.
+    let th = h.thermo();
+    let expect = sys.particles.mass[1] * -9.81 * t_end;
+    assert!(
+        (th.momentum[1] - expect).abs() < 1e-12 * expect.abs(),
+        "{th:?}"
+    );
+    assert_eq!(th.momentum[0], 0.0);
+    let bad = Hybrid::new(
+        sys,
+        HybridOptions {
+            phi_event: 0.5,
+            phi_time: 0.2,
+            ..HybridOptions::with_dt(dt)
+        },
+        Box::new(ExactMor),
+        t_end,
+    );
+    assert!(matches!(bad, Err(e) if e.to_string().contains("phi_event")));
+}
