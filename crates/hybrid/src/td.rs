@@ -181,6 +181,10 @@ impl Hybrid {
     /// next step become TD now, and so on from them.
     pub(crate) fn guard(&mut self) {
         self.refresh_td();
+        let active = self.mode.len() - self.stats.removed as usize;
+        if self.td.len() == active || self.td.is_empty() {
+            return; // no mixed pairs
+        }
         let dt = self.opts.dt;
         let t = self.time();
         let mut stack: Vec<u32> = self.td.clone();
