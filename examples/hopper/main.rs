@@ -239,6 +239,7 @@ fn main() {
     let mut t_end = 0.025;
     let mut out = PathBuf::from("examples/hopper/out");
     let mut font = PathBuf::from("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
+    let mut engines = vec![true, false];
     let args: Vec<String> = std::env::args().skip(1).collect();
     for pair in args.chunks(2) {
         let value = pair
@@ -249,16 +250,19 @@ fn main() {
             "--t-end" => t_end = value.parse().expect("--t-end SECONDS"),
             "--out" => out = value.into(),
             "--font" => font = value.into(),
+            // Profiling aid: one engine only (no figures then).
+            "--only" => engines = vec![value == "md"],
             other => panic!("unknown option {other}; see the doc comment of main.rs"),
         }
     }
     std::fs::create_dir_all(&out).expect("output directory");
+    let both = engines.len() == 2;
     emdstar_tablegen::plot::register_font(&font).unwrap_or_else(|e| panic!("{e}"));
     let window = (t_end - 4.0 * SAMPLE, t_end);
     let mut md_runs = Vec::new();
     let mut hybrid_runs = Vec::new();
     for seed in 1..=seeds {
-        for md in [true, false] {
+        for &md in &engines {
             let r = run(seed, md, t_end, window);
             eprintln!(
                 "seed {seed} {}: {:.1} s CPU, {:.1} s wall, {} removed, {} ED at the end, {:?}",
@@ -271,6 +275,9 @@ fn main() {
             );
             if md { &mut md_runs } else { &mut hybrid_runs }.push(r);
         }
+    }
+    if !both {
+        return;
     }
     let (md_fields, hy_fields): (Vec<_>, Vec<_>) = (
         md_runs.iter().map(fields).collect(),

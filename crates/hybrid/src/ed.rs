@@ -206,6 +206,7 @@ impl Hybrid {
     }
 
     /// Processes every ED event up to `t_end`, in time order.
+    #[inline(never)]
     pub(crate) fn process_events(&mut self, t_end: f64) -> Result<(), HybridError> {
         while let Some(&Reverse(top)) = self.heap.peek() {
             if top.time > t_end {
@@ -306,6 +307,7 @@ impl Hybrid {
         rec.frozen = false;
         self.td_dirty = true;
         self.converted.push(i as u32);
+        self.boundary.push(i as u32);
         self.stats.to_time += 1;
     }
 

@@ -33,6 +33,9 @@ pub struct Hybrid {
     pub(crate) td_dirty: bool,
     /// Particles switched to TD at the current boundary whose forces are not yet in.
     pub(crate) converted: Vec<u32>,
+    /// TD particles that may have ED neighbours in the list (the guard's work list):
+    /// set at rebuilds, grown by every switch to TD.
+    pub(crate) boundary: Vec<u32>,
     /// ED particles over their event budget, switched at the end of the step.
     pub(crate) deferred: Vec<u32>,
     pub(crate) drift_bound: f64,
@@ -122,6 +125,7 @@ impl Hybrid {
             td: Vec::new(),
             td_dirty: true,
             converted: (0..n as u32).collect(),
+            boundary: Vec::new(),
             deferred: Vec::new(),
             drift_bound: 0.0,
             v_max_td: 0.0,
@@ -225,6 +229,7 @@ impl Hybrid {
 
     /// Synchronises every particle, checks the box, rebuilds the list, decides the
     /// modes and re-predicts every ED particle.
+    #[inline(never)]
     fn rebuild(&mut self) -> Result<(), HybridError> {
         let t = self.time();
         let n = self.mode.len();
@@ -304,6 +309,17 @@ impl Hybrid {
                 }
             }
         }
+        self.boundary.clear();
+        for &i in &self.td {
+            let mixed = self
+                .list
+                .of(i as usize)
+                .iter()
+                .any(|&e| self.mode[self.list.split(e).0] == Mode::Event);
+            if mixed {
+                self.boundary.push(i);
+            }
+        }
         self.drift_bound = 0.0;
         self.jump.iter_mut().for_each(|j| *j = 0.0);
         self.max_jump = 0.0;
@@ -364,6 +380,7 @@ impl Hybrid {
 
     /// The mode rule of the crate docs (volume fraction with hysteresis, contacts,
     /// buffer), applied at a rebuild (all particles synchronised at `t`).
+    #[inline(never)]
     fn decide_modes(&mut self, t: f64) {
         let p = &self.system.particles;
         let min_cell = 2.0 * self.system.max_radius() + self.skin;

@@ -31,6 +31,7 @@ impl Hybrid {
     /// the predicted velocity v* = v(t+dt/2) + (dt/2)·a(t); v(t+dt) = v(t+dt/2) +
     /// (dt/2)·a(t+dt). Pairs with an ED particle have no force (there are no mixed
     /// contacts, see the crate docs).
+    #[inline(never)]
     pub(crate) fn td_step(&mut self) {
         self.refresh_td();
         let dt = self.opts.dt;
@@ -179,6 +180,7 @@ impl Hybrid {
 
     /// The guard (crate docs): ED particles that could reach a TD particle within the
     /// next step become TD now, and so on from them.
+    #[inline(never)]
     pub(crate) fn guard(&mut self) {
         self.refresh_td();
         let active = self.mode.len() - self.stats.removed as usize;
@@ -187,9 +189,14 @@ impl Hybrid {
         }
         let dt = self.opts.dt;
         let t = self.time();
-        let mut stack: Vec<u32> = self.td.clone();
+        // Only TD particles with ED list neighbours can meet one; the list of those
+        // only grows (by switches to TD) until the next rebuild.
+        let mut stack: Vec<u32> = self.boundary.clone();
         while let Some(i) = stack.pop() {
             let i = i as usize;
+            if self.mode[i] != Mode::Time {
+                continue;
+            }
             let (xi, vi) = (
                 self.system.particles.position[i],
                 self.system.particles.velocity[i],
