@@ -1,7 +1,7 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::{EdRec, QueueEntry};
-use crate::list::{FullList, region, volume_fractions_on};
+use crate::list::{FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
 use emdstar_edmd::Materials;
@@ -233,7 +233,6 @@ impl Hybrid {
     fn rebuild(&mut self) -> Result<(), HybridError> {
         let t = self.time();
         let n = self.mode.len();
-        let min_cell = 2.0 * self.system.max_radius() + self.skin;
         for i in 0..n {
             if self.mode[i] == Mode::Event {
                 self.sync(i, t);
@@ -268,31 +267,39 @@ impl Hybrid {
                 p.position[i] = b.wrap(x);
             }
         }
+        // Without TD particles the list serves the events only: a wider skin means
+        // fewer rebuilds (each re-predicts every ED particle). After such a period the
+        // list is first built wide again, and narrowed once TD particles appear.
+        let r2 = 2.0 * self.system.max_radius();
+        let built = if self.list_skin > self.skin {
+            self.event_skin()
+        } else {
+            self.skin
+        };
+        let p = &self.system.particles;
         self.list.build(
             &p.position,
             &p.radius,
             self.system.sim_box.as_ref(),
-            min_cell,
-            self.skin,
+            r2 + built,
+            built,
         )?;
         if self.opts.adaptive {
-            self.decide_modes(t);
+            self.decide_modes(t, built == self.skin);
         }
-        // Without TD particles the list serves the events only: a wider skin means
-        // fewer rebuilds (each re-predicts every ED particle).
         self.refresh_td();
         self.list_skin = if self.td.is_empty() {
             self.event_skin()
         } else {
             self.skin
         };
-        if self.list_skin > self.skin {
+        if self.list_skin != built {
             let p = &self.system.particles;
             self.list.build(
                 &p.position,
                 &p.radius,
                 self.system.sim_box.as_ref(),
-                2.0 * self.system.max_radius() + self.list_skin,
+                r2 + self.list_skin,
                 self.list_skin,
             )?;
         }
@@ -327,16 +334,16 @@ impl Hybrid {
         Ok(())
     }
 
-    /// The list skin while every particle is ED: half the mean particle spacing (the
-    /// event engine's cell width, emdstar-edmd), at least the MD skin, and small
-    /// enough for 3 cells along every periodic axis.
+    /// The list skin while every particle is ED: the mean particle spacing (measured
+    /// best on a dilute gas: half of it rebuilt twice as often, for 25 % more time),
+    /// at least the MD skin, and small enough for 3 cells along every periodic axis.
     fn event_skin(&self) -> f64 {
         let p = &self.system.particles;
         let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
         let (_, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
         let r2 = 2.0 * self.system.max_radius();
         let volume: f64 = extent.iter().map(|e| e.max(r2)).product();
-        let mut skin = self.skin.max(0.5 * (volume / active.max(1) as f64).cbrt());
+        let mut skin = self.skin.max((volume / active.max(1) as f64).cbrt());
         for k in 0..3 {
             if periodic[k] {
                 skin = skin.min(extent[k] / 3.0 - r2);
@@ -381,7 +388,10 @@ impl Hybrid {
     /// The mode rule of the crate docs (volume fraction with hysteresis, contacts,
     /// buffer), applied at a rebuild (all particles synchronised at `t`).
     #[inline(never)]
-    fn decide_modes(&mut self, t: f64) {
+    ///
+    /// φ uses link cells of the MD cut-off 2R_max + skin: those of the list when
+    /// `list_cells` (the list was built with the MD skin), else a grid of its own.
+    fn decide_modes(&mut self, t: f64, list_cells: bool) {
         let p = &self.system.particles;
         let min_cell = 2.0 * self.system.max_radius() + self.skin;
         let radius: Vec<f64> = (0..p.len())
@@ -393,7 +403,12 @@ impl Hybrid {
                 }
             })
             .collect();
-        let phi = volume_fractions_on(&self.list.grid, &p.position, &radius, min_cell);
+        let phi = if list_cells {
+            volume_fractions_on(&self.list.grid, &p.position, &radius, min_cell)
+        } else {
+            let area = region(&p.position, self.system.sim_box.as_ref());
+            local_volume_fractions(&p.position, &radius, area, min_cell)
+        };
         let n = self.mode.len();
         let candidate: Vec<Mode> = (0..n)
             .map(|i| match self.mode[i] {
