@@ -70,7 +70,15 @@
 //! and inclined plane walls are handled in both modes. Collisions follow eMD* with
 //! its exceptions (a) (rotation into a third body: eMD rule) and (b) (a third particle
 //! hits a particle in its transient: that E^v runs early), from
-//! [`emdstar_mor::rule`].
+//! [`emdstar_mor::rule`]. While no particle is TD, the list takes the mean particle
+//! spacing as skin (fewer rebuilds).
+//!
+//! **Walls under gravity.** A pair in free fall feels gravity only through its centre
+//! of mass, so its E^v velocities gain g·τ. A wall, however, carries the normal part
+//! of gravity during the contact: an elastic sphere leaves a wall under gravity with
+//! its impact speed (energy balance at ξ = 0). So a wall E^v adds only the tangential
+//! part of g·τ; what remains of gravity's effect on the contact is of second order in
+//! g·τ/v_n (see the inclined-wall test).
 //!
 //! # Outlet
 //! [`HybridOptions::outlet`] is a plane behind which particles leave the system
