@@ -494,6 +494,13 @@ impl Hybrid {
                     )));
                 }
                 self.switch_to_ed(i, t);
+                // Its TD neighbours now have an ED neighbour: the guard must see them.
+                for e in 0..self.list.of(i).len() {
+                    let j = self.list.split(self.list.of(i)[e]).0;
+                    if self.mode[j] == Mode::Time {
+                        self.boundary.push(j as u32);
+                    }
+                }
                 self.predict(i, t);
                 let v = norm(self.system.particles.velocity[i]);
                 self.v_max_ed = self.v_max_ed.max(v);

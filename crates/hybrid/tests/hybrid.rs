@@ -236,14 +236,32 @@ fn an_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md()
     let sys = system(HEAD_ON);
     let t_end = 0.5;
     let (dt, steps) = step(&sys, t_end, 0.02);
-    let mut h = hybrid(&sys, dt, false, t_end);
+    // A skin wide enough that no rebuild comes before the contact: the guard must know
+    // of the switch made by hand.
+    let opts = HybridOptions {
+        adaptive: false,
+        skin: Some(1.0),
+        ..HybridOptions::with_dt(dt)
+    };
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
     h.set_mode(1, Mode::Event).unwrap();
     let mut m = md(&sys, dt, h.skin(), t_end);
     let e0 = h.thermo();
-    h.advance(steps).unwrap();
+    let mut rebuilds_at_switch = None;
+    for _ in 0..steps {
+        h.advance(1).unwrap();
+        if rebuilds_at_switch.is_none() && h.stats().guard_conversions > 0 {
+            rebuilds_at_switch = Some(h.stats().rebuilds);
+        }
+    }
     m.advance(steps).unwrap();
     let s = h.stats();
     eprintln!("head-on: {s:?}");
+    assert_eq!(
+        rebuilds_at_switch,
+        Some(1),
+        "the switch must come before any rebuild"
+    );
     assert_eq!(s.guard_conversions, 1);
     assert_eq!(s.late_conversions, 0);
     assert_eq!(h.count(Mode::Time), 2);
