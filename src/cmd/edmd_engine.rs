@@ -48,32 +48,34 @@ pub struct EdmdArgs {
     pub interference: InterferenceChoice,
 }
 
+/// The source of the matrix of restitution chosen by `args` (eMD* and the hybrid).
+pub fn mor_source(system: &System, args: &EdmdArgs) -> Result<Box<dyn MorSource>> {
+    let model = system.material.model();
+    let fallback = args.mor == MorChoice::TableOrExact;
+    Ok(match (args.mor, &args.table) {
+        (MorChoice::Exact, _) => Box::new(ExactMor),
+        (_, Some(path)) => {
+            let table = Table::open(path)
+                .with_context(|| format!("reading the MoR table {}", path.display()))?;
+            Box::new(TableMorSource::from_table(table, fallback))
+        }
+        (_, None) => Box::new(TableMorSource::default_for(model, fallback)?),
+    })
+}
+
 fn physics(kind: EngineKind, system: &System, args: &EdmdArgs) -> Result<Physics> {
     let materials = Materials::from_system(system)?;
     Ok(match kind {
         EngineKind::Emd => Physics::Emd(materials),
-        EngineKind::EmdStar => {
-            let model = system.material.model();
-            let fallback = args.mor == MorChoice::TableOrExact;
-            let mor: Box<dyn MorSource> = match (args.mor, &args.table) {
-                (MorChoice::Exact, _) => Box::new(ExactMor),
-                (_, Some(path)) => {
-                    let table = Table::open(path)
-                        .with_context(|| format!("reading the MoR table {}", path.display()))?;
-                    Box::new(TableMorSource::from_table(table, fallback))
-                }
-                (_, None) => Box::new(TableMorSource::default_for(model, fallback)?),
-            };
-            Physics::EmdStar {
-                materials,
-                mor,
-                interference: match args.interference {
-                    InterferenceChoice::Hit => Interference::HitOnly,
-                    InterferenceChoice::Both => Interference::BothPartners,
-                },
-            }
-        }
-        EngineKind::Md => bail!("the MD engine is not event-driven"),
+        EngineKind::EmdStar => Physics::EmdStar {
+            materials,
+            mor: mor_source(system, args)?,
+            interference: match args.interference {
+                InterferenceChoice::Hit => Interference::HitOnly,
+                InterferenceChoice::Both => Interference::BothPartners,
+            },
+        },
+        EngineKind::Md | EngineKind::Hybrid => bail!("this engine is not purely event-driven"),
     })
 }
 
@@ -82,6 +84,7 @@ fn engine_name(kind: EngineKind) -> &'static str {
         EngineKind::Emd => "emd",
         EngineKind::EmdStar => "emdstar",
         EngineKind::Md => "md",
+        EngineKind::Hybrid => "hybrid",
     }
 }
 

@@ -15,6 +15,8 @@ pub enum Engine {
     Emd,
     /// eMD*: event-driven MD with the matrix of restitution (three events per collision).
     EmdStar,
+    /// MD where the gas is dense, eMD* where it is dilute (emdstar-hybrid).
+    Hybrid,
 }
 
 /// Parses `--engine`; names the engines that are planned but not built yet.
@@ -23,8 +25,9 @@ pub fn parse_engine(s: &str) -> Result<Engine, String> {
         "md" => Ok(Engine::Md),
         "emd" => Ok(Engine::Emd),
         "emdstar" => Ok(Engine::EmdStar),
+        "hybrid" => Ok(Engine::Hybrid),
         other => Err(format!(
-            "unknown engine '{other}': the engines are 'md', 'emd' and 'emdstar'"
+            "unknown engine '{other}': the engines are 'md', 'emd', 'emdstar' and 'hybrid'"
         )),
     }
 }

@@ -5,6 +5,7 @@ pub mod bench_edmd;
 pub mod check;
 pub mod edmd_engine;
 pub mod engine;
+pub mod hybrid_engine;
 pub mod mor;
 pub mod pair;
 pub mod run;

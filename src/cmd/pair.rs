@@ -42,6 +42,9 @@ pub fn run(args: &PairArgs) -> Result<()> {
         Engine::Emd | Engine::EmdStar => {
             super::edmd_engine::pair(&config, system, args.engine, &args.edmd, args.json)?;
         }
+        Engine::Hybrid => {
+            anyhow::bail!("the hybrid engine runs gases: use `emdstar run CONFIG --engine hybrid`")
+        }
         Engine::Md => {
             let (opts, steps) = md_options(&config, &system, &args.md, PAIR_DT_FRACTION)?;
             let mut md = Md::new(system, opts, config.t_end)?;

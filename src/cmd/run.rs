@@ -21,13 +21,15 @@ use std::time::Instant;
 pub struct RunArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// The engine: md, emd or emdstar.
+    /// The engine: md, emd, emdstar or hybrid.
     #[arg(long, value_parser = parse_engine, default_value = "md")]
     pub engine: Engine,
     #[command(flatten)]
     pub md: MdArgs,
     #[command(flatten)]
     pub edmd: super::edmd_engine::EdmdArgs,
+    #[command(flatten)]
+    pub hybrid: super::hybrid_engine::HybridArgs,
     /// Trajectory file (extended XYZ).
     #[arg(long, value_name = "PATH")]
     pub trajectory: Option<PathBuf>,
@@ -54,17 +56,28 @@ pub fn run(args: &RunArgs) -> Result<()> {
     pool.install(|| match args.engine {
         Engine::Md => run_md(args, pool.current_num_threads()),
         Engine::Emd | Engine::EmdStar => run_edmd(args),
+        Engine::Hybrid => super::hybrid_engine::run(args),
     })
 }
 
 fn run_edmd(args: &RunArgs) -> Result<()> {
     let (config, system) = load(&args.config)?;
+    let outputs = run_outputs(args, &config);
+    super::edmd_engine::run(&config, system, args.engine, &args.edmd, &outputs)
+}
+
+/// The output paths and intervals of a run (the command line over [output] over the
+/// defaults).
+pub(super) fn run_outputs(
+    args: &RunArgs,
+    config: &emdstar_system::Config,
+) -> super::edmd_engine::RunOutputs {
     let output = config.output.clone().unwrap_or_default();
     let stem = args
         .config
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().into_owned());
-    let outputs = super::edmd_engine::RunOutputs {
+    super::edmd_engine::RunOutputs {
         trajectory: args
             .trajectory
             .clone()
@@ -78,8 +91,7 @@ fn run_edmd(args: &RunArgs) -> Result<()> {
         trajectory_interval: output.trajectory_interval.unwrap_or(config.t_end / 20.0),
         log_interval: output.log_interval.unwrap_or(config.t_end / 100.0),
         quiet: args.quiet,
-    };
-    super::edmd_engine::run(&config, system, args.engine, &args.edmd, &outputs)
+    }
 }
 
 fn run_md(args: &RunArgs, threads: usize) -> Result<()> {

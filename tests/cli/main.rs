@@ -1,6 +1,7 @@
 //! End-to-end tests of the `emdstar` command line.
 
 mod edmd;
+mod hybrid;
 mod md;
 mod mor;
 mod table;

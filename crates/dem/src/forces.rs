@@ -50,7 +50,7 @@ pub fn unclipped_force(law: &PairLaw, overlap: f64, rate: f64) -> f64 {
 /// the returned ΔF = F(0⁺)·(½ − θ) enters the step's kicks with weight dt. Zero for
 /// continuing contacts and for laws that start at F = 0 (Hertz), and at t = 0 (h = 0).
 #[inline]
-fn touch_correction(law: &PairLaw, overlap_prev: f64, overlap: f64, rate: f64) -> f64 {
+pub fn touch_correction(law: &PairLaw, overlap_prev: f64, overlap: f64, rate: f64) -> f64 {
     if overlap_prev >= 0.0 || !overlap_prev.is_finite() {
         return 0.0;
     }

@@ -50,7 +50,7 @@ mod neighbour;
 mod options;
 
 pub use engine::Md;
-pub use forces::unclipped_force;
+pub use forces::{touch_correction, unclipped_force};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
     shortest_contact_time,

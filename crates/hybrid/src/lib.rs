@@ -1,0 +1,105 @@
+//! The hybrid engine of emdstar: force-based, time-driven MD (TD) where the gas is
+//! dense, eMD* events (ED) where it is dilute. After the HAET algorithm (Hybrid
+//! Algorithm of Event- and Time-driven methods, see `papers/haet-…` of the project
+//! notes), with one change that removes HAET's mismatch: ED collisions use the matrix
+//! of restitution of Müller & Pöschel 2013 (eMD*), whose trajectories agree with MD's.
+//!
+//! # Modes
+//! Every particle is either [`Mode::Event`] (ED) or [`Mode::Time`] (TD). Modes are
+//! decided at every neighbour-list rebuild, when all particles are synchronised
+//! (HAET, Sec. 6, decides at its link-cell update dt_BL too):
+//! 1. **Local volume fraction.** φ of a particle is the solid volume of the particles
+//!    in its link cell and the 26 (fewer at closed faces) neighbouring cells over
+//!    their volume (HAET, Sec. 5 and 6). With hysteresis: a particle becomes TD when
+//!    φ ≥ `phi_time`, and returns to ED only when φ < `phi_event` < `phi_time`, so it
+//!    does not flicker at the boundary of a dense region.
+//! 2. **Contacts (HAET (6.1)–(6.2)).** A TD particle that touches any particle or wall
+//!    (centre distance below the contact distance, so also a contact whose force has
+//!    already dropped to zero) stays TD: an ED particle never starts overlapped, and
+//!    multi-particle contacts are always MD's.
+//! 3. **Buffer.** A particle that would be ED but lies within the list cut-off
+//!    (contact distance + skin) of a TD particle becomes TD: the TD region carries a
+//!    one-skin-wide buffer, so that the per-step guard (below) rarely has to act.
+//!
+//! # Mixed pairs: no mixed contacts
+//! There are no ED–TD contacts. Every soft contact is either a full eMD* collision
+//! (both ED) or a full MD contact (both TD, or a TD particle and a wall). This is
+//! enforced by a **guard** at the start of every time step: an ED particle that could
+//! reach a TD particle within the step (gap < 2·(|v_ij|·dt + |a_i|·dt² + v_ED,max·dt),
+//! a bound on the approach in one step that allows for a velocity change of the ED
+//! particle by an event within the step) becomes TD at once, before the contact
+//! starts. An eMD* position jump (E^φ) may not bring an ED particle that close to a TD
+//! particle either (else exception (a): the eMD rule). Guard switches that find the
+//! pair already overlapping and approaching are counted
+//! ([`HybridStats::late_conversions`]; none in the tests and the hopper example). A
+//! pair just out of an eMD* collision overlaps by l(1 − ε_r) while it separates with
+//! zero force: that is not a contact.
+//!
+//! # Switching without jumps
+//! A switch changes only how a particle is moved, never its state:
+//! - ED → TD: the particle is moved (parabolic flight) to the step boundary. If it is
+//!   inside an eMD* transient (between E^φ and E^v), the pending E^v is applied first,
+//!   early, for it and its partner, and the partner is switched too: this is eMD*'s own
+//!   exception (b) (Müller & Pöschel 2013, Sec. VI B 5), which conserves momentum and
+//!   energy exactly. The pair then sits at the end state of the contact, whose clipped
+//!   force is zero and stays zero (F = max(0, …) with ξ̇ < 0), so MD takes over with
+//!   no impulse. Its contact forces at the boundary are added to the step's forces.
+//! - TD → ED: only at a rebuild, only without any contact (HAET (6.2)), so the particle
+//!   carries no contact force and the switch is exact.
+//! - An ED particle with more than [`HybridOptions::max_events_per_step`] events in one
+//!   step (an inelastic collapse, or a particle resting on a wall under gravity, which
+//!   HAET Sec. 4 and 6 also give to TD) flies on freely to the end of the step and
+//!   becomes TD there.
+//!
+//! # Advancing both modes together
+//! Time advances in steps of dt (the MD step). In each step [t, t + dt]:
+//! 1. rebuild the list and decide modes when the particles may have moved by more than
+//!    half the skin (bound: Σ v_max·dt plus the largest eMD* jump of any particle);
+//! 2. the guard converts ED particles that could reach a TD particle;
+//! 3. ED events up to t + dt are processed in time order (collisions among ED
+//!    particles and with walls, E^v events); ED particles are updated lazily, only when
+//!    they take part in an event, so a free ED particle costs nothing per step;
+//! 4. TD particles take one velocity-Verlet step with the force laws of
+//!    [`emdstar_contact`] and the predictor and touch correction of [`emdstar_dem`]
+//!    (see its crate docs), so an all-TD run is MD.
+//!
+//! ED predictions use the same list (pairs closer than contact + skin at the rebuild):
+//! the drift bound guarantees that no other pair can touch before the next rebuild,
+//! when every ED particle is re-predicted. Detection is Bannerman et al. 2014
+//! (Algorithms 1 and 2, via [`emdstar_edmd::detect`]), so gravity (parabolic flights)
+//! and inclined plane walls are handled in both modes. Collisions follow eMD* with
+//! its exceptions (a) (rotation into a third body: eMD rule) and (b) (a third particle
+//! hits a particle in its transient: that E^v runs early), from
+//! [`emdstar_mor::rule`]. While no particle is TD, the list takes the mean particle
+//! spacing as skin (fewer rebuilds).
+//!
+//! **Walls under gravity.** A pair in free fall feels gravity only through its centre
+//! of mass, so its E^v velocities gain g·τ. A wall, however, carries the normal part
+//! of gravity during the contact: an elastic sphere leaves a wall under gravity with
+//! its impact speed (energy balance at ξ = 0). So a wall E^v adds only the tangential
+//! part of g·τ; what remains of gravity's effect on the contact is of second order in
+//! g·τ/v_n (see the inclined-wall test).
+//!
+//! # Outlet
+//! [`HybridOptions::outlet`] is a plane behind which particles leave the system
+//! ([`Mode::Removed`], checked at rebuilds): the discharge of a hopper. Removed
+//! particles keep their last state but take no further part.
+//!
+//! # Limits
+//! - Only the force-zero contact end (F = max(0, …)) is supported: the switch relies on
+//!   the force staying zero at the end of an eMD* contact.
+//! - One thread; results are deterministic (fixed loop and event orders, ties broken by
+//!   particle number).
+
+// Component loops `for k in 0..3` over several arrays read best as they are.
+#![allow(clippy::needless_range_loop)]
+
+mod ed;
+mod engine;
+mod list;
+mod options;
+mod td;
+
+pub use engine::Hybrid;
+pub use list::local_volume_fractions;
+pub use options::{HybridError, HybridOptions, HybridStats, Mode};

@@ -1,0 +1,140 @@
+//! Options, modes, counters and errors of the hybrid engine.
+
+use emdstar_system::SystemError;
+
+/// How a particle is moved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Event-driven: free (parabolic) flight between eMD* events.
+    Event,
+    /// Time-driven: velocity Verlet with contact forces.
+    Time,
+    /// Left through the outlet ([`HybridOptions::outlet`]); no longer simulated.
+    Removed,
+}
+
+/// Options of the hybrid engine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HybridOptions {
+    /// The MD time step in s (bounded like [`emdstar_dem::MdOptions::dt`]).
+    pub dt: f64,
+    /// Verlet-list skin in m; `None` means [`emdstar_dem::default_skin`].
+    pub skin: Option<f64>,
+    /// A particle becomes TD where the local volume fraction reaches this.
+    pub phi_time: f64,
+    /// A TD particle may return to ED only where the local volume fraction is below
+    /// this (hysteresis; must not exceed `phi_time`).
+    pub phi_event: f64,
+    /// Whether modes are re-decided at rebuilds. When false, modes change only by the
+    /// guard and the event budget (ED → TD); useful to set modes by hand
+    /// ([`crate::Hybrid::set_mode`]).
+    pub adaptive: bool,
+    /// Events of one ED particle within one step above which it becomes TD.
+    pub max_events_per_step: u32,
+    /// An outlet: particles whose centre has passed behind this plane (distance < 0)
+    /// leave the system at the next list rebuild (a hopper's discharge).
+    pub outlet: Option<emdstar_system::Wall>,
+}
+
+impl HybridOptions {
+    /// Defaults around a time step: φ_TD = 0.2, φ_ED = 0.1 (eMD*'s exceptions are rare
+    /// up to η ≈ 0.1, Müller & Pöschel 2013, Fig. 7), adaptive, 50 events per step.
+    pub fn with_dt(dt: f64) -> Self {
+        Self {
+            dt,
+            skin: None,
+            phi_time: 0.2,
+            phi_event: 0.1,
+            adaptive: true,
+            max_events_per_step: 50,
+            outlet: None,
+        }
+    }
+}
+
+/// Counters of a hybrid run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct HybridStats {
+    /// Time steps done.
+    pub steps: u64,
+    /// Neighbour-list rebuilds (each one also decides the modes).
+    pub rebuilds: u64,
+    /// ED events taken from the queue (stale ones included).
+    pub events: u64,
+    /// eMD* pair collisions (E^φ events and eMD fallbacks).
+    pub pair_collisions: u64,
+    /// ED wall collisions.
+    pub wall_collisions: u64,
+    /// E^v events at their scheduled time.
+    pub velocity_events: u64,
+    /// eMD* exception (a): rotation impossible, eMD rule used.
+    pub exception_rotation: u64,
+    /// eMD* exception (b): a collision with a particle in its transient.
+    pub exception_interference: u64,
+    /// MoR from the exact solver because the table did not cover the impact.
+    pub mor_fallbacks: u64,
+    /// ED → TD switches (all causes).
+    pub to_time: u64,
+    /// TD → ED switches.
+    pub to_event: u64,
+    /// ED → TD switches made by the per-step guard.
+    pub guard_conversions: u64,
+    /// Guard switches of a particle already overlapping and approaching a TD particle
+    /// (the guard came too late; should be 0).
+    pub late_conversions: u64,
+    /// Largest overlap (m) found at a late guard switch.
+    pub max_late_overlap: f64,
+    /// ED → TD switches because of the event budget per step.
+    pub budget_conversions: u64,
+    /// Transients ended early by a switch (exception (b) at a switch).
+    pub early_transient_ends: u64,
+    /// Particle-steps done by TD particles (Σ over steps of N_TD).
+    pub td_particle_steps: u64,
+    /// Particles removed through the outlet.
+    pub removed: u64,
+}
+
+/// Errors of the hybrid engine.
+#[derive(Debug, thiserror::Error)]
+pub enum HybridError {
+    #[error(transparent)]
+    System(#[from] SystemError),
+    #[error(transparent)]
+    Contact(#[from] emdstar_contact::ContactError),
+    #[error(transparent)]
+    Md(#[from] emdstar_dem::MdError),
+    #[error(transparent)]
+    Event(#[from] emdstar_edmd::EngineError),
+    #[error("hybrid options: {0}")]
+    Invalid(String),
+    #[error(
+        "the box is too small for the cell list: along {axis} it is {length} m long, but a \
+         periodic axis needs at least 3 cells of 2·R_max + skin = {cell} m; enlarge the box \
+         or reduce the skin"
+    )]
+    BoxTooSmall {
+        axis: &'static str,
+        length: f64,
+        cell: f64,
+    },
+    #[error(
+        "particle {id} left the box along the closed axis {axis} at t = {t:e} s (position \
+         {position:?}); add walls at the box faces or make the axis periodic"
+    )]
+    LeftBox {
+        id: u32,
+        axis: &'static str,
+        t: f64,
+        position: [f64; 3],
+    },
+    #[error(
+        "particle {id} has a non-finite position or velocity at t = {t:e} s: the integration \
+         blew up; reduce the time step"
+    )]
+    BlewUp { id: u32, t: f64 },
+    #[error(
+        "skin = {skin:e} m is too thin: particles may move {step:e} m in one step, and the \
+         skin must exceed twice that; raise the skin or lower dt"
+    )]
+    SkinTooThin { skin: f64, step: f64 },
+}

@@ -1,0 +1,336 @@
+//! The hopper of the HAET paper (Sec. 7) as a quasi-2-D slab, run with pure MD and
+//! with the hybrid engine; writes PNG maps and curves and a JSON of the figures.
+//!
+//! ```sh
+//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--font FILE.ttf]
+//! ```
+//!
+//! See README.md beside this file for the set-up and what the figures mean.
+
+mod plot;
+
+use emdstar_contact::{ForceLaw, LinearDashpot, PairProperties, Sphere};
+use emdstar_edmd::rules::TableMorSource;
+use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use emdstar_system::{Particles, SimBox, Species, System, Wall};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Particle radius (diameter 0.5 mm), density (glass) in SI units.
+const RADIUS: f64 = 0.25e-3;
+const DENSITY: f64 = 2500.0;
+const COUNT: usize = 1200;
+/// Hopper width and height, outlet width, funnel height (45° walls).
+const WIDTH: f64 = 0.06;
+const HEIGHT: f64 = 0.25;
+const OUTLET: f64 = 5.0e-3;
+/// Slab thickness: 1.1 diameters, a monolayer.
+const THICKNESS: f64 = 1.1 * 2.0 * RADIUS;
+/// Duration of a central particle–particle contact and its restitution.
+const CONTACT_TIME: f64 = 1.0e-5;
+const RESTITUTION: f64 = 0.8;
+/// Field bins (m) and the window the fields are averaged over (s).
+const BIN: f64 = 2.0e-3;
+const SAMPLE: f64 = 5.0e-4;
+
+/// A deterministic uniform generator on [0, 1) (64-bit LCG, Knuth's MMIX constants).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The linear dashpot with the wanted contact time and restitution of a central
+/// particle–particle impact (Schwager & Pöschel 2007: ε = exp(−β t_c) with
+/// t_c ≈ π/√(ω0² − β²) for weak damping).
+fn material(m_eff: f64) -> LinearDashpot {
+    let beta_over_omega = -RESTITUTION.ln() / std::f64::consts::PI;
+    let omega = std::f64::consts::PI / CONTACT_TIME;
+    let beta = beta_over_omega * omega;
+    let stiffness = m_eff * (omega * omega + beta * beta);
+    LinearDashpot::new(stiffness, 2.0 * m_eff * beta).expect("valid dashpot")
+}
+
+/// The hopper: side walls, two 45° funnel walls meeting the outlet at y = 0, a lid,
+/// two slab faces; 1200 particles at random above the funnel, 10 m/s downwards.
+fn hopper(seed: u64) -> System {
+    let sphere = Sphere::from_density(RADIUS, DENSITY).expect("valid sphere");
+    let species = vec![Species {
+        radius: RADIUS,
+        mass: sphere.mass,
+    }];
+    let m_eff = PairProperties::spheres(&sphere, &sphere).m_eff;
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let (left, right) = (0.5 * (WIDTH - OUTLET), 0.5 * (WIDTH + OUTLET));
+    let wall = |normal: [f64; 3], point: [f64; 3]| Wall { normal, point };
+    let walls = vec![
+        wall([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
+        wall([-1.0, 0.0, 0.0], [WIDTH, 0.0, 0.0]),
+        wall([s, s, 0.0], [left, 0.0, 0.0]),
+        wall([-s, s, 0.0], [right, 0.0, 0.0]),
+        wall([0.0, -1.0, 0.0], [0.0, HEIGHT + 0.01, 0.0]),
+        wall([0.0, 0.0, 1.0], [0.0, 0.0, 0.0]),
+        wall([0.0, 0.0, -1.0], [0.0, 0.0, THICKNESS]),
+    ];
+    let mut rng = Lcg(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x5DEE_CE66);
+    let mut particles = Particles::default();
+    let funnel_top = left + 2.0 * RADIUS;
+    let min_gap2 = (2.0 * RADIUS * 1.01).powi(2);
+    while particles.len() < COUNT {
+        let x = [
+            RADIUS * 1.01 + rng.next() * (WIDTH - 2.02 * RADIUS),
+            funnel_top + rng.next() * (HEIGHT - funnel_top),
+            0.5 * THICKNESS,
+        ];
+        let free = particles
+            .position
+            .iter()
+            .all(|p: &[f64; 3]| (p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2) >= min_gap2);
+        if free {
+            particles.push(&species, 0, x, [0.0, -10.0, 0.0]);
+        }
+    }
+    System {
+        particles,
+        species,
+        material: ForceLaw::Linear(material(m_eff)),
+        sim_box: Some(SimBox {
+            lo: [0.0, -0.01, 0.0],
+            size: [WIDTH, HEIGHT + 0.02, THICKNESS],
+            periodic: [false; 3],
+        }),
+        walls,
+        gravity: [0.0, -9.81, 0.0],
+    }
+}
+
+/// CPU time of this process in s (user + system, from /proc/self/stat, in clock
+/// ticks of 10 ms): robust against other processes sharing the cores, which wall
+/// time is not. Falls back to 0 where /proc is missing.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which is in parentheses): state is field 3,
+    // utime and stime are fields 14 and 15.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = |k: usize| {
+        fields
+            .get(k - 3)
+            .and_then(|f| f.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    (ticks(14) + ticks(15)) / 100.0
+}
+
+/// What one run records.
+struct Run {
+    /// (t, CPU s, ED particles, particles left) every [`SAMPLE`].
+    series: Vec<(f64, f64, usize, usize)>,
+    /// Bin sums over the sampling window: solid area, Σ|v|, particle count.
+    area: Vec<f64>,
+    speed: Vec<f64>,
+    count: Vec<f64>,
+    snapshots: usize,
+    wall_s: f64,
+    cpu_s: f64,
+    stats: emdstar_hybrid::HybridStats,
+}
+
+const NX: usize = (WIDTH / BIN) as usize;
+const NY: usize = (HEIGHT / BIN) as usize;
+
+/// Runs the hopper of `seed` to `t_end`; `md` makes every particle time-driven.
+fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
+    let system = hopper(seed);
+    let tc = emdstar_dem::shortest_contact_time(&system, t_end)
+        .expect("contact time")
+        .expect("particles move");
+    let dt = emdstar_dem::DEFAULT_DT_FRACTION * tc;
+    let outlet = Wall {
+        normal: [0.0, 1.0, 0.0],
+        point: [0.0, -RADIUS, 0.0],
+    };
+    let mut opts = HybridOptions {
+        outlet: Some(outlet),
+        ..HybridOptions::with_dt(dt)
+    };
+    if md {
+        (opts.phi_time, opts.phi_event) = (0.0, 0.0);
+    }
+    let mor = TableMorSource::default_for(system.material.model(), true).expect("table");
+    let mut h = Hybrid::new(system, opts, Box::new(mor), t_end).expect("hopper set-up");
+    let per_sample = (SAMPLE / dt).round() as u64;
+    let samples = (t_end / SAMPLE).round() as u64;
+    let mut out = Run {
+        series: vec![(0.0, 0.0, h.count(Mode::Event), 0)],
+        area: vec![0.0; NX * NY],
+        speed: vec![0.0; NX * NY],
+        count: vec![0.0; NX * NY],
+        snapshots: 0,
+        wall_s: 0.0,
+        cpu_s: 0.0,
+        stats: *h.stats(),
+    };
+    let start = Instant::now();
+    let cpu_start = cpu_seconds();
+    for _ in 0..samples {
+        h.advance(per_sample).expect("hopper run");
+        let cpu = cpu_seconds() - cpu_start;
+        let t = h.time();
+        out.series
+            .push((t, cpu, h.count(Mode::Event), h.count(Mode::Removed)));
+        if t >= window.0 - 1e-12 && t <= window.1 + 1e-12 {
+            let p = h.particles();
+            out.snapshots += 1;
+            for (i, mode) in h.modes().iter().enumerate() {
+                let (x, v) = (p.position[i], p.velocity[i]);
+                if *mode == Mode::Removed || x[1] < 0.0 {
+                    continue;
+                }
+                let (bx, by) = ((x[0] / BIN) as usize, (x[1] / BIN) as usize);
+                if bx < NX && by < NY {
+                    let b = by * NX + bx;
+                    out.area[b] += std::f64::consts::PI * RADIUS * RADIUS;
+                    out.speed[b] += (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                    out.count[b] += 1.0;
+                }
+            }
+        }
+    }
+    out.wall_s = start.elapsed().as_secs_f64();
+    out.cpu_s = cpu_seconds() - cpu_start;
+    out.stats = *h.stats();
+    out
+}
+
+/// The area-fraction and mean-speed maps of a run (NaN speed in empty bins).
+fn fields(r: &Run) -> (Vec<f64>, Vec<f64>) {
+    let n = r.snapshots.max(1) as f64;
+    let phi = r.area.iter().map(|a| a / (BIN * BIN * n)).collect();
+    let speed = r
+        .speed
+        .iter()
+        .zip(&r.count)
+        .map(|(s, c)| if *c > 0.0 { s / c } else { f64::NAN })
+        .collect();
+    (phi, speed)
+}
+
+/// Root-mean-square difference of two maps over the bins where both are defined.
+fn rms_difference(a: &[f64], b: &[f64]) -> f64 {
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (x, y) in a.iter().zip(b) {
+        if x.is_finite() && y.is_finite() {
+            sum += (x - y) * (x - y);
+            n += 1;
+        }
+    }
+    (sum / n.max(1) as f64).sqrt()
+}
+
+fn main() {
+    let mut seeds = 3u64;
+    let mut t_end = 0.025;
+    let mut out = PathBuf::from("examples/hopper/out");
+    let mut font = PathBuf::from("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
+    let mut engines = vec![true, false];
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    for pair in args.chunks(2) {
+        let value = pair
+            .get(1)
+            .unwrap_or_else(|| panic!("{} needs a value", pair[0]));
+        match pair[0].as_str() {
+            "--seeds" => seeds = value.parse().expect("--seeds N"),
+            "--t-end" => t_end = value.parse().expect("--t-end SECONDS"),
+            "--out" => out = value.into(),
+            "--font" => font = value.into(),
+            // Profiling aid: one engine only (no figures then).
+            "--only" => engines = vec![value == "md"],
+            other => panic!("unknown option {other}; see the doc comment of main.rs"),
+        }
+    }
+    std::fs::create_dir_all(&out).expect("output directory");
+    let both = engines.len() == 2;
+    emdstar_tablegen::plot::register_font(&font).unwrap_or_else(|e| panic!("{e}"));
+    let window = (t_end - 4.0 * SAMPLE, t_end);
+    let mut md_runs = Vec::new();
+    let mut hybrid_runs = Vec::new();
+    for seed in 1..=seeds {
+        for &md in &engines {
+            let r = run(seed, md, t_end, window);
+            eprintln!(
+                "seed {seed} {}: {:.1} s CPU, {:.1} s wall, {} removed, {} ED at the end, {:?}",
+                if md { "MD" } else { "hybrid" },
+                r.cpu_s,
+                r.wall_s,
+                r.stats.removed,
+                r.series.last().map_or(0, |s| s.2),
+                r.stats
+            );
+            if md { &mut md_runs } else { &mut hybrid_runs }.push(r);
+        }
+    }
+    if !both {
+        return;
+    }
+    let (md_fields, hy_fields): (Vec<_>, Vec<_>) = (
+        md_runs.iter().map(fields).collect(),
+        hybrid_runs.iter().map(fields).collect(),
+    );
+    // Same seed, hybrid against MD; and MD against MD with another seed (the noise).
+    let mut same = (Vec::new(), Vec::new());
+    let mut noise = (Vec::new(), Vec::new());
+    for s in 0..seeds as usize {
+        same.0
+            .push(rms_difference(&hy_fields[s].0, &md_fields[s].0));
+        same.1
+            .push(rms_difference(&hy_fields[s].1, &md_fields[s].1));
+        let o = (s + 1) % seeds as usize;
+        if o != s {
+            noise
+                .0
+                .push(rms_difference(&md_fields[o].0, &md_fields[s].0));
+            noise
+                .1
+                .push(rms_difference(&md_fields[o].1, &md_fields[s].1));
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let md_wall: f64 = md_runs.iter().map(|r| r.wall_s).sum();
+    let hy_wall: f64 = hybrid_runs.iter().map(|r| r.wall_s).sum();
+    let md_cpu: f64 = md_runs.iter().map(|r| r.cpu_s).sum();
+    let hy_cpu: f64 = hybrid_runs.iter().map(|r| r.cpu_s).sum();
+    let md_steps: u64 = md_runs.iter().map(|r| r.stats.td_particle_steps).sum();
+    let hy_steps: u64 = hybrid_runs.iter().map(|r| r.stats.td_particle_steps).sum();
+    let summary = format!(
+        "{{\n  \"seeds\": {seeds},\n  \"t_end\": {t_end},\n  \"md_wall_s\": {md_wall:.3},\n  \
+         \"hybrid_wall_s\": {hy_wall:.3},\n  \"md_cpu_s\": {md_cpu:.2},\n  \
+         \"hybrid_cpu_s\": {hy_cpu:.2},\n  \"cpu_ratio_md_over_hybrid\": {:.3},\n  \
+         \"td_particle_steps_md\": {md_steps},\n  \"td_particle_steps_hybrid\": {hy_steps},\n  \
+         \"speed_ratio_wall_md_over_hybrid\": {:.3},\n  \
+         \"rms_phi_hybrid_vs_md_same_seed\": {:?},\n  \"rms_phi_md_vs_md_other_seed\": {:?},\n  \
+         \"rms_speed_hybrid_vs_md_same_seed\": {:?},\n  \"rms_speed_md_vs_md_other_seed\": {:?},\n  \
+         \"mean\": {{\"phi_same\": {:.4e}, \"phi_noise\": {:.4e}, \"speed_same\": {:.4e}, \
+         \"speed_noise\": {:.4e}}}\n}}\n",
+        md_cpu / hy_cpu,
+        md_wall / hy_wall,
+        same.0,
+        noise.0,
+        same.1,
+        noise.1,
+        mean(&same.0),
+        mean(&noise.0),
+        mean(&same.1),
+        mean(&noise.1)
+    );
+    std::fs::write(out.join("summary.json"), &summary).expect("write summary");
+    print!("{summary}");
+    plot::maps(&out, &md_fields[0], &hy_fields[0], (NX, NY, BIN)).expect("maps");
+    plot::curves(&out, &md_runs[0].series, &hybrid_runs[0].series).expect("curves");
+}

@@ -1,0 +1,119 @@
+//! `emdstar run --engine hybrid`.
+
+use super::{emdstar_error, emdstar_json};
+
+fn run_hybrid(dir_name: &str, extra: &[&str]) -> serde_json::Value {
+    let dir = std::env::temp_dir().join(format!("emdstar-{dir_name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (traj, log) = (dir.join("g.xyz"), dir.join("g.log"));
+    let mut args = vec![
+        "run",
+        "tests/md/configs/gas_small.toml",
+        "--engine",
+        "hybrid",
+        "--mor",
+        "table-or-exact",
+        "--quiet",
+        "--trajectory",
+        traj.to_str().unwrap(),
+        "--log",
+        log.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let v = emdstar_json(&args);
+    std::fs::remove_dir_all(&dir).ok();
+    v
+}
+
+fn run_md() -> serde_json::Value {
+    emdstar_json(&[
+        "run",
+        "tests/md/configs/gas_small.toml",
+        "--quiet",
+        "--trajectory",
+        std::env::temp_dir()
+            .join("emdstar-hybrid-md.xyz")
+            .to_str()
+            .unwrap(),
+        "--log",
+        std::env::temp_dir()
+            .join("emdstar-hybrid-md.log")
+            .to_str()
+            .unwrap(),
+    ])
+}
+
+#[test]
+fn hybrid_run_on_a_dense_gas_is_md() {
+    let hybrid = run_hybrid("hybrid-dense", &[]);
+    let md = run_md();
+    assert_eq!(hybrid["engine"], "hybrid");
+    let modes = hybrid["mode_counts"].as_array().unwrap();
+    assert!(modes.len() > 10);
+    assert!(modes.iter().all(|m| m["time_driven"] == 500));
+    let (eh, em) = (
+        hybrid["energy_drift"].as_f64().unwrap(),
+        md["energy_drift"].as_f64().unwrap(),
+    );
+    assert!((eh - em).abs() < 1e-9, "{eh} {em}");
+}
+
+#[test]
+fn hybrid_run_with_both_modes_dissipates_like_md_and_conserves_momentum() {
+    let v = run_hybrid(
+        "hybrid-mixed",
+        &["--phi-time", "0.25", "--phi-event", "0.2"],
+    );
+    let modes = v["mode_counts"].as_array().unwrap();
+    assert!(modes.iter().all(|m| {
+        m["event_driven"].as_u64().unwrap() + m["time_driven"].as_u64().unwrap() == 500
+    }));
+    assert!(
+        modes
+            .iter()
+            .any(|m| m["event_driven"].as_u64().unwrap() > 50)
+    );
+    let s = &v["stats"];
+    assert!(s["collisions"].as_u64().unwrap() > 0);
+    assert!(s["switches"]["to_time_driven"].as_u64().unwrap() > 0);
+    assert_eq!(s["switches"]["guard_late"], 0);
+    assert!(v["momentum_drift_relative"].as_f64().unwrap() < 1e-12);
+    // eMD* collisions dissipate as the force law does: the energy lost agrees with
+    // MD's on the same gas to 1 % of it.
+    let drift = v["energy_drift"].as_f64().unwrap();
+    let md = run_md()["energy_drift"].as_f64().unwrap();
+    assert!(md < -0.01, "the gas must dissipate for this test: {md}");
+    assert!((drift - md).abs() < 0.01 * md.abs(), "{drift} {md}");
+}
+
+#[test]
+fn hybrid_bad_options_get_clear_errors() {
+    let path = "tests/md/configs/gas_small.toml";
+    let err = emdstar_error(&[
+        "run",
+        path,
+        "--engine",
+        "hybrid",
+        "--phi-time",
+        "0.1",
+        "--phi-event",
+        "0.2",
+    ]);
+    assert!(err.contains("phi_event"), "{err}");
+    let err = emdstar_error(&[
+        "run",
+        path,
+        "--engine",
+        "hybrid",
+        "--contact-end",
+        "overlap",
+    ]);
+    assert!(err.contains("contact_end"), "{err}");
+    let err = emdstar_error(&[
+        "pair",
+        "tests/md/configs/oblique_linear.toml",
+        "--engine",
+        "hybrid",
+    ]);
+    assert!(err.contains("run"), "{err}");
+}
