@@ -91,6 +91,41 @@ fn edmd_pair_emdstar_follows_md_and_emd_does_not() {
     assert!(largest_difference(&final_state(&emd), &md) > 0.1);
 }
 
+/// A damped ball bouncing off an inclined floor under gravity: eMD*'s wall E^φ must
+/// not count the wall it hits as blocking the rotation (exception a), and the wall
+/// carries the normal part of g during the contact. What eMD* leaves out is of second
+/// order in g·τ (τ ≈ 4.9 ms, the linear contact's duration π·√(m/k) with damping):
+/// |Δv| < (g·τ)²/2, |Δx| < (g·τ)²/2·t + g·τ². Classic eMD misses by about v_n·τ.
+#[test]
+fn edmd_pair_emdstar_bounces_off_an_inclined_wall_like_md() {
+    let config = "tests/md/configs/incline_damped.toml";
+    let md = final_state(&emdstar_json(&["pair", config, "--engine", "md", "--json"]));
+    let star = emdstar_json(&[
+        "pair", config, "--engine", "emdstar", "--mor", "exact", "--json",
+    ]);
+    assert_eq!(star["stats"]["wall_collisions"], 1, "{star}");
+    assert_eq!(star["stats"]["velocity_events"], 1, "{star}");
+    assert_eq!(
+        star["stats"]["exceptions"]["rotation_impossible"], 0,
+        "{star}"
+    );
+    let g_tau = 9.81 * 4.9e-3;
+    let state = final_state(&star);
+    let (x, v) = state.split_at(3);
+    let (x_md, v_md) = md.split_at(3);
+    let dv = largest_difference(v, v_md);
+    let dx = largest_difference(x, x_md);
+    assert!(dv < g_tau * g_tau / 2.0, "|dv| = {dv:e}");
+    assert!(
+        dx < g_tau * g_tau / 2.0 * 0.45 + g_tau * 4.9e-3,
+        "|dx| = {dx:e}"
+    );
+    let emd = final_state(&emdstar_json(&[
+        "pair", config, "--engine", "emd", "--json",
+    ]));
+    assert!(largest_difference(&emd, &md) > 1e-2);
+}
+
 #[test]
 fn edmd_run_reports_events_exceptions_and_drift() {
     let dir = std::env::temp_dir().join(format!("emdstar-edmd-run-{}", std::process::id()));

@@ -139,7 +139,7 @@ impl<Q: EventQueue> Engine<Q> {
             arr(&out.rotated_positions[0]),
             arr(&out.rotated_positions[1]),
         ];
-        if self.rotation_blocked(&[i, j], &new) {
+        if self.rotation_blocked(&[i, j], &new, None) {
             self.stats.exception_rotation += 1;
             return Ok(Some(-m.eps_rdot));
         }
@@ -167,8 +167,14 @@ impl<Q: EventQueue> Engine<Q> {
     }
 
     /// Exception (a): would moving `parties` to `new` push any of them deeper into a
-    /// third particle or a wall than it is now?
-    fn rotation_blocked(&self, parties: &[usize], new: &[[f64; 3]]) -> bool {
+    /// third particle or into a wall other than `own_wall` (the wall being hit, whose
+    /// E^φ sets the distance to l·ε_r < l by design) than it is now?
+    fn rotation_blocked(
+        &self,
+        parties: &[usize],
+        new: &[[f64; 3]],
+        own_wall: Option<usize>,
+    ) -> bool {
         let now = self.time;
         for (slot, &p) in parties.iter().enumerate() {
             let (x_new, x_old) = (new[slot], self.slot[p].kin.pos);
@@ -207,7 +213,10 @@ impl<Q: EventQueue> Engine<Q> {
             if blocked {
                 return true;
             }
-            for wall in &self.walls {
+            for (w, wall) in self.walls.iter().enumerate() {
+                if own_wall == Some(w) {
+                    continue;
+                }
                 let h_new = dot(wall.normal, sub(x_new, wall.point));
                 let h_old = dot(wall.normal, sub(x_old, wall.point));
                 if h_new < self.slot[p].kin.radius && h_new < h_old {
@@ -276,14 +285,17 @@ impl<Q: EventQueue> Engine<Q> {
         let out = resolve_wall(&body, &vec3(wall.normal), entry.props.l, &m, scaled.time);
         let rel = out.rotated_positions[0];
         let new = [std::array::from_fn(|k| rel[k] + wall.point[k])];
-        if self.rotation_blocked(&[i], &new) {
+        if self.rotation_blocked(&[i], &new, Some(w)) {
             self.stats.exception_rotation += 1;
             return Ok(Some(-m.eps_rdot));
         }
         self.place(i, new[0]);
         self.slot[i].kin.vel = arr(&out.transient_velocity);
+        // The wall carries the normal part of gravity during the contact (an elastic
+        // sphere leaves it with its impact speed), so only the tangential part acts
+        // over τ; see `Engine::transient_gravity`.
         let post = out.post_velocities[0];
-        let g = self.gravity;
+        let g = self.transient_gravity((self.len() + w) as u32);
         self.pending_vel[i] = std::array::from_fn(|k| post[k] + g[k] * out.duration);
         self.slot[i].ev.pending_time = self.time + out.duration;
         self.slot[i].ev.partner = (self.len() + w) as u32;
