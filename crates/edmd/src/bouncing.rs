@@ -1,9 +1,11 @@
 //! The bouncing-ball test of Bannerman et al. 2014, Sec. 5 and Fig. 7: an inelastic
 //! hard sphere (σ = 1) dropped from rest at height r_plate + 1 onto a plate at r_plate
 //! under gravity, followed for a fixed number of impacts. Shifting the plate should not
-//! change anything, but with the naive event time, Eq. (12), about half of all offsets
-//! end in a negative discriminant after some 30 impacts; the stable Algorithm 2 never
-//! fails and approximates the inelastic collapse to machine precision.
+//! change anything, but with the naive event time, Eq. (12), an offset whose round-off
+//! leaves the ball just below contact ends in a negative discriminant after some 30
+//! impacts (the paper: about half of all offsets; here a quarter, see the tests); the
+//! stable Algorithm 2 never fails and approximates the inelastic collapse to machine
+//! precision.
 
 use crate::detect::{sphere_wall, sphere_wall_naive};
 use rand::{RngExt, SeedableRng};
@@ -162,20 +164,35 @@ mod tests {
         assert!(s.max_overlap < 1e-14, "{}", s.max_overlap);
     }
 
+    /// Bannerman 2014, Sec. 5: with Eq. (12) a run fails after ≈ 30 impacts exactly
+    /// when round-off leaves the ball below contact (δ = h − σ/2 < 0) once its flights
+    /// have become shorter than the overlap: the discriminant v² + 2g·δ turns negative.
+    /// Offsets whose residual stays ≥ 0 survive. The paper finds ≈ 50 % failing,
+    /// the sign of δ being a coin flip. Here the residual after an impact is exactly 0
+    /// for most offsets (x += v·dt + ½g·dt² lands on plate + σ/2), so fewer fail:
+    /// 25 % of 10⁶ offsets (issue 5 note); the mechanism is checked sample by sample.
     #[test]
-    fn naive_ball_fails_on_a_large_fraction_of_offsets() {
+    fn naive_ball_fails_exactly_when_round_off_leaves_it_overlapping() {
         let bb = BouncingBall {
             naive: true,
             ..Default::default()
         };
-        let s = bb.run(20_000, 1);
-        // Bannerman 2014, Sec. 5, report ≈ 50 % failing offsets after ≈ 30 impacts;
-        // with this update order about a quarter fail (see the report of issue 5),
-        // and the failing ones do fail early.
-        let fraction = s.failures as f64 / s.samples as f64;
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut failures = 0;
+        for _ in 0..20_000 {
+            let s = bb.sample(rng.random::<f64>());
+            match s.failure {
+                Some(f) => {
+                    failures += 1;
+                    assert_eq!(f, Failure::NegativeDiscriminant);
+                    assert!(s.max_overlap > 0.0, "{s:?}");
+                    assert!((20..=40).contains(&s.events), "{s:?}");
+                }
+                None => assert_eq!(s.max_overlap, 0.0, "{s:?}"),
+            }
+        }
+        let fraction = f64::from(failures) / 20_000.0;
         assert!((0.1..0.7).contains(&fraction), "{fraction}");
-        let failing_events = (s.mean_events - 1000.0 * (1.0 - fraction)) / fraction;
-        assert!((10.0..100.0).contains(&failing_events), "{failing_events}");
     }
 
     #[test]

@@ -335,6 +335,23 @@ impl<Q: EventQueue> Engine<Q> {
         let (p, v) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
         let mut best = f64::INFINITY;
         let mut face = 0u8;
+        if !self.has_gravity {
+            // Straight flight: only the face ahead on each axis can be crossed.
+            for k in 0..3 {
+                let (low, high) = self.grid.faces(k, c[k]);
+                let (target, up) = if v[k] > 0.0 { (high, 1) } else { (low, 0) };
+                if v[k] != 0.0 && target.is_finite() {
+                    let t = ((target - p[k]) / v[k]).max(0.0);
+                    if t < best {
+                        best = t;
+                        face = (2 * k + up) as u8;
+                    }
+                }
+            }
+            self.slot[i].ev.cross_time = self.time + best;
+            self.slot[i].ev.cross_face = face;
+            return;
+        }
         for k in 0..3 {
             let (low, high) = self.grid.faces(k, c[k]);
             let g = self.gravity[k];
