@@ -18,9 +18,9 @@ pub enum BenchTarget {
     /// Y = 1 GPa, ν = 0.4, A = 0, rms speed 1 m/s, simple cubic start.
     Md,
     /// The event-driven engine (issue 5): elastic hard spheres (N = 32000, η = 0.10),
-    /// a dilute eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) and, with --scaling,
-    /// the hard-sphere rate for N from 10³ to 10⁶. Uses only the flags under
-    /// "event-driven".
+    /// a dilute eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) against hard spheres
+    /// of the same gas and, with --scaling, both rates for N from 10³ to 10⁶. Uses
+    /// only the flags under "event-driven".
     Edmd,
 }
 

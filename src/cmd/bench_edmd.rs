@@ -46,13 +46,14 @@ pub struct BenchEdmdArgs {
     /// Packing fraction of the hard-sphere benchmark.
     #[arg(long, default_value_t = 0.10)]
     pub hs_eta: f64,
-    /// Also measure the hard-sphere rate for N = 864 … 1 000 188.
+    /// Also measure the rates for N = 864 … 1 000 188 (hard spheres at --hs-eta and, unless
+    /// --hard-spheres-only, the eMD* gas at η = 0.01; 10 collisions per particle at most).
     #[arg(long)]
     pub scaling: bool,
     /// Skip the eMD* gas.
     #[arg(long)]
     pub hard_spheres_only: bool,
-    /// Skip the hard-sphere gas (for profiling the eMD* gas alone).
+    /// Skip the hard-sphere gases (for profiling the eMD* gas alone).
     #[arg(long, conflicts_with_all = ["hard_spheres_only", "scaling"])]
     pub emdstar_only: bool,
     /// MoR source of the eMD* gas.
@@ -128,17 +129,24 @@ fn hard_spheres(
     }
 }
 
+/// FCC cells per side of the eMD* gas (N = 4·14³ = 10 976) and its packing fraction.
+const EMDSTAR_CELLS: usize = 14;
+const EMDSTAR_ETA: f64 = 0.01;
+/// FCC cells per side of the scaling runs: N = 864 … 1 000 188.
+const SCALING_CELLS: [usize; 5] = [6, 10, 22, 46, 63];
+
 /// Müller & Pöschel 2013, Sec. VI B 6: elastic Hertz spheres, R = 0.1 m,
 /// ρ = 1140 kg/m³, ν = 0.4, thermal speed ≈ 2 m/s; here Y = 1 GPa and η = 0.01.
 fn emdstar_gas(
+    cells: usize,
     per_particle: f64,
     mor: Box<dyn MorSource>,
     queue: QueueArg,
 ) -> Result<(f64, Value)> {
     let sphere = Sphere::from_density(0.1, 1140.0)?;
-    let eta = 0.01;
+    let eta = EMDSTAR_ETA;
     let setup: Setup = gas::fcc(
-        14,
+        cells,
         eta / (4.0 / 3.0 * PI * 0.1f64.powi(3)),
         0.2,
         sphere.mass,
@@ -216,43 +224,85 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         );
     }
     let mut out = json!({ "hard_spheres": hs });
+    let table = || -> Result<Box<dyn MorSource>> {
+        Ok(match a.mor {
+            MorArg::Exact => Box::new(ExactMor),
+            MorArg::Table => Box::new(TableMorSource::default_for(Model::Hertz, true)?),
+        })
+    };
     if !a.hard_spheres_only {
         let (rate, v) = best_of(a.rounds, || {
-            let mor: Box<dyn MorSource> = match a.mor {
-                MorArg::Exact => Box::new(ExactMor),
-                MorArg::Table => Box::new(TableMorSource::default_for(Model::Hertz, true)?),
-            };
-            emdstar_gas(a.per_particle, mor, a.queue)
+            emdstar_gas(EMDSTAR_CELLS, a.per_particle, table()?, a.queue)
         })?;
+        // The same gas as hard spheres (same N, η and FCC start; units do not matter):
+        // what eMD*'s three events and MoR lookup cost over a plain collision.
+        let (same_rate, same) = if a.emdstar_only {
+            (f64::NAN, Value::Null)
+        } else {
+            best_of(a.rounds, || {
+                hard_spheres(EMDSTAR_CELLS, EMDSTAR_ETA, a.per_particle, a.queue)
+            })?
+        };
         if !a.json {
             println!(
-                "eMD* Hertz gas, N = {}, η = 0.01, Y = 1 GPa ({} MoR): {rate:.3e} collisions/s{} \
-                 ({:.2}× slower than hard spheres)",
+                "eMD* Hertz gas, N = {}, η = {EMDSTAR_ETA}, Y = 1 GPa ({} MoR): {rate:.3e} collisions/s{}",
                 v["particles"],
                 format!("{:?}", a.mor).to_lowercase(),
                 cpu_rate(&v),
-                hs_rate / rate
             );
+            if !a.emdstar_only {
+                println!(
+                    "  hard spheres, same gas (N = {}, η = {EMDSTAR_ETA}): {same_rate:.3e} collisions/s{}",
+                    same["particles"],
+                    cpu_rate(&same)
+                );
+                println!(
+                    "  eMD* is {:.2}× slower than hard spheres in the same gas, {:.2}× slower \
+                     than hard spheres at η = {}",
+                    same_rate / rate,
+                    hs_rate / rate,
+                    a.hs_eta
+                );
+            }
         }
         out["emdstar_hertz"] = v;
+        out["hard_spheres_same_gas"] = same;
         out["emdstar_slowdown"] = json!(hs_rate / rate);
+        out["emdstar_slowdown_same_gas"] = json!(same_rate / rate);
     }
     if a.scaling {
         let mut rows = vec![];
-        for cells in [6, 10, 22, 46, 63] {
+        let mut emdstar_rows = vec![];
+        for cells in SCALING_CELLS {
             let (rate, v) = best_of(a.rounds, || {
                 hard_spheres(cells, a.hs_eta, a.per_particle.min(10.0), a.queue)
             })?;
+            let line = format!(
+                "  N = {:>8}: hard spheres (η = {}) {rate:.3e} collisions/s{}",
+                v["particles"],
+                a.hs_eta,
+                cpu_rate(&v)
+            );
+            rows.push(v);
+            if a.hard_spheres_only {
+                if !a.json {
+                    println!("{line}");
+                }
+                continue;
+            }
+            let (star, w) = best_of(a.rounds, || {
+                emdstar_gas(cells, a.per_particle.min(10.0), table()?, a.queue)
+            })?;
             if !a.json {
                 println!(
-                    "  N = {:>8}: {rate:.3e} collisions/s{}",
-                    v["particles"],
-                    cpu_rate(&v)
+                    "{line}; eMD* gas (η = {EMDSTAR_ETA}) {star:.3e}{}",
+                    cpu_rate(&w)
                 );
             }
-            rows.push(v);
+            emdstar_rows.push(w);
         }
         out["scaling"] = json!(rows);
+        out["scaling_emdstar"] = json!(emdstar_rows);
     }
     if a.json {
         println!("{out}");
