@@ -2,7 +2,7 @@
 //! with the hybrid engine; writes PNG maps and curves and a JSON of the figures.
 //!
 //! ```sh
-//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--font FILE.ttf]
+//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--font FILE.ttf (default: the embedded font)]
 //! ```
 //!
 //! See README.md beside this file for the set-up and what the figures mean.
@@ -238,7 +238,7 @@ fn main() {
     let mut seeds = 3u64;
     let mut t_end = 0.025;
     let mut out = PathBuf::from("examples/hopper/out");
-    let mut font = PathBuf::from("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf");
+    let mut font: Option<PathBuf> = None;
     let mut engines = vec![true, false];
     let args: Vec<String> = std::env::args().skip(1).collect();
     for pair in args.chunks(2) {
@@ -249,7 +249,7 @@ fn main() {
             "--seeds" => seeds = value.parse().expect("--seeds N"),
             "--t-end" => t_end = value.parse().expect("--t-end SECONDS"),
             "--out" => out = value.into(),
-            "--font" => font = value.into(),
+            "--font" => font = Some(value.into()),
             // Profiling aid: one engine only (no figures then).
             "--only" => engines = vec![value == "md"],
             other => panic!("unknown option {other}; see the doc comment of main.rs"),
@@ -257,7 +257,10 @@ fn main() {
     }
     std::fs::create_dir_all(&out).expect("output directory");
     let both = engines.len() == 2;
-    emdstar_tablegen::plot::register_font(&font).unwrap_or_else(|e| panic!("{e}"));
+    match &font {
+        Some(f) => emdstar_plot::register_font_file(f).unwrap_or_else(|e| panic!("{e}")),
+        None => emdstar_plot::register_font(),
+    }
     let window = (t_end - 4.0 * SAMPLE, t_end);
     let mut md_runs = Vec::new();
     let mut hybrid_runs = Vec::new();

@@ -1,5 +1,6 @@
 //! PNG figures of the hopper example: field maps and curves against time.
 
+use emdstar_plot::viridis;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -7,26 +8,6 @@ type Fields = (Vec<f64>, Vec<f64>);
 type Series = [(f64, f64, usize, usize)];
 /// A named, coloured curve.
 type Line<'a> = (&'a str, Vec<(f64, f64)>, RGBColor);
-
-/// A viridis-like colour map on [0, 1] (grey for undefined values).
-fn colour(v: f64) -> RGBColor {
-    if !v.is_finite() {
-        return RGBColor(230, 230, 230);
-    }
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let x = v.clamp(0.0, 1.0) * 4.0;
-    let i = (x.floor() as usize).min(3);
-    let f = x - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let mix = |p: f64, q: f64| (p + f * (q - p)).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
-}
 
 /// Two side-by-side maps (MD, hybrid) of one field over the lower `rows` bins.
 fn map_pair(
@@ -61,7 +42,7 @@ fn map_pair(
                 let (x0, y0) = (bx as f64 * bin * 1e3, by as f64 * bin * 1e3);
                 chart.draw_series(std::iter::once(Rectangle::new(
                     [(x0, y0), (x0 + bin * 1e3, y0 + bin * 1e3)],
-                    colour(v).filled(),
+                    viridis(v).filled(),
                 )))?;
             }
         }

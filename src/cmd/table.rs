@@ -92,12 +92,9 @@ pub enum Action {
         /// Pixels (cells) per axis of each heatmap.
         #[arg(long, default_value_t = 120)]
         res: usize,
-        /// TrueType font for the labels.
-        #[arg(
-            long,
-            default_value = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
-        )]
-        font: PathBuf,
+        /// TrueType font for the labels [default: the embedded DejaVu Sans subset].
+        #[arg(long)]
+        font: Option<PathBuf>,
     },
 }
 
@@ -164,7 +161,9 @@ pub fn run(args: &TableArgs) -> Result<()> {
             } else {
                 c.clone()
             };
-            emdstar_tablegen::plot::register_font(font).map_err(|e| anyhow!(e))?;
+            if let Some(font) = font {
+                emdstar_plot::register_font_file(font).map_err(|e| anyhow!(e))?;
+            }
             for path in
                 emdstar_tablegen::plot::plot(&table, &slices, out, *res).map_err(|e| anyhow!(e))?
             {

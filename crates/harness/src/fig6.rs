@@ -193,7 +193,7 @@ fn lines(
     t: &Trace,
     particle: usize,
     label: &str,
-    color: plotters::style::RGBColor,
+    color: crate::plot::RGBColor,
     style: Style,
 ) -> Vec<Series> {
     // Split at the touch so that eMD*'s jump is not drawn as a line.
@@ -222,7 +222,7 @@ fn lines(
     ]
 }
 
-fn marks(panel: &mut Panel, t: &Trace, markers: &[i32], color: plotters::style::RGBColor, dy: f64) {
+fn marks(panel: &mut Panel, t: &Trace, markers: &[i32], color: crate::plot::RGBColor, dy: f64) {
     for (j, p) in t.positions.iter().enumerate() {
         let k = markers.get(j).copied().unwrap_or(0);
         for q in p {

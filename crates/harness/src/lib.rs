@@ -25,7 +25,7 @@ pub mod exceptions;
 pub mod fig6;
 pub mod pair_summary;
 pub mod pairs;
-pub mod plot;
+pub use emdstar_plot as plot;
 pub mod speed;
 pub mod stats;
 

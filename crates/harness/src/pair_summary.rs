@@ -321,7 +321,7 @@ pub fn plots(sweep: &PairSweep, dir: &Path) -> Result<Vec<PathBuf>, String> {
             p.series.push(Series::new(
                 format!("MD, dt = τ/{n}"),
                 cdf(&v),
-                plotters::style::RGBColor(grey, grey, grey),
+                crate::plot::RGBColor(grey, grey, grey),
                 Style::Dashed,
             ));
         }
@@ -352,8 +352,8 @@ pub fn plots(sweep: &PairSweep, dir: &Path) -> Result<Vec<PathBuf>, String> {
         p.legend = LegendAt::LowerRight;
     }
     let light = [
-        plotters::style::RGBColor(160, 195, 225),
-        plotters::style::RGBColor(240, 170, 170),
+        crate::plot::RGBColor(160, 195, 225),
+        crate::plot::RGBColor(240, 170, 170),
     ];
     for (k, (model, c)) in [("linear", 3), ("hertz", 1)].into_iter().enumerate() {
         let rs: Vec<&ImpactResult> = sweep.impacts.iter().filter(|r| r.model == model).collect();

@@ -2,6 +2,7 @@
 //! Müller & Pöschel 2013 (one row of four panels per c-slice).
 
 use emdstar_contact::RectCoords;
+use emdstar_plot::viridis;
 use emdstar_table::Table;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -20,36 +21,6 @@ fn panel_value(t: &Table, x: &RectCoords, k: usize) -> f64 {
     }
 }
 
-/// A viridis-like colour map on [0, 1].
-fn colour(v: f64) -> RGBColor {
-    const STOPS: [(f64, f64, f64); 5] = [
-        (68.0, 1.0, 84.0),
-        (59.0, 82.0, 139.0),
-        (33.0, 145.0, 140.0),
-        (94.0, 201.0, 98.0),
-        (253.0, 231.0, 37.0),
-    ];
-    let x = v.clamp(0.0, 1.0) * 4.0;
-    let i = (x.floor() as usize).min(3);
-    let f = x - i as f64;
-    let (a, b) = (STOPS[i], STOPS[i + 1]);
-    let mix = |p: f64, q: f64| (p + f * (q - p)).round() as u8;
-    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
-}
-
-/// Registers a TrueType font for the labels (plotters draws no text without one).
-pub fn register_font(path: &Path) -> Result<(), String> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        format!(
-            "cannot read font {}: {e}; pass --font FILE.ttf",
-            path.display()
-        )
-    })?;
-    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-    plotters::style::register_font("sans-serif", FontStyle::Normal, bytes)
-        .map_err(|_| format!("{} is not a usable TrueType font", path.display()))
-}
-
 /// Writes one PNG per c-slice into `dir` and returns their paths.
 pub fn plot(
     table: &Table,
@@ -58,6 +29,7 @@ pub fn plot(
     res: usize,
 ) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    emdstar_plot::register_font();
     let [ax, bx, cx] = *table.axes();
     let mut written = Vec::new();
     for (s, &c) in c_slices.iter().enumerate() {
@@ -89,6 +61,8 @@ pub fn plot(
             let lo = pts.iter().map(|p| p.2).fold(f64::INFINITY, f64::min);
             let hi = pts.iter().map(|p| p.2).fold(f64::NEG_INFINITY, f64::max);
             let span = if hi > lo { hi - lo } else { 1.0 };
+            // Enough decimals that the colour-bar labels differ (ε_ṙ spans 1e-6 at c = 0).
+            let digits = ((2.0 - span.log10()).ceil().max(3.0) as usize).min(12);
             let (left, right) = area.split_horizontally(area.dim_in_pixel().0 - 100);
             let mut chart = ChartBuilder::on(&left)
                 .caption(PANELS[k], ("sans-serif", 20))
@@ -112,7 +86,7 @@ pub fn plot(
                 .draw_series(pts.iter().map(|&(a, b, v)| {
                     Rectangle::new(
                         [(a - da / 2.0, b - db / 2.0), (a + da / 2.0, b + db / 2.0)],
-                        colour((v - lo) / span).filled(),
+                        viridis((v - lo) / span).filled(),
                     )
                 }))
                 .map_err(|e| e.to_string())?;
@@ -128,14 +102,14 @@ pub fn plot(
                 .disable_x_axis()
                 .y_labels(6)
                 .y_label_style(("sans-serif", 13))
-                .y_label_formatter(&|v| format!("{v:.3}"))
+                .y_label_formatter(&|v| format!("{v:.digits$}"))
                 .draw()
                 .map_err(|e| e.to_string())?;
             bar.draw_series((0..100).map(|i| {
                 let v0 = lo + span * i as f64 / 100.0;
                 Rectangle::new(
                     [(0.0, v0), (1.0, v0 + span / 100.0)],
-                    colour(i as f64 / 99.0).filled(),
+                    viridis(i as f64 / 99.0).filled(),
                 )
             }))
             .map_err(|e| e.to_string())?;

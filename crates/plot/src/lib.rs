@@ -7,16 +7,58 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
+/// Where the legend goes.
+pub use plotters::chart::SeriesLabelPosition as LegendAt;
+pub use plotters::style::RGBColor;
+
 const FONT: &[u8] = include_bytes!("../assets/DejaVuSans-subset.ttf");
 const FAMILY: &str = "sans-serif";
 
-/// Registers the embedded font (once per process); plotters draws no text without it.
+static FONT_SET: Once = Once::new();
+
+/// Registers the embedded font (once per process, and not over a font given to
+/// [`register_font_file`]); plotters draws no text without a font.
 pub fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // The bytes are a valid TrueType font, checked by this module's test.
+    FONT_SET.call_once(|| {
+        // The bytes are a valid TrueType font, checked by this crate's test.
         let _ = plotters::style::register_font(FAMILY, FontStyle::Normal, FONT);
     });
+}
+
+/// Registers a TrueType font file for all labels instead of the embedded font.
+pub fn register_font_file(path: &Path) -> Result<(), String> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        format!(
+            "cannot read font {}: {e}; pass another --font FILE.ttf or none",
+            path.display()
+        )
+    })?;
+    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+    plotters::style::register_font(FAMILY, FontStyle::Normal, bytes)
+        .map_err(|_| format!("{} is not a usable TrueType font", path.display()))?;
+    FONT_SET.call_once(|| {});
+    Ok(())
+}
+
+/// A viridis-like colour map on [0, 1] (values outside are clamped to the ends; NaN
+/// gives light grey, for "no data").
+pub fn viridis(v: f64) -> RGBColor {
+    if v.is_nan() {
+        return RGBColor(230, 230, 230);
+    }
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = v.clamp(0.0, 1.0) * 4.0;
+    let i = (x.floor() as usize).min(3);
+    let f = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let mix = |p: f64, q: f64| (p + f * (q - p)).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
 /// Colours that stay apart in print: black, red, green, blue, orange, purple, teal, grey.
@@ -123,9 +165,6 @@ impl Axis {
         }
     }
 }
-
-/// Where the legend goes.
-pub use plotters::chart::SeriesLabelPosition as LegendAt;
 
 /// One panel of a figure.
 #[derive(Debug, Clone)]
@@ -331,8 +370,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn viridis_runs_from_purple_to_yellow_and_greys_out_nan() {
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+        assert_eq!(viridis(-3.0), viridis(0.0));
+        assert_eq!(viridis(f64::NAN), RGBColor(230, 230, 230));
+    }
+
+    #[test]
     fn writes_a_labelled_png() {
-        let dir = std::env::temp_dir().join(format!("emdstar-harness-plot-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("emdstar-plot-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("t.png");
         let mut p = Panel::new("test", Axis::log("x (m)"), Axis::linear("y (s)"));
