@@ -17,19 +17,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Matrix of restitution of one collision, solved exactly (or from a table).
+    // Each command's help is its Args' doc comment: the first paragraph is the summary
+    // listed here, the rest the long help of `emdstar COMMAND --help`.
     Mor(cmd::mor::MorArgs),
-    /// Numerical stability checks of the event-driven engine.
     Check(cmd::check::CheckArgs),
-    /// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
     Table(cmd::table::TableArgs),
-    /// A few particles (typically a two-sphere collision) to t_end; prints the final state.
     Pair(cmd::pair::PairArgs),
-    /// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
     Run(cmd::run::RunArgs),
-    /// Speed benchmarks (particle-steps per second), optionally against LAMMPS.
     Bench(cmd::bench::BenchArgs),
-    // The help text is ValidateArgs' doc comment (its long form lists the scenarios).
     Validate(cmd::validate::ValidateArgs),
 }
 

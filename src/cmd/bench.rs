@@ -24,7 +24,9 @@ pub enum BenchTarget {
     Edmd,
 }
 
-/// Speed benchmarks. Prints one JSON object per case and a summary.
+/// Speed benchmarks (particle-steps or collisions per second), optionally against LAMMPS.
+///
+/// Prints one JSON object per case and a summary.
 ///
 /// Example (the figures, with LAMMPS side by side):
 ///   emdstar bench md --eta 0.01 --eta 0.1 --threads 1 --threads 2 --repeat 3 --lammps tools/lammps/hertz_gas.in

@@ -28,7 +28,9 @@ impl From<ModelArg> for Model {
     }
 }
 
-/// Matrix of restitution (MoR) of one collision, Müller & Pöschel 2013.
+/// Matrix of restitution (MoR) of one collision, solved exactly or from a table.
+///
+/// The MoR of Müller & Pöschel 2013 (Sec. III).
 ///
 /// Give either physical parameters (two spheres of one material, equal unless
 /// --radius2 is set, meeting at relative speed --speed with eccentricity --eccentricity

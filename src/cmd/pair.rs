@@ -14,7 +14,9 @@ use std::path::PathBuf;
 /// second order for the linear dashpot and at about 1.6 for damped Hertz contacts.
 pub const PAIR_DT_FRACTION: f64 = 1.0 / 2000.0;
 
-/// Simulate the particles of CONFIG (typically two) up to t_end and print their final
+/// A few particles (typically one collision) to t_end; prints the final state.
+///
+/// Simulates the particles of CONFIG (typically two) up to t_end and prints their final
 /// positions and velocities, in config order.
 ///
 /// Example:

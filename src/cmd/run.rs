@@ -10,7 +10,9 @@ use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Simulate the system of CONFIG up to t_end. Writes an extended-XYZ trajectory (for
+/// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
+///
+/// Simulates the system of CONFIG up to t_end. Writes an extended-XYZ trajectory (for
 /// OVITO) and a thermo log, shows a progress bar on a terminal, and prints a summary
 /// JSON: wall time, particle-steps per second, energy and momentum drift.
 ///

@@ -8,7 +8,9 @@ use emdstar_tablegen::{Region, Spec, exact_solver};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Matrix-of-restitution lookup tables (Müller & Pöschel 2013, Sec. V).
+/// Matrix-of-restitution lookup tables: build, merge, verify, check, plot.
+///
+/// The tables of Müller & Pöschel 2013, Sec. V.
 ///
 /// Examples:
 ///   emdstar table build tables/linear.toml
