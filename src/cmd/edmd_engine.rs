@@ -2,13 +2,13 @@
 //! MD uses, on the same config, state and writers.
 
 use super::engine::Engine as EngineKind;
+use super::engine::{drift_fields, progress_bar, with_fields};
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, Stats};
 use emdstar_system::{Config, System, Thermo, ThermoLog, XyzWriter};
 use emdstar_table::Table;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -226,16 +226,10 @@ pub fn run(
     engine.write_state(&mut system.particles);
     traj.write_frame(0.0, &system.particles, system.sim_box.as_ref())?;
     let t_end = config.t_end;
-    let bar = if out.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(1000)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {percent}% of t_end, {elapsed} elapsed, eta {eta} {msg}",
-        )
-        .expect("valid progress template"),
+    let bar = progress_bar(
+        out.quiet,
+        1000,
+        "{bar:40} {percent}% of t_end, {elapsed} elapsed, eta {eta} {msg}",
     );
     let start = Instant::now();
     let (mut next_traj, mut next_log) = (out.trajectory_interval, out.log_interval);
@@ -271,30 +265,21 @@ pub fn run(
     bar.finish_and_clear();
     traj.flush()?;
     log.flush()?;
-    let scale = first.kinetic_energy.abs() + first.potential_energy.abs();
     let total_mass: f64 = system.particles.mass.iter().sum();
-    let p_scale = total_mass * (2.0 * first.kinetic_energy / total_mass).sqrt();
-    let dp: Vec<f64> = (0..3)
-        .map(|k| last.momentum[k] - first.momentum[k])
-        .collect();
-    let dp_norm = dp.iter().map(|x| x * x).sum::<f64>().sqrt();
     let s = engine.stats();
-    let summary = json!({
-        "engine": engine_name(kind),
-        "particles": n,
-        "t": engine.time(),
-        "wall_time_s": wall,
-        "collisions_per_s": s.collisions() as f64 / wall,
-        "stats": stats_json(s),
-        "energy_initial": first.total_energy(),
-        "energy_final": last.total_energy(),
-        "energy_drift": if scale > 0.0 { (last.total_energy() - first.total_energy()) / scale } else { 0.0 },
-        "momentum_drift": dp,
-        "momentum_drift_relative": if p_scale > 0.0 { dp_norm / p_scale } else { 0.0 },
-        "granular_temperature_final": last.granular_temperature,
-        "trajectory": out.trajectory,
-        "log": out.log,
-    });
+    let summary = with_fields(
+        json!({
+            "engine": engine_name(kind),
+            "particles": n,
+            "t": engine.time(),
+            "wall_time_s": wall,
+            "collisions_per_s": s.collisions() as f64 / wall,
+            "stats": stats_json(s),
+            "trajectory": out.trajectory,
+            "log": out.log,
+        }),
+        drift_fields(&first, &last, total_mass),
+    );
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(())
 }

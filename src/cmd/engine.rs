@@ -3,7 +3,10 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
+use emdstar_system::Thermo;
 use emdstar_system::{Config, System};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::{Value, json};
 use std::path::Path;
 
 /// The simulation engine.
@@ -94,4 +97,44 @@ pub fn md_options(
         skin: args.skin.or(section.skin),
     };
     Ok((opts, steps as u64))
+}
+
+/// A progress bar of `len` units drawn with `template` (hidden with --quiet).
+pub fn progress_bar(quiet: bool, len: u64, template: &str) -> ProgressBar {
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(len)
+    };
+    bar.set_style(ProgressStyle::with_template(template).expect("valid progress template"));
+    bar
+}
+
+/// The conservation figures of every `run` summary, as JSON fields: the energy drift
+/// relative to |K| + |U| at the start, and the momentum drift absolute and relative to
+/// M·√(2K/M), the momentum scale of the thermal motion (0 where a scale is 0).
+pub fn drift_fields(first: &Thermo, last: &Thermo, total_mass: f64) -> Value {
+    let scale = first.kinetic_energy.abs() + first.potential_energy.abs();
+    let p_scale = total_mass * (2.0 * first.kinetic_energy / total_mass).sqrt();
+    let dp: Vec<f64> = (0..3)
+        .map(|k| last.momentum[k] - first.momentum[k])
+        .collect();
+    let dp_norm = dp.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let relative = |x: f64, scale: f64| if scale > 0.0 { x / scale } else { 0.0 };
+    json!({
+        "energy_initial": first.total_energy(),
+        "energy_final": last.total_energy(),
+        "energy_drift": relative(last.total_energy() - first.total_energy(), scale),
+        "momentum_drift": dp,
+        "momentum_drift_relative": relative(dp_norm, p_scale),
+        "granular_temperature_final": last.granular_temperature,
+    })
+}
+
+/// `summary` with the fields of `extra` (both JSON objects) added.
+pub fn with_fields(mut summary: Value, extra: Value) -> Value {
+    if let (Some(s), Value::Object(e)) = (summary.as_object_mut(), extra) {
+        s.extend(e);
+    }
+    summary
 }

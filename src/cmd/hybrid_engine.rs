@@ -1,14 +1,13 @@
 //! `emdstar run --engine hybrid`: MD where the gas is dense, eMD* where it is dilute
 //! (crate emdstar-hybrid), on the same config, state and writers as the other engines.
 
-use super::engine::md_options;
+use super::engine::{drift_fields, md_options, progress_bar, with_fields};
 use super::run::RunArgs;
 use anyhow::{Result, bail};
 use clap::Args;
 use emdstar_dem::{ContactEnd, DEFAULT_DT_FRACTION};
 use emdstar_hybrid::{Hybrid, HybridOptions, HybridStats, Mode};
 use emdstar_system::{ThermoLog, XyzWriter};
-use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::time::Instant;
 
@@ -90,16 +89,10 @@ pub fn run(args: &RunArgs) -> Result<()> {
     let first = engine.thermo();
     log.write(&first)?;
     traj.write_frame(0.0, &engine.particles(), sim_box.as_ref())?;
-    let bar = if out.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(steps)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
-        )
-        .expect("valid progress template"),
+    let bar = progress_bar(
+        out.quiet,
+        steps,
+        "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
     );
     let start = Instant::now();
     let mode_point = |e: &Hybrid, wall: f64| {
@@ -137,36 +130,27 @@ pub fn run(args: &RunArgs) -> Result<()> {
     bar.finish_and_clear();
     traj.flush()?;
     log.flush()?;
-    let scale = first.kinetic_energy.abs() + first.potential_energy.abs();
     let total_mass = engine.system().particles.total_mass();
-    let p_scale = total_mass * (2.0 * first.kinetic_energy / total_mass).sqrt();
-    let dp: Vec<f64> = (0..3)
-        .map(|k| last.momentum[k] - first.momentum[k])
-        .collect();
-    let dp_norm = dp.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let summary = json!({
-        "engine": "hybrid",
-        "particles": n,
-        "t": engine.time(),
-        "steps": engine.steps(),
-        "dt": md.dt,
-        "skin": engine.skin(),
-        "neighbour_rebuilds": engine.stats().rebuilds,
-        "threads": 1,
-        "wall_time_s": wall,
-        "particle_steps_per_s": n as f64 * steps as f64 / wall,
-        "collisions_per_s": engine.stats().pair_collisions as f64 / wall,
-        "stats": stats_json(engine.stats()),
-        "energy_initial": first.total_energy(),
-        "energy_final": last.total_energy(),
-        "energy_drift": if scale > 0.0 { (last.total_energy() - first.total_energy()) / scale } else { 0.0 },
-        "momentum_drift": dp,
-        "momentum_drift_relative": if p_scale > 0.0 { dp_norm / p_scale } else { 0.0 },
-        "granular_temperature_final": last.granular_temperature,
-        "mode_counts": modes,
-        "trajectory": out.trajectory,
-        "log": out.log,
-    });
+    let summary = with_fields(
+        json!({
+            "engine": "hybrid",
+            "particles": n,
+            "t": engine.time(),
+            "steps": engine.steps(),
+            "dt": md.dt,
+            "skin": engine.skin(),
+            "neighbour_rebuilds": engine.stats().rebuilds,
+            "threads": 1,
+            "wall_time_s": wall,
+            "particle_steps_per_s": n as f64 * steps as f64 / wall,
+            "collisions_per_s": engine.stats().pair_collisions as f64 / wall,
+            "stats": stats_json(engine.stats()),
+            "mode_counts": modes,
+            "trajectory": out.trajectory,
+            "log": out.log,
+        }),
+        drift_fields(&first, &last, total_mass),
+    );
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(())
 }

@@ -1,11 +1,12 @@
 //! `emdstar run`: simulate a gas, writing a trajectory and a thermo log.
 
-use super::engine::{Engine, MdArgs, load, md_options, parse_engine};
+use super::engine::{
+    Engine, MdArgs, drift_fields, load, md_options, parse_engine, progress_bar, with_fields,
+};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::{DEFAULT_DT_FRACTION, Md};
 use emdstar_system::{Thermo, ThermoLog, XyzWriter};
-use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -131,16 +132,10 @@ fn run_md(args: &RunArgs, threads: usize) -> Result<()> {
     let first = md.thermo();
     write_outputs(&md, &first, (&mut traj, true), (&mut log, true))?;
 
-    let bar = if args.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(steps)
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
-        )
-        .expect("valid progress template"),
+    let bar = progress_bar(
+        args.quiet,
+        steps,
+        "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
     );
     let progress_every = (steps / 200).max(1);
     let start = Instant::now();
@@ -174,33 +169,24 @@ fn run_md(args: &RunArgs, threads: usize) -> Result<()> {
     traj.flush()?;
     log.flush()?;
 
-    let scale = first.kinetic_energy.abs() + first.potential_energy.abs();
-    let p_scale: f64 = md.system().particles.mass.iter().sum::<f64>()
-        * (2.0 * first.kinetic_energy / md.system().particles.total_mass()).sqrt();
-    let dp: Vec<f64> = (0..3)
-        .map(|k| last.momentum[k] - first.momentum[k])
-        .collect();
-    let dp_norm = dp.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let summary = json!({
-        "engine": "md",
-        "particles": n,
-        "t": md.time(),
-        "steps": md.steps(),
-        "dt": opts.dt,
-        "skin": md.skin(),
-        "neighbour_rebuilds": md.rebuilds(),
-        "threads": threads,
-        "wall_time_s": wall,
-        "particle_steps_per_s": n as f64 * steps as f64 / wall,
-        "energy_initial": first.total_energy(),
-        "energy_final": last.total_energy(),
-        "energy_drift": (last.total_energy() - first.total_energy()) / scale,
-        "momentum_drift": dp,
-        "momentum_drift_relative": if p_scale > 0.0 { dp_norm / p_scale } else { 0.0 },
-        "granular_temperature_final": last.granular_temperature,
-        "trajectory": traj_path,
-        "log": log_path,
-    });
+    let total_mass = md.system().particles.total_mass();
+    let summary = with_fields(
+        json!({
+            "engine": "md",
+            "particles": n,
+            "t": md.time(),
+            "steps": md.steps(),
+            "dt": opts.dt,
+            "skin": md.skin(),
+            "neighbour_rebuilds": md.rebuilds(),
+            "threads": threads,
+            "wall_time_s": wall,
+            "particle_steps_per_s": n as f64 * steps as f64 / wall,
+            "trajectory": traj_path,
+            "log": log_path,
+        }),
+        drift_fields(&first, &last, total_mass),
+    );
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(())
 }
