@@ -35,8 +35,13 @@ pub(crate) struct EdRec {
     /// The step whose events `events` counts.
     pub budget_step: u64,
     pub events: u32,
-    /// Over its event budget: no own events until the end of the step.
+    /// Over its event budget: no own events until the end of the step (on the cell
+    /// path it still crosses cells).
     pub frozen: bool,
+    /// Cell path: time of the next cell crossing (+∞ on the list path) and the face
+    /// (axis·2 + 1 if moving up).
+    pub cross_time: f64,
+    pub cross_face: u8,
 }
 
 impl Default for EdRec {
@@ -54,6 +59,8 @@ impl Default for EdRec {
             budget_step: 0,
             events: 0,
             frozen: false,
+            cross_time: f64::INFINITY,
+            cross_face: 0,
         }
     }
 }
@@ -136,7 +143,7 @@ impl Hybrid {
         }
     }
 
-    fn in_shared_transient(&self, i: usize, j: usize) -> bool {
+    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
         let n = self.mode.len();
         self.ed[i].partner == j as u32 && (j >= n || self.ed[j].partner == i as u32)
     }
@@ -144,6 +151,10 @@ impl Hybrid {
     /// Predicts the earliest collision of ED particle `i` (synchronised at `now`) with
     /// an ED neighbour or a wall and queues its earliest event.
     pub(crate) fn predict(&mut self, i: usize, now: f64) {
+        if self.grid.is_some() {
+            self.predict_in_cells(i, now);
+            return;
+        }
         self.sync(i, now);
         let p = &self.system.particles;
         let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
@@ -189,14 +200,21 @@ impl Hybrid {
         rec.coll_time = best;
         rec.coll_partner = best_j;
         rec.coll_counter = coll_counter;
+        rec.cross_time = f64::INFINITY;
         self.schedule(i);
     }
 
-    fn schedule(&mut self, i: usize) {
+    /// Queues the earliest event of `i` (a frozen particle's only event is its next
+    /// cell crossing, on the cell path).
+    pub(crate) fn schedule(&mut self, i: usize) {
         let rec = &mut self.ed[i];
         rec.version = rec.version.wrapping_add(1);
-        let time = rec.coll_time.min(rec.pending_time);
-        if time.is_finite() && !rec.frozen {
+        let time = if rec.frozen {
+            rec.cross_time
+        } else {
+            rec.coll_time.min(rec.pending_time).min(rec.cross_time)
+        };
+        if time.is_finite() {
             self.heap.push(Reverse(QueueEntry {
                 time,
                 particle: i as u32,
@@ -217,8 +235,13 @@ impl Hybrid {
             if self.mode[i] != Mode::Event || self.ed[i].version != top.version {
                 continue;
             }
-            self.stats.events += 1;
             let t = top.time;
+            let rec = &self.ed[i];
+            if rec.frozen || (rec.pending_time > t && rec.cross_time < rec.coll_time) {
+                self.crossing(i, t);
+                continue;
+            }
+            self.stats.events += 1;
             if self.over_budget(i) {
                 continue;
             }
@@ -253,7 +276,8 @@ impl Hybrid {
         rec.events += 1;
         if rec.events > self.opts.max_events_per_step {
             rec.frozen = true;
-            rec.version = rec.version.wrapping_add(1);
+            // Drops its queued events (on the cell path, queues its next crossing).
+            self.schedule(i);
             self.deferred.push(i as u32);
             return true;
         }
@@ -390,6 +414,7 @@ impl Hybrid {
                 rec.pending_vel = std::array::from_fn(|k| post[k] + g[k] * out.duration);
                 rec.pending_time = end;
                 self.record_jump(q, d);
+                self.place(q);
                 self.note_speed(self.ed[q].pending_vel);
             }
             self.ed[i].partner = j as u32;
@@ -413,6 +438,9 @@ impl Hybrid {
         own_wall: Option<usize>,
         t: f64,
     ) -> bool {
+        if self.grid.is_some() {
+            return self.rotation_blocked_in_cells(parties, own_wall, t);
+        }
         let p = &self.system.particles;
         let t0 = self.time();
         let td_margin = 2.0 * (self.v_max_td + self.v_max_ed) * self.opts.dt;
@@ -510,6 +538,7 @@ impl Hybrid {
                 rec.pending_time = t + out.duration;
                 rec.partner = (self.mode.len() + w) as u32;
                 self.record_jump(i, d);
+                self.place(i);
                 self.note_speed(self.ed[i].pending_vel);
             }
         }

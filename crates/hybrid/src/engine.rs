@@ -5,6 +5,7 @@ use crate::list::{FullList, local_volume_fractions, region, volume_fractions_on}
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
 use emdstar_edmd::Materials;
+use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
 use emdstar_system::{Particles, System, Thermo};
 use std::cmp::Reverse;
@@ -28,6 +29,11 @@ pub struct Hybrid {
     pub(crate) ed: Vec<EdRec>,
     pub(crate) heap: BinaryHeap<Reverse<QueueEntry>>,
     pub(crate) list: FullList,
+    /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
+    /// list path.
+    pub(crate) grid: Option<CellGrid>,
+    /// Solid volume per cell, a scratch of the cell path's mode check (kept zero).
+    pub(crate) solid: Vec<f64>,
     /// Sorted indices of the TD particles.
     pub(crate) td: Vec<u32>,
     pub(crate) td_dirty: bool,
@@ -122,6 +128,8 @@ impl Hybrid {
             ed: vec![EdRec::default(); n],
             heap: BinaryHeap::new(),
             list: FullList::default(),
+            grid: None,
+            solid: Vec::new(),
             td: Vec::new(),
             td_dirty: true,
             converted: (0..n as u32).collect(),
@@ -136,7 +144,7 @@ impl Hybrid {
             stats: HybridStats::default(),
         };
         // Forces at t = 0 with the velocities themselves, as MD starts.
-        h.rebuild()?;
+        h.rebuild(h.opts.adaptive)?;
         h.add_converted_forces();
         Ok(h)
     }
@@ -198,7 +206,11 @@ impl Hybrid {
         // Written so that NaN (a blow-up) rebuilds, where it is reported.
         let list_holds = 2.0 * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
         if !list_holds {
-            self.rebuild()?;
+            if self.grid.is_some() {
+                self.cell_pass()?;
+            } else {
+                self.rebuild(self.opts.adaptive)?;
+            }
             if 2.0 * v_bound * dt > self.skin {
                 return Err(HybridError::SkinTooThin {
                     skin: self.skin,
@@ -222,17 +234,22 @@ impl Hybrid {
                     self.stats.budget_conversions += 1;
                 }
             }
+            if self.grid.is_some() {
+                self.rebuild(false)?; // leave the cell path: a particle is TD
+            }
             self.add_converted_forces();
         }
         Ok(())
     }
 
     /// Synchronises every particle, checks the box, rebuilds the list, decides the
-    /// modes and re-predicts every ED particle.
+    /// modes (if `decide`) and re-predicts every ED particle: on the cell path if no
+    /// particle is TD then, else on the list.
     #[inline(never)]
-    fn rebuild(&mut self) -> Result<(), HybridError> {
+    pub(crate) fn rebuild(&mut self, decide: bool) -> Result<(), HybridError> {
         let t = self.time();
         let n = self.mode.len();
+        self.grid = None;
         for i in 0..n {
             if self.mode[i] == Mode::Event {
                 self.sync(i, t);
@@ -271,7 +288,8 @@ impl Hybrid {
         // fewer rebuilds (each re-predicts every ED particle). After such a period the
         // list is first built wide again, and narrowed once TD particles appear.
         let r2 = 2.0 * self.system.max_radius();
-        let built = if self.list_skin > self.skin {
+        self.refresh_td();
+        let built = if self.list_skin > self.skin && (decide || self.td.is_empty()) {
             self.event_skin()
         } else {
             self.skin
@@ -284,16 +302,20 @@ impl Hybrid {
             r2 + built,
             built,
         )?;
-        if self.opts.adaptive {
+        if decide {
             self.decide_modes(t, built == self.skin);
         }
         self.refresh_td();
+        let cells = self.td.is_empty() && self.mode.contains(&Mode::Event);
         self.list_skin = if self.td.is_empty() {
             self.event_skin()
         } else {
             self.skin
         };
-        if self.list_skin != built {
+        if cells {
+            // The list stays as built (for nothing but the next rebuild's decision).
+            self.enter_cells();
+        } else if self.list_skin != built {
             let p = &self.system.particles;
             self.list.build(
                 &p.position,
@@ -483,6 +505,9 @@ impl Hybrid {
         match mode {
             Mode::Time => {
                 self.switch_to_td(i, t);
+                if self.grid.is_some() {
+                    self.rebuild(false)?; // leave the cell path: a particle is TD
+                }
                 self.add_converted_forces();
             }
             Mode::Removed => unreachable!("refused above"),

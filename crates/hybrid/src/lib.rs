@@ -94,6 +94,7 @@
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
+mod cells;
 mod ed;
 mod engine;
 mod list;

@@ -59,6 +59,10 @@ pub struct HybridStats {
     pub steps: u64,
     /// Neighbour-list rebuilds (each one also decides the modes).
     pub rebuilds: u64,
+    /// Mode checks on the cell path that found nothing to switch (no rebuild).
+    pub cell_passes: u64,
+    /// Cell crossings on the cell path (not counted in `events`).
+    pub crossings: u64,
     /// ED events taken from the queue (stale ones included).
     pub events: u64,
     /// eMD* pair collisions (E^φ events and eMD fallbacks).
