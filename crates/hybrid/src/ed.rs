@@ -1,6 +1,7 @@
 //! The event-driven part: eMD* among ED particles (Müller & Pöschel 2013, Sec. VI B)
 //! with stable detection (Bannerman et al. 2014), lazily updated particles, a binary
-//! heap with version numbers for stale entries, and the ED → TD switch.
+//! queue holding each ED particle's earliest event (`emdstar_edmd`'s calendar queue,
+//! ties to the smaller particle number), and the ED → TD switch.
 
 use crate::engine::{Hybrid, norm};
 use crate::options::{HybridError, Mode};
@@ -8,7 +9,7 @@ use emdstar_contact::{Impact, Vec3, scale};
 use emdstar_edmd::detect::{sphere_sphere, sphere_wall};
 use emdstar_edmd::rules::restitution_kick;
 use emdstar_mor::rule::{Body, resolve, resolve_wall};
-use std::cmp::{Ordering, Reverse};
+use emdstar_edmd::EventQueue;
 
 /// No partner.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -30,8 +31,6 @@ pub(crate) struct EdRec {
     pub partner: u32,
     /// Incremented whenever the particle's trajectory jumps.
     pub counter: u32,
-    /// Incremented whenever a new queue entry is pushed; older entries are stale.
-    pub version: u32,
     /// The step whose events `events` counts.
     pub budget_step: u64,
     pub events: u32,
@@ -55,38 +54,12 @@ impl Default for EdRec {
             pending_vel: [0.0; 3],
             partner: NONE,
             counter: 0,
-            version: 0,
             budget_step: 0,
             events: 0,
             frozen: false,
             cross_time: f64::INFINITY,
             cross_face: 0,
         }
-    }
-}
-
-/// A queue entry: a particle's earliest event. Ordered by time, then particle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct QueueEntry {
-    pub time: f64,
-    pub particle: u32,
-    pub version: u32,
-}
-
-impl Eq for QueueEntry {}
-
-impl Ord for QueueEntry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.time
-            .total_cmp(&other.time)
-            .then(self.particle.cmp(&other.particle))
-            .then(self.version.cmp(&other.version))
-    }
-}
-
-impl PartialOrd for QueueEntry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
     }
 }
 
@@ -207,35 +180,29 @@ impl Hybrid {
     /// Queues the earliest event of `i` (a frozen particle's only event is its next
     /// cell crossing, on the cell path).
     pub(crate) fn schedule(&mut self, i: usize) {
-        let rec = &mut self.ed[i];
-        rec.version = rec.version.wrapping_add(1);
+        let rec = &self.ed[i];
         let time = if rec.frozen {
             rec.cross_time
         } else {
             rec.coll_time.min(rec.pending_time).min(rec.cross_time)
         };
-        if time.is_finite() {
-            self.heap.push(Reverse(QueueEntry {
-                time,
-                particle: i as u32,
-                version: rec.version,
-            }));
-        }
+        let time = if time.is_finite() { time } else { f64::INFINITY };
+        self.heap.set(i, time);
     }
 
     /// Processes every ED event up to `t_end`, in time order.
     #[inline(never)]
     pub(crate) fn process_events(&mut self, t_end: f64) -> Result<(), HybridError> {
-        while let Some(&Reverse(top)) = self.heap.peek() {
-            if top.time > t_end {
+        // Every branch below queues the particle's next event (or +∞).
+        loop {
+            let (i, t) = self.heap.peek();
+            if !(t <= t_end) {
                 break;
             }
-            self.heap.pop();
-            let i = top.particle as usize;
-            if self.mode[i] != Mode::Event || self.ed[i].version != top.version {
+            if self.mode[i] != Mode::Event {
+                self.heap.set(i, f64::INFINITY);
                 continue;
             }
-            let t = top.time;
             let rec = &self.ed[i];
             if rec.frozen || (rec.pending_time > t && rec.cross_time < rec.coll_time) {
                 self.crossing(i, t);
@@ -276,7 +243,7 @@ impl Hybrid {
         rec.events += 1;
         if rec.events > self.opts.max_events_per_step {
             rec.frozen = true;
-            // Drops its queued events (on the cell path, queues its next crossing).
+            // Drops its queued event (on the cell path, queues its next crossing).
             self.schedule(i);
             self.deferred.push(i as u32);
             return true;
@@ -325,10 +292,10 @@ impl Hybrid {
         self.contact_acc[i] = [0.0; 3];
         let rec = &mut self.ed[i];
         rec.counter = rec.counter.wrapping_add(1);
-        rec.version = rec.version.wrapping_add(1);
         rec.partner = NONE;
         rec.pending_time = f64::INFINITY;
         rec.frozen = false;
+        self.heap.set(i, f64::INFINITY);
         self.td_dirty = true;
         self.converted.push(i as u32);
         self.boundary.push(i as u32);

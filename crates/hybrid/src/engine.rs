@@ -1,15 +1,13 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
-use crate::ed::{EdRec, QueueEntry};
+use crate::ed::EdRec;
 use crate::list::{FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
-use emdstar_edmd::Materials;
+use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
 use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
 use emdstar_system::{Particles, System, Thermo};
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
 pub struct Hybrid {
@@ -27,7 +25,8 @@ pub struct Hybrid {
     pub(crate) materials: Materials,
     pub(crate) mor: Box<dyn MorSource>,
     pub(crate) ed: Vec<EdRec>,
-    pub(crate) heap: BinaryHeap<Reverse<QueueEntry>>,
+    /// Each ED particle's earliest event (+∞ for the others).
+    pub(crate) heap: CalendarQueue,
     pub(crate) list: FullList,
     /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
     /// list path.
@@ -126,7 +125,7 @@ impl Hybrid {
             materials,
             mor,
             ed: vec![EdRec::default(); n],
-            heap: BinaryHeap::new(),
+            heap: CalendarQueue::new(n),
             list: FullList::default(),
             grid: None,
             solid: Vec::new(),
@@ -325,7 +324,7 @@ impl Hybrid {
                 self.list_skin,
             )?;
         }
-        self.heap.clear();
+        self.heap = CalendarQueue::new(n);
         self.v_max_ed = 0.0;
         for i in 0..n {
             if self.mode[i] == Mode::Event {
