@@ -4,11 +4,11 @@
 //! Wainwright 1959; Rapaport 1980; `emdstar_edmd::Engine`): a full prediction scans the
 //! 27 neighbour cells, a crossing only the 9 cells of the new layer, particles are
 //! updated lazily, and nothing is rebuilt or re-predicted globally. The modes are
-//! checked on the same cells (HAET's link-cell volume fraction) at the cadence of the
-//! old list rebuilds, without synchronising or re-predicting anything.
+//! checked at the cadence of the list rebuilds, on the link cells of the list path
+//! (the same φ), without synchronising or re-predicting anything.
 
 use crate::engine::{Hybrid, norm};
-use crate::list::region;
+use crate::list::{any_dense, region};
 use crate::options::{HybridError, Mode};
 use emdstar_edmd::cells::{CellGrid, NONE};
 use emdstar_edmd::detect::{quadratic_roots, sphere_sphere, sphere_wall};
@@ -40,32 +40,18 @@ fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
     best
 }
 
-/// Linear index of cell coordinates `c` (x fastest, as [`CellGrid`] numbers them).
-#[inline]
-fn index(grid: &CellGrid, c: [u32; 3]) -> usize {
-    c[0] as usize + grid.dims[0] * (c[1] as usize + grid.dims[1] * c[2] as usize)
-}
-
-/// Cell coordinates of linear index `m`.
-#[inline]
-fn coords(grid: &CellGrid, m: usize) -> [u32; 3] {
-    let (nx, ny) = (grid.dims[0], grid.dims[1]);
-    [
-        (m % nx) as u32,
-        ((m / nx) % ny) as u32,
-        (m / (nx * ny)) as u32,
-    ]
-}
-
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl Hybrid {
-    /// The width of the event cells: the link cells of the mode decision (2R_max + MD
-    /// skin), so that the volume fraction on them is the list path's.
-    fn cell_width(&self) -> f64 {
-        2.0 * self.system.max_radius() + self.skin
+    /// The width of the event cells, as the eMD* engine chooses it: at least the
+    /// largest contact distance 2R_max, and about half the mean spacing (V/N)^(1/3) in
+    /// a dilute gas (fewer crossings for a few more pair tests).
+    fn cell_width(&self, lo_extent: [f64; 3]) -> f64 {
+        let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
+        let spacing = (lo_extent.iter().product::<f64>() / active.max(1) as f64).cbrt();
+        (2.0 * self.system.max_radius()).max(0.55 * spacing)
     }
 
     /// Enters the cell path at a rebuild (every particle synchronised and wrapped, no
@@ -73,15 +59,14 @@ impl Hybrid {
     pub(crate) fn enter_cells(&mut self) {
         let p = &self.system.particles;
         let (lo, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
-        let mut grid = CellGrid::new(lo, extent, periodic, self.cell_width(), p.len());
+        let width = self.cell_width(extent);
+        let mut grid = CellGrid::new(lo, extent, periodic, width, p.len());
         for i in 0..p.len() {
             if self.mode[i] == Mode::Event {
                 let c = grid.coords_of(p.position[i]);
                 grid.insert(i, c);
             }
         }
-        self.solid.clear();
-        self.solid.resize(grid.dims.iter().product(), 0.0);
         self.grid = Some(grid);
     }
 
@@ -298,15 +283,25 @@ impl Hybrid {
     /// particles), nothing is synchronised or re-predicted; otherwise, and for the
     /// rebuild's checks (outlet, blow-up, leaving the box), it falls back to the full
     /// rebuild, which decides the modes on the list.
+    #[inline(never)]
     pub(crate) fn cell_pass(&mut self) -> Result<(), HybridError> {
         let t = self.time();
         let mut v_max: f64 = 0.0;
         let mut rebuild = false;
+        let p = &self.system.particles;
+        let mut positions = std::mem::take(&mut self.positions_now);
+        let mut radius = std::mem::take(&mut self.radius_now);
+        positions.clear();
+        radius.clear();
         for i in 0..self.mode.len() {
             if self.mode[i] != Mode::Event {
+                positions.push(p.position[i]);
+                radius.push(0.0);
                 continue;
             }
             let (x, v) = self.state_at(i, t);
+            positions.push(x);
+            radius.push(p.radius[i]);
             let outside = self
                 .system
                 .sim_box
@@ -321,7 +316,19 @@ impl Hybrid {
                 v_max = v_max.max(norm(self.ed[i].pending_vel));
             }
         }
-        if rebuild || (self.opts.adaptive && self.dense_in_cells()) {
+        let dense = !rebuild
+            && self.opts.adaptive
+            && any_dense(
+                &positions,
+                &radius,
+                region(&positions, self.system.sim_box.as_ref()),
+                2.0 * self.system.max_radius() + self.skin,
+                self.opts.phi_time,
+                &mut self.dense,
+            );
+        self.positions_now = positions;
+        self.radius_now = radius;
+        if rebuild || dense {
             return self.rebuild(self.opts.adaptive);
         }
         self.v_max_ed = v_max;
@@ -330,53 +337,5 @@ impl Hybrid {
         self.max_jump = 0.0;
         self.stats.cell_passes += 1;
         Ok(())
-    }
-
-    /// Whether any ED particle has a local volume fraction φ ≥ `phi_time` (as the list
-    /// path's [`crate::local_volume_fractions`] on the same cells). φ of a cell's
-    /// neighbourhood is at most the largest φ of its cells, so only the neighbourhoods
-    /// of cells that alone reach the threshold are summed.
-    fn dense_in_cells(&mut self) -> bool {
-        let grid = self.grid.as_ref().expect("on the cell path");
-        let p = &self.system.particles;
-        let cell = self.cell_width();
-        let volume: f64 = grid
-            .width
-            .iter()
-            .map(|&w| if w > 0.0 { w } else { cell })
-            .product();
-        let solid = &mut self.solid;
-        for i in 0..p.len() {
-            if self.mode[i] == Mode::Event {
-                let r = p.radius[i];
-                solid[index(grid, grid.coords[i])] += 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-            }
-        }
-        // Slightly below the threshold, so that round-off in the sums cannot hide one.
-        let hot = self.opts.phi_time * volume * (1.0 - 1e-9);
-        let mut dense = false;
-        'particles: for i in 0..p.len() {
-            if self.mode[i] != Mode::Event || solid[index(grid, grid.coords[i])] < hot {
-                continue;
-            }
-            for &m in grid.neighbourhood(grid.coords[i]).as_slice() {
-                let m = m as usize;
-                if solid[m] == 0.0 {
-                    continue;
-                }
-                let set = grid.neighbourhood(coords(grid, m));
-                let sum: f64 = set.as_slice().iter().map(|&o| solid[o as usize]).sum();
-                if sum / (set.len as f64 * volume) >= self.opts.phi_time {
-                    dense = true;
-                    break 'particles;
-                }
-            }
-        }
-        for i in 0..p.len() {
-            if self.mode[i] == Mode::Event {
-                solid[index(grid, grid.coords[i])] = 0.0;
-            }
-        }
-        dense
     }
 }

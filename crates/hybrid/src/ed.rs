@@ -6,10 +6,10 @@
 use crate::engine::{Hybrid, norm};
 use crate::options::{HybridError, Mode};
 use emdstar_contact::{Impact, Vec3, scale};
+use emdstar_edmd::EventQueue;
 use emdstar_edmd::detect::{sphere_sphere, sphere_wall};
 use emdstar_edmd::rules::restitution_kick;
 use emdstar_mor::rule::{Body, resolve, resolve_wall};
-use emdstar_edmd::EventQueue;
 
 /// No partner.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -186,7 +186,11 @@ impl Hybrid {
         } else {
             rec.coll_time.min(rec.pending_time).min(rec.cross_time)
         };
-        let time = if time.is_finite() { time } else { f64::INFINITY };
+        let time = if time.is_finite() {
+            time
+        } else {
+            f64::INFINITY
+        };
         self.heap.set(i, time);
     }
 

@@ -1,12 +1,12 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::EdRec;
-use crate::list::{FullList, local_volume_fractions, region, volume_fractions_on};
+use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
-use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
 use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
+use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
 use emdstar_system::{Particles, System, Thermo};
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
@@ -31,8 +31,10 @@ pub struct Hybrid {
     /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
     /// list path.
     pub(crate) grid: Option<CellGrid>,
-    /// Solid volume per cell, a scratch of the cell path's mode check (kept zero).
-    pub(crate) solid: Vec<f64>,
+    /// Scratch of the cell path's mode check: positions and radii now, cell sums.
+    pub(crate) positions_now: Vec<[f64; 3]>,
+    pub(crate) radius_now: Vec<f64>,
+    pub(crate) dense: DenseScratch,
     /// Sorted indices of the TD particles.
     pub(crate) td: Vec<u32>,
     pub(crate) td_dirty: bool,
@@ -128,7 +130,9 @@ impl Hybrid {
             heap: CalendarQueue::new(n),
             list: FullList::default(),
             grid: None,
-            solid: Vec::new(),
+            positions_now: Vec::new(),
+            radius_now: Vec::new(),
+            dense: DenseScratch::default(),
             td: Vec::new(),
             td_dirty: true,
             converted: (0..n as u32).collect(),
@@ -202,8 +206,12 @@ impl Hybrid {
         let dt = self.opts.dt;
         let g = norm(self.system.gravity);
         let v_bound = (self.v_max_td + 0.5 * self.a_max_td * dt).max(self.v_max_ed) + g * dt;
-        // Written so that NaN (a blow-up) rebuilds, where it is reported.
-        let list_holds = 2.0 * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
+        // Written so that NaN (a blow-up) rebuilds, where it is reported. The list lasts
+        // until particles may have moved half its skin; on the cell path, which has no
+        // list, the modes are checked when they may have moved one event skin.
+        let reach = if self.grid.is_some() { 1.0 } else { 2.0 };
+        let list_holds =
+            reach * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
         if !list_holds {
             if self.grid.is_some() {
                 self.cell_pass()?;
