@@ -200,7 +200,8 @@ impl Hybrid {
         // Every branch below queues the particle's next event (or +∞).
         loop {
             let (i, t) = self.heap.peek();
-            if !(t <= t_end) {
+            // +∞ when no event is left (`schedule` never queues NaN).
+            if t > t_end {
                 break;
             }
             if self.mode[i] != Mode::Event {
