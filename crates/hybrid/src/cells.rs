@@ -331,6 +331,8 @@ impl Hybrid {
         if rebuild || dense {
             return self.rebuild(self.opts.adaptive);
         }
+        // The cadence follows the gas (a cloud in open space may contract or spread).
+        self.list_skin = self.event_skin(&self.positions_now);
         self.v_max_ed = v_max;
         self.drift_bound = 0.0;
         self.jump.iter_mut().for_each(|j| *j = 0.0);

@@ -297,7 +297,7 @@ impl Hybrid {
         let r2 = 2.0 * self.system.max_radius();
         self.refresh_td();
         let built = if self.list_skin > self.skin && (decide || self.td.is_empty()) {
-            self.event_skin()
+            self.event_skin(&self.system.particles.position)
         } else {
             self.skin
         };
@@ -315,7 +315,7 @@ impl Hybrid {
         self.refresh_td();
         let cells = self.td.is_empty() && self.mode.contains(&Mode::Event);
         self.list_skin = if self.td.is_empty() {
-            self.event_skin()
+            self.event_skin(&self.system.particles.position)
         } else {
             self.skin
         };
@@ -366,10 +366,9 @@ impl Hybrid {
     /// The list skin while every particle is ED: the mean particle spacing (measured
     /// best on a dilute gas: half of it rebuilt twice as often, for 25 % more time),
     /// at least the MD skin, and small enough for 3 cells along every periodic axis.
-    fn event_skin(&self) -> f64 {
-        let p = &self.system.particles;
+    pub(crate) fn event_skin(&self, positions: &[[f64; 3]]) -> f64 {
         let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
-        let (_, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let (_, extent, periodic) = region(positions, self.system.sim_box.as_ref());
         let r2 = 2.0 * self.system.max_radius();
         let volume: f64 = extent.iter().map(|e| e.max(r2)).product();
         let mut skin = self.skin.max((volume / active.max(1) as f64).cbrt());

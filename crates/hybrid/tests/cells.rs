@@ -1,0 +1,166 @@
+//! The cell path of the hybrid engine (all particles event-driven: cells with crossing
+//! events, mode checks without list rebuilds) against independent references: the
+//! eMD* engine of emdstar-edmd on a dilute gas, and the MD engine of emdstar-dem on a
+//! cloud that contracts into a dense cluster (cell path → list path with TD particles
+//! → back to the cell path) and bounces apart.
+
+use emdstar_contact::Vec3;
+use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
+use emdstar_edmd::rules::ExactMor;
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use emdstar_system::{Config, Particles, System};
+
+fn system(text: &str) -> System {
+    Config::from_toml(text).unwrap().build().unwrap()
+}
+
+/// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
+/// a whole number of times.
+fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {
+    let tc = shortest_contact_time(system, t_end).unwrap().unwrap();
+    let steps = (t_end / (fraction * tc)).ceil();
+    (t_end / steps, steps as u64)
+}
+
+/// Largest difference of positions (minimum image) and of velocities.
+fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f64) {
+    let mut dx: f64 = 0.0;
+    let mut dv: f64 = 0.0;
+    for i in 0..a.len() {
+        let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
+        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
+        let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
+        dx = dx.max(Vec3::from(d).norm());
+        dv = dv.max(Vec3::from(w).norm());
+    }
+    (dx, dv)
+}
+
+#[test]
+fn a_dilute_gas_on_the_cell_path_equals_the_emdstar_engine() {
+    // Long enough for 12 crossings per particle, short enough that the round-off
+    // between the two engines does not grow beyond ~1e-11 m (the gas is chaotic: it
+    // grows from 2e-16 m at 0.2 s to 5e-12 m at 4 s and 3e-8 m at 8 s, smoothly).
+    let t_end = 4.0;
+    let sys = system(
+        r#"
+t_end = 4.0
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+[gas]
+count = 216
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.01
+rms_speed = 1.0
+seed = 11
+"#,
+    );
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions::with_dt(dt);
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    h.advance(steps).unwrap();
+    let s = *h.stats();
+    assert_eq!(h.count(Mode::Event), 216);
+    assert_eq!((s.to_time, s.td_particle_steps), (0, 0));
+    // One list build at the start; afterwards only cells and cheap mode checks.
+    assert_eq!(s.rebuilds, 1, "{s:?}");
+    assert!(s.cell_passes >= 5, "too few mode checks to test: {s:?}");
+    assert!(s.crossings > 10 * 216, "too few crossings to test: {s:?}");
+
+    let physics = Physics::EmdStar {
+        materials: Materials::from_system(&sys).unwrap(),
+        mor: Box::new(ExactMor),
+        interference: Interference::HitOnly,
+    };
+    let mut e: Engine = Engine::new(Setup::from_system(&sys), physics).unwrap();
+    e.run_until(t_end).unwrap();
+    let mut reference = sys.particles.clone();
+    e.write_state(&mut reference);
+    assert!(
+        e.stats().pair_collisions > 100,
+        "too few collisions to test"
+    );
+    assert_eq!(s.pair_collisions, e.stats().pair_collisions);
+    let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
+    eprintln!(
+        "cell path: {} collisions, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {s:?}",
+        e.stats().pair_collisions
+    );
+    assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
+}
+
+/// 6 × 6 × 6 elastic spheres on a lattice of 1 m in open space, contracting
+/// homologously (v = −x / 1 s): dilute at first (φ = 0.004 at lattice spacing 1 m), φ
+/// = 0.1 to 0.2 from lattice spacing 0.35 m (t = 0.65 s; the value depends on how the
+/// link cells fall on the lattice), all in contact at t = 0.8 s; they bounce and fly
+/// apart again.
+fn contracting_lattice() -> System {
+    let mut text = String::from(
+        "t_end = 1.6\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n",
+    );
+    for n in 0..216 {
+        let x = [n % 6, (n / 6) % 6, n / 36].map(|c| c as f64 - 2.5);
+        let v = x.map(|c| -c);
+        text += &format!("[[particles]]\nradius = 0.1\nposition = {x:?}\nvelocity = {v:?}\n");
+    }
+    system(&text)
+}
+
+#[test]
+fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
+    let sys = contracting_lattice();
+    let t_end = 1.6;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions::with_dt(dt);
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let md_opts = MdOptions {
+        dt,
+        contact_end: ContactEnd::ForceZero,
+        skin: Some(h.skin()),
+    };
+    let mut m = Md::new(sys.clone(), md_opts, t_end).unwrap();
+    assert_eq!(h.count(Mode::Event), 216, "the cloud must start dilute");
+    let e0 = h.thermo();
+    let (mut first_td, mut max_td, mut passes_at_max) = (None, 0, 0);
+    for n in 0..steps {
+        h.advance(1).unwrap();
+        let td = h.count(Mode::Time);
+        if td > 0 && first_td.is_none() {
+            first_td = Some((n + 1) as f64 * dt);
+            // Nothing has touched yet: the lattice closes up at t = 0.8 s.
+            assert_eq!(h.thermo().contacts, 0);
+        }
+        if td > max_td {
+            (max_td, passes_at_max) = (td, h.stats().cell_passes);
+        }
+    }
+    m.advance(steps).unwrap();
+    let s = *h.stats();
+    eprintln!("contracting: first TD at {first_td:?} s, {max_td} TD at most, {s:?}");
+    // Cell path first (mode checks without rebuilds), then the list path with every
+    // particle TD through the contact, then the cell path again.
+    let t_switch = first_td.expect("the cluster must turn time-driven");
+    assert!((0.5..0.8).contains(&t_switch), "{t_switch}");
+    assert!(passes_at_max > 0 && s.rebuilds >= 2, "{s:?}");
+    assert_eq!(max_td, 216);
+    assert_eq!(h.count(Mode::Event), 216, "the cloud must be dilute again");
+    assert!(s.cell_passes > passes_at_max, "{s:?}");
+    assert!(s.td_particle_steps > 0 && s.to_event >= 2 * 216);
+    // Every contact was MD's: no event-driven collision, no late guard switch.
+    assert_eq!((s.pair_collisions, s.late_conversions), (0, 0), "{s:?}");
+    let (dx, dv) = max_difference(&h.particles(), &m.particles_in_config_order(), &sys);
+    let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
+    eprintln!("contracting vs MD: |dx| = {dx:e} m, |dv| = {dv:e} m/s, E {eh} {em}");
+    assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
+    assert!((eh - em).abs() < 1e-12 * em, "{eh} {em}");
+    let (p0, p1) = (e0.momentum, h.thermo().momentum);
+    let scale = sys.particles.total_mass() * 4.4;
+    for k in 0..3 {
+        assert!((p1[k] - p0[k]).abs() < 1e-13 * scale, "{p0:?} {p1:?}");
+    }
+}
