@@ -78,7 +78,7 @@ fn arr(v: &Vec3) -> [f64; 3] {
 impl Hybrid {
     /// Position and velocity of ED particle `j` at time `t` ≥ its stamp (parabolic
     /// flight under gravity, Bannerman 2014, Sec. 3).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
         let dt = t - self.ed[j].stamp;
         let p = &self.system.particles;
