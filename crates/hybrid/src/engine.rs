@@ -316,7 +316,7 @@ impl Hybrid {
             self.decide_modes(t, built == self.skin);
         }
         self.refresh_td();
-        let cells = self.td.is_empty() && self.mode.contains(&Mode::Event);
+        let cells = self.opts.cells && self.td.is_empty() && self.mode.contains(&Mode::Event);
         self.list_skin = if self.td.is_empty() {
             self.event_skin(&self.system.particles.position)
         } else {
