@@ -55,7 +55,8 @@
 //! # Advancing both modes together
 //! Time advances in steps of dt (the MD step). In each step [t, t + dt]:
 //! 1. rebuild the list and decide modes when the particles may have moved by more than
-//!    half the skin (bound: Σ v_max·dt plus the largest eMD* jump of any particle);
+//!    half the skin (bound: Σ v_max·dt plus the largest eMD* jump of any particle; on
+//!    the cell path, a mode check after one event skin instead, see below);
 //! 2. the guard converts ED particles that could reach a TD particle;
 //! 3. ED events up to t + dt are processed in time order (collisions among ED
 //!    particles and with walls, E^v events); ED particles are updated lazily, only when
