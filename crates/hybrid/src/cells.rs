@@ -55,11 +55,22 @@ impl Hybrid {
     }
 
     /// Enters the cell path at a rebuild (every particle synchronised and wrapped, no
-    /// particle TD): bins the ED particles. Predictions follow (by the caller).
+    /// particle TD): bins the ED particles. Predictions follow (by the caller). The
+    /// grid covers the box, or in open space the particles' bounding box with half its
+    /// extent (and a cell) to spare on every side: its border cells reach to infinity,
+    /// so particles beyond are still found, but crowd them (the mode checks re-grid
+    /// then).
     pub(crate) fn enter_cells(&mut self) {
         let p = &self.system.particles;
-        let (lo, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let (mut lo, mut extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
         let width = self.cell_width(extent);
+        if self.system.sim_box.is_none() {
+            for k in 0..3 {
+                let spare = 0.5 * extent[k] + width;
+                lo[k] -= spare;
+                extent[k] += 2.0 * spare;
+            }
+        }
         let mut grid = CellGrid::new(lo, extent, periodic, width, p.len());
         for i in 0..p.len() {
             if self.mode[i] == Mode::Event {
@@ -278,11 +289,12 @@ impl Hybrid {
         false
     }
 
-    /// The mode check on the cell path, due when the old list would have been rebuilt:
-    /// if no ED particle reaches φ ≥ `phi_time` (the only switch possible without TD
-    /// particles), nothing is synchronised or re-predicted; otherwise, and for the
-    /// rebuild's checks (outlet, blow-up, leaving the box), it falls back to the full
-    /// rebuild, which decides the modes on the list.
+    /// The mode check on the cell path, due when the particles may have moved one event
+    /// skin: if no ED particle reaches φ ≥ `phi_time` (the only switch possible
+    /// without TD particles), nothing is synchronised or re-predicted; otherwise, and
+    /// for the rebuild's checks (outlet, blow-up, leaving the box) and a particle off
+    /// the grid in open space, it falls back to the full rebuild, which decides the
+    /// modes on the list (and re-enters the cell path with a new grid if all stay ED).
     #[inline(never)]
     pub(crate) fn cell_pass(&mut self) -> Result<(), HybridError> {
         let t = self.time();
@@ -307,7 +319,10 @@ impl Hybrid {
                 .sim_box
                 .is_some_and(|b| b.outside_closed_axis(x).is_some());
             let gone = self.opts.outlet.is_some_and(|o| o.distance(x) < 0.0);
-            if outside || gone || !x.iter().chain(&v).all(|c| c.is_finite()) {
+            let grid = self.grid.as_ref().expect("on the cell path");
+            let off_grid = self.system.sim_box.is_none()
+                && (0..3).any(|k| !(grid.lo[k]..=grid.lo[k] + grid.size[k]).contains(&x[k]));
+            if outside || gone || off_grid || !x.iter().chain(&v).all(|c| c.is_finite()) {
                 rebuild = true;
                 break;
             }

@@ -86,7 +86,9 @@
 //! only the 9 cells of the new layer (Alder & Wainwright 1959; Rapaport 1980).
 //! Particles stay lazily updated; E^φ jumps re-bin the particle.
 //! - **Entering.** A rebuild that leaves no particle TD bins the ED particles and
-//!   predicts them on the cells.
+//!   predicts them on the cells. The grid covers the box, or in open space the
+//!   particles' bounding box with half its extent to spare on each side (a particle
+//!   beyond it makes the next mode check rebuild, which re-grids).
 //! - **Mode checks** come when the particles may have moved one event skin (the mean
 //!   spacing, at least the MD skin; the list would be rebuilt after half of it) since
 //!   the last check. A check moves nobody: it computes every ED particle's position

@@ -98,10 +98,10 @@ seed = 11
 /// homologously (v = −x / 1 s): dilute at first (φ = 0.004 at lattice spacing 1 m), φ
 /// = 0.1 to 0.2 from lattice spacing 0.35 m (t = 0.65 s; the value depends on how the
 /// link cells fall on the lattice), all in contact at t = 0.8 s; they bounce and fly
-/// apart again.
+/// apart again, beyond where they started (the cell grid of open space must follow).
 fn contracting_lattice() -> System {
     let mut text = String::from(
-        "t_end = 1.6\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n",
+        "t_end = 3.5\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n",
     );
     for n in 0..216 {
         let x = [n % 6, (n / 6) % 6, n / 36].map(|c| c as f64 - 2.5);
@@ -114,7 +114,7 @@ fn contracting_lattice() -> System {
 #[test]
 fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     let sys = contracting_lattice();
-    let t_end = 1.6;
+    let t_end = 3.5;
     let (dt, steps) = step(&sys, t_end, 0.02);
     let opts = HybridOptions::with_dt(dt);
     let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
@@ -127,6 +127,7 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     assert_eq!(h.count(Mode::Event), 216, "the cloud must start dilute");
     let e0 = h.thermo();
     let (mut first_td, mut max_td, mut passes_at_max) = (None, 0, 0);
+    let mut rebuilds_back = None;
     for n in 0..steps {
         h.advance(1).unwrap();
         let td = h.count(Mode::Time);
@@ -137,6 +138,9 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
         }
         if td > max_td {
             (max_td, passes_at_max) = (td, h.stats().cell_passes);
+        }
+        if max_td > 0 && td == 0 && rebuilds_back.is_none() {
+            rebuilds_back = Some(h.stats().rebuilds);
         }
     }
     m.advance(steps).unwrap();
@@ -150,6 +154,9 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     assert_eq!(max_td, 216);
     assert_eq!(h.count(Mode::Event), 216, "the cloud must be dilute again");
     assert!(s.cell_passes > passes_at_max, "{s:?}");
+    // Flying out of the grid of the cell path's return, the cloud gets a new one.
+    let back = rebuilds_back.expect("all ED again");
+    assert!(s.rebuilds > back, "{back} {s:?}");
     assert!(s.td_particle_steps > 0 && s.to_event >= 2 * 216);
     // Every contact was MD's: no event-driven collision, no late guard switch.
     assert_eq!((s.pair_collisions, s.late_conversions), (0, 0), "{s:?}");
