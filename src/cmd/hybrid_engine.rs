@@ -31,6 +31,8 @@ fn stats_json(s: &HybridStats) -> Value {
     json!({
         "steps": s.steps,
         "neighbour_rebuilds": s.rebuilds,
+        "cell_mode_checks": s.cell_passes,
+        "cell_crossings": s.crossings,
         "events": s.events,
         "collisions": s.pair_collisions,
         "wall_collisions": s.wall_collisions,

@@ -1,14 +1,15 @@
 //! The event-driven part: eMD* among ED particles (Müller & Pöschel 2013, Sec. VI B)
 //! with stable detection (Bannerman et al. 2014), lazily updated particles, a binary
-//! heap with version numbers for stale entries, and the ED → TD switch.
+//! queue holding each ED particle's earliest event (`emdstar_edmd`'s calendar queue,
+//! ties to the smaller particle number), and the ED → TD switch.
 
 use crate::engine::{Hybrid, norm};
 use crate::options::{HybridError, Mode};
 use emdstar_contact::{Impact, Vec3, scale};
+use emdstar_edmd::EventQueue;
 use emdstar_edmd::detect::{sphere_sphere, sphere_wall};
 use emdstar_edmd::rules::restitution_kick;
 use emdstar_mor::rule::{Body, resolve, resolve_wall};
-use std::cmp::{Ordering, Reverse};
 
 /// No partner.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -30,13 +31,16 @@ pub(crate) struct EdRec {
     pub partner: u32,
     /// Incremented whenever the particle's trajectory jumps.
     pub counter: u32,
-    /// Incremented whenever a new queue entry is pushed; older entries are stale.
-    pub version: u32,
     /// The step whose events `events` counts.
     pub budget_step: u64,
     pub events: u32,
-    /// Over its event budget: no own events until the end of the step.
+    /// Over its event budget: no own events until the end of the step (on the cell
+    /// path it still crosses cells).
     pub frozen: bool,
+    /// Cell path: time of the next cell crossing (+∞ on the list path) and the face
+    /// (axis·2 + 1 if moving up).
+    pub cross_time: f64,
+    pub cross_face: u8,
 }
 
 impl Default for EdRec {
@@ -50,36 +54,12 @@ impl Default for EdRec {
             pending_vel: [0.0; 3],
             partner: NONE,
             counter: 0,
-            version: 0,
             budget_step: 0,
             events: 0,
             frozen: false,
+            cross_time: f64::INFINITY,
+            cross_face: 0,
         }
-    }
-}
-
-/// A queue entry: a particle's earliest event. Ordered by time, then particle.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct QueueEntry {
-    pub time: f64,
-    pub particle: u32,
-    pub version: u32,
-}
-
-impl Eq for QueueEntry {}
-
-impl Ord for QueueEntry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        self.time
-            .total_cmp(&other.time)
-            .then(self.particle.cmp(&other.particle))
-            .then(self.version.cmp(&other.version))
-    }
-}
-
-impl PartialOrd for QueueEntry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
     }
 }
 
@@ -98,7 +78,7 @@ fn arr(v: &Vec3) -> [f64; 3] {
 impl Hybrid {
     /// Position and velocity of ED particle `j` at time `t` ≥ its stamp (parabolic
     /// flight under gravity, Bannerman 2014, Sec. 3).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
         let dt = t - self.ed[j].stamp;
         let p = &self.system.particles;
@@ -136,7 +116,7 @@ impl Hybrid {
         }
     }
 
-    fn in_shared_transient(&self, i: usize, j: usize) -> bool {
+    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
         let n = self.mode.len();
         self.ed[i].partner == j as u32 && (j >= n || self.ed[j].partner == i as u32)
     }
@@ -144,6 +124,10 @@ impl Hybrid {
     /// Predicts the earliest collision of ED particle `i` (synchronised at `now`) with
     /// an ED neighbour or a wall and queues its earliest event.
     pub(crate) fn predict(&mut self, i: usize, now: f64) {
+        if self.grid.is_some() {
+            self.predict_in_cells(i, now);
+            return;
+        }
         self.sync(i, now);
         let p = &self.system.particles;
         let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
@@ -189,36 +173,55 @@ impl Hybrid {
         rec.coll_time = best;
         rec.coll_partner = best_j;
         rec.coll_counter = coll_counter;
+        rec.cross_time = f64::INFINITY;
         self.schedule(i);
     }
 
-    fn schedule(&mut self, i: usize) {
-        let rec = &mut self.ed[i];
-        rec.version = rec.version.wrapping_add(1);
-        let time = rec.coll_time.min(rec.pending_time);
-        if time.is_finite() && !rec.frozen {
-            self.heap.push(Reverse(QueueEntry {
-                time,
-                particle: i as u32,
-                version: rec.version,
-            }));
-        }
+    /// Queues the earliest event of `i` (a frozen particle's only event is its next
+    /// cell crossing, on the cell path).
+    pub(crate) fn schedule(&mut self, i: usize) {
+        let rec = &self.ed[i];
+        let time = if rec.frozen {
+            rec.cross_time
+        } else {
+            rec.coll_time.min(rec.pending_time).min(rec.cross_time)
+        };
+        let time = if time.is_finite() {
+            time
+        } else {
+            f64::INFINITY
+        };
+        self.queue_set(i, time);
+    }
+
+    /// Sets the queue key of `i`, counting the finite keys.
+    pub(crate) fn queue_set(&mut self, i: usize, time: f64) {
+        let was = self.heap.key(i).is_finite();
+        self.queued = self.queued + usize::from(time.is_finite()) - usize::from(was);
+        self.heap.set(i, time);
     }
 
     /// Processes every ED event up to `t_end`, in time order.
     #[inline(never)]
     pub(crate) fn process_events(&mut self, t_end: f64) -> Result<(), HybridError> {
-        while let Some(&Reverse(top)) = self.heap.peek() {
-            if top.time > t_end {
+        // Every branch below queues the particle's next event (or +∞). (The calendar
+        // queue finds "only +∞ left" by walking all ids: not at every step of MD.)
+        while self.queued > 0 {
+            let (i, t) = self.heap.peek();
+            // +∞ when no event is left (`schedule` never queues NaN).
+            if t > t_end {
                 break;
             }
-            self.heap.pop();
-            let i = top.particle as usize;
-            if self.mode[i] != Mode::Event || self.ed[i].version != top.version {
+            if self.mode[i] != Mode::Event {
+                self.queue_set(i, f64::INFINITY);
+                continue;
+            }
+            let rec = &self.ed[i];
+            if rec.frozen || (rec.pending_time > t && rec.cross_time < rec.coll_time) {
+                self.crossing(i, t);
                 continue;
             }
             self.stats.events += 1;
-            let t = top.time;
             if self.over_budget(i) {
                 continue;
             }
@@ -253,7 +256,8 @@ impl Hybrid {
         rec.events += 1;
         if rec.events > self.opts.max_events_per_step {
             rec.frozen = true;
-            rec.version = rec.version.wrapping_add(1);
+            // Drops its queued event (on the cell path, queues its next crossing).
+            self.schedule(i);
             self.deferred.push(i as u32);
             return true;
         }
@@ -301,10 +305,10 @@ impl Hybrid {
         self.contact_acc[i] = [0.0; 3];
         let rec = &mut self.ed[i];
         rec.counter = rec.counter.wrapping_add(1);
-        rec.version = rec.version.wrapping_add(1);
         rec.partner = NONE;
         rec.pending_time = f64::INFINITY;
         rec.frozen = false;
+        self.queue_set(i, f64::INFINITY);
         self.td_dirty = true;
         self.converted.push(i as u32);
         self.boundary.push(i as u32);
@@ -390,6 +394,7 @@ impl Hybrid {
                 rec.pending_vel = std::array::from_fn(|k| post[k] + g[k] * out.duration);
                 rec.pending_time = end;
                 self.record_jump(q, d);
+                self.place(q);
                 self.note_speed(self.ed[q].pending_vel);
             }
             self.ed[i].partner = j as u32;
@@ -413,6 +418,9 @@ impl Hybrid {
         own_wall: Option<usize>,
         t: f64,
     ) -> bool {
+        if self.grid.is_some() {
+            return self.rotation_blocked_in_cells(parties, own_wall, t);
+        }
         let p = &self.system.particles;
         let t0 = self.time();
         let td_margin = 2.0 * (self.v_max_td + self.v_max_ed) * self.opts.dt;
@@ -510,6 +518,7 @@ impl Hybrid {
                 rec.pending_time = t + out.duration;
                 rec.partner = (self.mode.len() + w) as u32;
                 self.record_jump(i, d);
+                self.place(i);
                 self.note_speed(self.ed[i].pending_vel);
             }
         }

@@ -1,14 +1,13 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
-use crate::ed::{EdRec, QueueEntry};
-use crate::list::{FullList, local_volume_fractions, region, volume_fractions_on};
+use crate::ed::EdRec;
+use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
-use emdstar_edmd::Materials;
+use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
-use emdstar_system::{Particles, System, Thermo};
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
+use emdstar_system::System;
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
 pub struct Hybrid {
@@ -26,8 +25,18 @@ pub struct Hybrid {
     pub(crate) materials: Materials,
     pub(crate) mor: Box<dyn MorSource>,
     pub(crate) ed: Vec<EdRec>,
-    pub(crate) heap: BinaryHeap<Reverse<QueueEntry>>,
+    /// Each ED particle's earliest event (+∞ for the others).
+    pub(crate) heap: CalendarQueue,
+    /// Number of finite keys in `heap`.
+    pub(crate) queued: usize,
     pub(crate) list: FullList,
+    /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
+    /// list path.
+    pub(crate) grid: Option<CellGrid>,
+    /// Scratch of the cell path's mode check: positions and radii now, cell sums.
+    pub(crate) positions_now: Vec<[f64; 3]>,
+    pub(crate) radius_now: Vec<f64>,
+    pub(crate) dense: DenseScratch,
     /// Sorted indices of the TD particles.
     pub(crate) td: Vec<u32>,
     pub(crate) td_dirty: bool,
@@ -120,8 +129,13 @@ impl Hybrid {
             materials,
             mor,
             ed: vec![EdRec::default(); n],
-            heap: BinaryHeap::new(),
+            heap: CalendarQueue::new(n),
+            queued: 0,
             list: FullList::default(),
+            grid: None,
+            positions_now: Vec::new(),
+            radius_now: Vec::new(),
+            dense: DenseScratch::default(),
             td: Vec::new(),
             td_dirty: true,
             converted: (0..n as u32).collect(),
@@ -136,7 +150,7 @@ impl Hybrid {
             stats: HybridStats::default(),
         };
         // Forces at t = 0 with the velocities themselves, as MD starts.
-        h.rebuild()?;
+        h.rebuild(h.opts.adaptive)?;
         h.add_converted_forces();
         Ok(h)
     }
@@ -195,10 +209,18 @@ impl Hybrid {
         let dt = self.opts.dt;
         let g = norm(self.system.gravity);
         let v_bound = (self.v_max_td + 0.5 * self.a_max_td * dt).max(self.v_max_ed) + g * dt;
-        // Written so that NaN (a blow-up) rebuilds, where it is reported.
-        let list_holds = 2.0 * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
+        // Written so that NaN (a blow-up) rebuilds, where it is reported. The list lasts
+        // until particles may have moved half its skin; on the cell path, which has no
+        // list, the modes are checked when they may have moved one event skin.
+        let reach = if self.grid.is_some() { 1.0 } else { 2.0 };
+        let list_holds =
+            reach * (self.drift_bound + self.max_jump + v_bound * dt) <= self.list_skin;
         if !list_holds {
-            self.rebuild()?;
+            if self.grid.is_some() {
+                self.cell_pass()?;
+            } else {
+                self.rebuild(self.opts.adaptive)?;
+            }
             if 2.0 * v_bound * dt > self.skin {
                 return Err(HybridError::SkinTooThin {
                     skin: self.skin,
@@ -222,17 +244,22 @@ impl Hybrid {
                     self.stats.budget_conversions += 1;
                 }
             }
+            if self.grid.is_some() {
+                self.rebuild(false)?; // leave the cell path: a particle is TD
+            }
             self.add_converted_forces();
         }
         Ok(())
     }
 
     /// Synchronises every particle, checks the box, rebuilds the list, decides the
-    /// modes and re-predicts every ED particle.
+    /// modes (if `decide`) and re-predicts every ED particle: on the cell path if no
+    /// particle is TD then, else on the list.
     #[inline(never)]
-    fn rebuild(&mut self) -> Result<(), HybridError> {
+    pub(crate) fn rebuild(&mut self, decide: bool) -> Result<(), HybridError> {
         let t = self.time();
         let n = self.mode.len();
+        self.grid = None;
         for i in 0..n {
             if self.mode[i] == Mode::Event {
                 self.sync(i, t);
@@ -271,8 +298,9 @@ impl Hybrid {
         // fewer rebuilds (each re-predicts every ED particle). After such a period the
         // list is first built wide again, and narrowed once TD particles appear.
         let r2 = 2.0 * self.system.max_radius();
-        let built = if self.list_skin > self.skin {
-            self.event_skin()
+        self.refresh_td();
+        let built = if self.list_skin > self.skin && (decide || self.td.is_empty()) {
+            self.event_skin(&self.system.particles.position)
         } else {
             self.skin
         };
@@ -284,16 +312,20 @@ impl Hybrid {
             r2 + built,
             built,
         )?;
-        if self.opts.adaptive {
+        if decide {
             self.decide_modes(t, built == self.skin);
         }
         self.refresh_td();
+        let cells = self.opts.cells && self.td.is_empty() && self.mode.contains(&Mode::Event);
         self.list_skin = if self.td.is_empty() {
-            self.event_skin()
+            self.event_skin(&self.system.particles.position)
         } else {
             self.skin
         };
-        if self.list_skin != built {
+        if cells {
+            // The list stays as built (for nothing but the next rebuild's decision).
+            self.enter_cells();
+        } else if self.list_skin != built {
             let p = &self.system.particles;
             self.list.build(
                 &p.position,
@@ -303,7 +335,8 @@ impl Hybrid {
                 self.list_skin,
             )?;
         }
-        self.heap.clear();
+        // Every ED particle gets a new key below; the others hold +∞ (set by the
+        // switch to TD), so the queue is not reset.
         self.v_max_ed = 0.0;
         for i in 0..n {
             if self.mode[i] == Mode::Event {
@@ -337,10 +370,9 @@ impl Hybrid {
     /// The list skin while every particle is ED: the mean particle spacing (measured
     /// best on a dilute gas: half of it rebuilt twice as often, for 25 % more time),
     /// at least the MD skin, and small enough for 3 cells along every periodic axis.
-    fn event_skin(&self) -> f64 {
-        let p = &self.system.particles;
+    pub(crate) fn event_skin(&self, positions: &[[f64; 3]]) -> f64 {
         let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
-        let (_, extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let (_, extent, periodic) = region(positions, self.system.sim_box.as_ref());
         let r2 = 2.0 * self.system.max_radius();
         let volume: f64 = extent.iter().map(|e| e.max(r2)).product();
         let mut skin = self.skin.max((volume / active.max(1) as f64).cbrt());
@@ -483,6 +515,9 @@ impl Hybrid {
         match mode {
             Mode::Time => {
                 self.switch_to_td(i, t);
+                if self.grid.is_some() {
+                    self.rebuild(false)?; // leave the cell path: a particle is TD
+                }
                 self.add_converted_forces();
             }
             Mode::Removed => unreachable!("refused above"),
@@ -507,89 +542,5 @@ impl Hybrid {
             }
         }
         Ok(())
-    }
-
-    /// The particles now, in config order: ED particles moved to the current time,
-    /// pending eMD* velocities applied (the velocity each particle will have once its
-    /// collision is over).
-    pub fn particles(&self) -> Particles {
-        let t = self.time();
-        let mut p = self.system.particles.clone();
-        for i in 0..p.len() {
-            if self.mode[i] == Mode::Event {
-                let (x, v) = self.settled_state(i, t);
-                p.position[i] = x;
-                p.velocity[i] = v;
-            }
-        }
-        p
-    }
-
-    /// Energies, temperature, momentum and contacts now (pending eMD* velocities
-    /// applied). The potential energy is the elastic energy of the TD contacts,
-    /// ½kξ² or (2/5)ρ_el ξ^{5/2} (Müller & Pöschel 2013, Eqs. 40 and 51), plus −Σ m g·x.
-    /// Removed particles are left out of the energies and the momentum (the granular
-    /// temperature still counts them).
-    pub fn thermo(&self) -> Thermo {
-        let p = self.particles();
-        let g = self.system.gravity;
-        let mut potential = 0.0;
-        let mut contacts = 0;
-        let mut kinetic = 0.0;
-        let mut momentum = [0.0; 3];
-        for i in 0..p.len() {
-            if self.mode[i] == Mode::Removed {
-                continue;
-            }
-            let (xi, vi) = (p.position[i], p.velocity[i]);
-            kinetic += 0.5 * p.mass[i] * (vi[0] * vi[0] + vi[1] * vi[1] + vi[2] * vi[2]);
-            for k in 0..3 {
-                momentum[k] += p.mass[i] * vi[k];
-            }
-            potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
-            if self.mode[i] != Mode::Time {
-                continue;
-            }
-            for &entry in self.list.of(i) {
-                let (j, s) = self.list.split(entry);
-                if j < i || self.mode[j] != Mode::Time {
-                    continue;
-                }
-                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-                let overlap = p.radius[i] + p.radius[j] - norm(d);
-                if overlap > 0.0 {
-                    contacts += 1;
-                    let law = &self.materials.pair(p.species[i], p.species[j]).law;
-                    potential += elastic_energy(law, overlap);
-                }
-            }
-            for w in &self.system.walls {
-                let overlap = p.radius[i] - w.distance(xi);
-                if overlap > 0.0 {
-                    contacts += 1;
-                    let law = &self.materials.wall(p.species[i]).law;
-                    potential += elastic_energy(law, overlap);
-                }
-            }
-        }
-        Thermo {
-            t: self.time(),
-            step: self.steps,
-            kinetic_energy: kinetic,
-            potential_energy: potential,
-            granular_temperature: p.granular_temperature(),
-            momentum,
-            contacts,
-        }
-    }
-}
-
-/// Elastic energy stored at overlap ξ: ½kξ² or (2/5)ρ_el ξ^{5/2}.
-fn elastic_energy(law: &emdstar_contact::PairLaw, overlap: f64) -> f64 {
-    match *law {
-        emdstar_contact::PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
-        emdstar_contact::PairLaw::Hertz { rho_el, .. } => {
-            0.4 * rho_el * overlap * overlap * overlap.sqrt()
-        }
     }
 }

@@ -7,7 +7,8 @@
 //! # Modes
 //! Every particle is either [`Mode::Event`] (ED) or [`Mode::Time`] (TD). Modes are
 //! decided at every neighbour-list rebuild, when all particles are synchronised
-//! (HAET, Sec. 6, decides at its link-cell update dt_BL too):
+//! (HAET, Sec. 6, decides at its link-cell update dt_BL too), and checked on the
+//! cell path (below) while no particle is TD:
 //! 1. **Local volume fraction.** φ of a particle is the solid volume of the particles
 //!    in its link cell and the 26 (fewer at closed faces) neighbouring cells over
 //!    their volume (HAET, Sec. 5 and 6). With hysteresis: a particle becomes TD when
@@ -54,7 +55,8 @@
 //! # Advancing both modes together
 //! Time advances in steps of dt (the MD step). In each step [t, t + dt]:
 //! 1. rebuild the list and decide modes when the particles may have moved by more than
-//!    half the skin (bound: Σ v_max·dt plus the largest eMD* jump of any particle);
+//!    half the skin (bound: Σ v_max·dt plus the largest eMD* jump of any particle; on
+//!    the cell path, a mode check after one event skin instead, see below);
 //! 2. the guard converts ED particles that could reach a TD particle;
 //! 3. ED events up to t + dt are processed in time order (collisions among ED
 //!    particles and with walls, E^v events); ED particles are updated lazily, only when
@@ -65,13 +67,47 @@
 //!
 //! ED predictions use the same list (pairs closer than contact + skin at the rebuild):
 //! the drift bound guarantees that no other pair can touch before the next rebuild,
-//! when every ED particle is re-predicted. Detection is Bannerman et al. 2014
+//! when every ED particle is re-predicted. (While no particle is TD, the cell path
+//! below replaces the list.) Detection is Bannerman et al. 2014
 //! (Algorithms 1 and 2, via [`emdstar_edmd::detect`]), so gravity (parabolic flights)
 //! and inclined plane walls are handled in both modes. Collisions follow eMD* with
 //! its exceptions (a) (rotation into a third body: eMD rule) and (b) (a third particle
 //! hits a particle in its transient: that E^v runs early), from
-//! [`emdstar_mor::rule`]. While no particle is TD, the list takes the mean particle
-//! spacing as skin (fewer rebuilds).
+//! [`emdstar_mor::rule`]. The queue holds one key per particle (its earliest event),
+//! in `emdstar_edmd`'s calendar queue, ties to the smaller particle number.
+//!
+//! # All-ED phases: the cell path
+//! While no particle is TD (a dilute gas; the free fall at the start of a hopper), a
+//! list and its global rebuilds (each re-predicts every ED particle) are not needed:
+//! the ED particles are handled as in the eMD* engine of `emdstar_edmd`. They live in
+//! the linked-list cells of [`emdstar_edmd::cells`] (as wide as the eMD* engine makes
+//! them: ≥ 2R_max, about half the mean spacing) and move between cells by
+//! cell-crossing events: a full prediction scans the 27 neighbour cells, a crossing
+//! only the 9 cells of the new layer (Alder & Wainwright 1959; Rapaport 1980).
+//! Particles stay lazily updated; E^φ jumps re-bin the particle.
+//! - **Entering.** A rebuild that leaves no particle TD bins the ED particles and
+//!   predicts them on the cells. The grid covers the box, or in open space the
+//!   particles' bounding box with half its extent to spare on each side (a particle
+//!   beyond it makes the next mode check rebuild, which re-grids).
+//! - **Mode checks** come when the particles may have moved one event skin (the mean
+//!   spacing, at least the MD skin; the list would be rebuilt after half of it) since
+//!   the last check. A check moves nobody: it computes every ED particle's position
+//!   now and asks whether any has φ ≥ `phi_time` (the same φ on the same link cells as
+//!   the list path: 2R_max + skin; an O(N) pass that sums only the neighbourhoods of
+//!   cells dense enough on their own). Without TD particles that is the only switch
+//!   the rule above can make, so the answer "no" means "no switch". It also updates
+//!   the speed bound and the event skin.
+//! - **Leaving.** If a particle is dense, is behind the outlet, left the box or blew
+//!   up, the check falls back to the full rebuild, which decides the modes on the list
+//!   as before (and returns to the cell path if nobody became TD). A switch to TD by
+//!   hand ([`Hybrid::set_mode`]) or by the event budget rebuilds the list too (without
+//!   a mode decision) before the TD particle's forces are added. So the mixed regime
+//!   always runs on the list, unchanged.
+//! - A particle frozen by the event budget still crosses cells until the end of the
+//!   step (others must find it in its cell).
+//!
+//! While no particle is TD, the time steps only pace the mode checks and the event
+//! budget; events run in time order across them.
 //!
 //! **Walls under gravity.** A pair in free fall feels gravity only through its centre
 //! of mass, so its E^v velocities gain g·τ. A wall, however, carries the normal part
@@ -94,11 +130,13 @@
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
+mod cells;
 mod ed;
 mod engine;
 mod list;
 mod options;
 mod td;
+mod thermo;
 
 pub use engine::Hybrid;
 pub use list::local_volume_fractions;

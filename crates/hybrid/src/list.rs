@@ -225,6 +225,116 @@ pub(crate) fn volume_fractions_on(
         .collect()
 }
 
+/// The cells around cell `c` of a φ grid, as [`volume_fractions_on`] counts them
+/// (wrapping along a periodic axis of at least 3 cells, clipped otherwise).
+fn around(grid: &CellGrid, c: [usize; 3]) -> ([usize; 27], usize) {
+    let mut axis = [[0usize; 3]; 3];
+    let mut count = [0usize; 3];
+    for k in 0..3 {
+        let d = grid.dims[k];
+        let wraps = grid.periodic[k] && d >= 3;
+        for step in [-1i64, 0, 1] {
+            let x = c[k] as i64 + step;
+            let x = if wraps {
+                x.rem_euclid(d as i64)
+            } else if (0..d as i64).contains(&x) {
+                x
+            } else {
+                continue;
+            };
+            axis[k][count[k]] = x as usize;
+            count[k] += 1;
+        }
+    }
+    let mut out = [0usize; 27];
+    let mut n = 0;
+    for &z in &axis[2][..count[2]] {
+        for &y in &axis[1][..count[1]] {
+            for &x in &axis[0][..count[0]] {
+                out[n] = grid.index([x, y, z]);
+                n += 1;
+            }
+        }
+    }
+    (out, n)
+}
+
+/// Scratch buffers of [`any_dense`] (kept between calls; `solid` stays zero).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct DenseScratch {
+    solid: Vec<f64>,
+    cell_of: Vec<usize>,
+}
+
+/// Whether any particle's local volume fraction (as [`local_volume_fractions`] with
+/// the same arguments; radius 0 leaves a particle out) reaches `phi`, without binning
+/// the whole grid: φ of a neighbourhood is at most the largest φ of its cells, so only
+/// the neighbourhoods of cells that alone reach `phi` are summed. O(N) per call.
+pub(crate) fn any_dense(
+    positions: &[[f64; 3]],
+    radius: &[f64],
+    (lo, extent, periodic): ([f64; 3], [f64; 3], [bool; 3]),
+    cell: f64,
+    phi: f64,
+    scratch: &mut DenseScratch,
+) -> bool {
+    let grid = CellGrid::new(lo, extent, periodic, cell);
+    let DenseScratch { solid, cell_of } = scratch;
+    if solid.len() < grid.len() {
+        solid.resize(grid.len(), 0.0);
+    }
+    cell_of.clear();
+    // `grid.coords` without the floor call (a library call on baseline x86-64): for
+    // non-negative c, truncation is the floor.
+    let coords_of = |x: [f64; 3]| -> [usize; 3] {
+        std::array::from_fn(|k| {
+            let c = (x[k] - grid.lo[k]) / grid.cell_size[k];
+            let top = grid.dims[k] - 1;
+            if c < 0.0 {
+                if grid.periodic[k] { top } else { 0 }
+            } else {
+                (c as usize).min(top)
+            }
+        })
+    };
+    for (x, r) in positions.iter().zip(radius) {
+        let m = grid.index(coords_of(*x));
+        cell_of.push(m);
+        solid[m] += 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    }
+    let volume: f64 = grid
+        .cell_size
+        .iter()
+        .map(|&c| if c > 0.0 { c } else { cell })
+        .product();
+    // Slightly below the threshold, so that round-off in the sums cannot hide one.
+    let hot = phi * volume * (1.0 - 1e-9);
+    let (nx, ny) = (grid.dims[0], grid.dims[1]);
+    let coords = |m: usize| [m % nx, (m / nx) % ny, m / (nx * ny)];
+    let mut dense = false;
+    'cells: for &m in cell_of.iter() {
+        if solid[m] == 0.0 || solid[m] < hot {
+            continue;
+        }
+        let (near, len) = around(&grid, coords(m));
+        for &o in &near[..len] {
+            if solid[o] == 0.0 {
+                continue; // no particle there (or only removed ones)
+            }
+            let (set, count) = around(&grid, coords(o));
+            let sum: f64 = set[..count].iter().map(|&q| solid[q]).sum();
+            if sum / (count as f64 * volume) >= phi {
+                dense = true;
+                break 'cells;
+            }
+        }
+    }
+    for &m in cell_of.iter() {
+        solid[m] = 0.0;
+    }
+    dense
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -266,5 +376,38 @@ mod tests {
         let (j, s) = list.split(list.of(0)[0]);
         assert_eq!(j, 1);
         assert_eq!(s, [-3.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn the_dense_check_agrees_with_the_volume_fractions() {
+        // Random clouds with a dense clump: `any_dense` must say whether the largest
+        // φ of `local_volume_fractions` reaches the threshold, for thresholds on both
+        // sides of it, periodic and closed.
+        let mut seed = 12345u64;
+        let mut uniform = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut scratch = DenseScratch::default();
+        for periodic in [[true; 3], [false; 3], [true, false, true]] {
+            let mut x: Vec<[f64; 3]> = (0..300)
+                .map(|_| [6.0 * uniform(), 5.0 * uniform(), 4.0 * uniform()])
+                .collect();
+            x.extend((0..40).map(|_| [1.0 + 0.5 * uniform(), 0.2 * uniform(), 3.0]));
+            let r: Vec<f64> = (0..x.len()).map(|i| 0.1 + 0.02 * (i % 3) as f64).collect();
+            let region = ([0.0; 3], [6.0, 5.0, 4.0], periodic);
+            let phi = local_volume_fractions(&x, &r, region, 0.7);
+            let max = phi.iter().copied().fold(0.0, f64::max);
+            assert!(max > 0.01);
+            for threshold in [0.5 * max, 0.999 * max, 1.001 * max, 2.0 * max] {
+                let got = any_dense(&x, &r, region, 0.7, threshold, &mut scratch);
+                assert_eq!(got, max >= threshold, "{periodic:?} {threshold} {max}");
+            }
+            // Particles with radius 0 do not count.
+            let none = vec![0.0; x.len()];
+            assert!(!any_dense(&x, &none, region, 0.7, 1e-12, &mut scratch));
+        }
     }
 }

@@ -34,11 +34,16 @@ pub struct HybridOptions {
     /// An outlet: particles whose centre has passed behind this plane (distance < 0)
     /// leave the system at the next list rebuild (a hopper's discharge).
     pub outlet: Option<emdstar_system::Wall>,
+    /// Whether phases without TD particles run on the cell path (crate docs). False
+    /// keeps the list and its rebuilds throughout, as before the cell path: the same
+    /// physics, for comparisons and measurements.
+    pub cells: bool,
 }
 
 impl HybridOptions {
     /// Defaults around a time step: φ_TD = 0.2, φ_ED = 0.1 (eMD*'s exceptions are rare
-    /// up to η ≈ 0.1, Müller & Pöschel 2013, Fig. 7), adaptive, 50 events per step.
+    /// up to η ≈ 0.1, Müller & Pöschel 2013, Fig. 7), adaptive, 50 events per step, the
+    /// cell path on.
     pub fn with_dt(dt: f64) -> Self {
         Self {
             dt,
@@ -48,6 +53,7 @@ impl HybridOptions {
             adaptive: true,
             max_events_per_step: 50,
             outlet: None,
+            cells: true,
         }
     }
 }
@@ -59,6 +65,10 @@ pub struct HybridStats {
     pub steps: u64,
     /// Neighbour-list rebuilds (each one also decides the modes).
     pub rebuilds: u64,
+    /// Mode checks on the cell path that found nothing to switch (no rebuild).
+    pub cell_passes: u64,
+    /// Cell crossings on the cell path (not counted in `events`).
+    pub crossings: u64,
     /// ED events taken from the queue (stale ones included).
     pub events: u64,
     /// eMD* pair collisions (E^φ events and eMD fallbacks).

@@ -1,0 +1,358 @@
+//! The cell path of the event part (crate docs, "All-ED phases"): while no particle is
+//! TD, the ED particles live in the linked-list cells of [`emdstar_edmd::cells`] and
+//! move between them by cell-crossing events, as in the eMD* engine (Alder &
+//! Wainwright 1959; Rapaport 1980; `emdstar_edmd::Engine`): a full prediction scans the
+//! 27 neighbour cells, a crossing only the 9 cells of the new layer, particles are
+//! updated lazily, and nothing is rebuilt or re-predicted globally. The modes are
+//! checked at the cadence of the list rebuilds, on the link cells of the list path
+//! (the same φ), without synchronising or re-predicting anything.
+
+use crate::engine::{Hybrid, norm};
+use crate::list::{any_dense, region};
+use crate::options::{HybridError, Mode};
+use emdstar_edmd::cells::{CellGrid, NONE};
+use emdstar_edmd::detect::{quadratic_roots, sphere_sphere, sphere_wall};
+
+/// Time until coordinate offset `d` = x − face (moving with velocity `v` and
+/// acceleration `g` along the axis) crosses the face in direction `dir` (±1); +∞ if
+/// never. Already beyond the face and moving on gives 0 (round-off). As
+/// `emdstar_edmd`'s engine does it (Bannerman et al. 2014, Sec. 3: parabolic flights).
+fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
+    if d * dir >= 0.0 && v * dir > 0.0 {
+        return 0.0;
+    }
+    if g == 0.0 {
+        if v * dir <= 0.0 {
+            return f64::INFINITY;
+        }
+        return (-d / v).max(0.0);
+    }
+    if v * v - 2.0 * g * d < 0.0 {
+        return f64::INFINITY;
+    }
+    let (t1, t2) = quadratic_roots(0.5 * g, v, d);
+    let mut best = f64::INFINITY;
+    for t in [t1, t2] {
+        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
+            best = t;
+        }
+    }
+    best
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Hybrid {
+    /// The width of the event cells, as the eMD* engine chooses it: at least the
+    /// largest contact distance 2R_max, and about half the mean spacing (V/N)^(1/3) in
+    /// a dilute gas (fewer crossings for a few more pair tests).
+    fn cell_width(&self, lo_extent: [f64; 3]) -> f64 {
+        let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
+        let spacing = (lo_extent.iter().product::<f64>() / active.max(1) as f64).cbrt();
+        (2.0 * self.system.max_radius()).max(0.55 * spacing)
+    }
+
+    /// Enters the cell path at a rebuild (every particle synchronised and wrapped, no
+    /// particle TD): bins the ED particles. Predictions follow (by the caller). The
+    /// grid covers the box, or in open space the particles' bounding box with half its
+    /// extent (and a cell) to spare on every side: its border cells reach to infinity,
+    /// so particles beyond are still found, but crowd them (the mode checks re-grid
+    /// then).
+    pub(crate) fn enter_cells(&mut self) {
+        let p = &self.system.particles;
+        let (mut lo, mut extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let width = self.cell_width(extent);
+        if self.system.sim_box.is_none() {
+            for k in 0..3 {
+                let spare = 0.5 * extent[k] + width;
+                lo[k] -= spare;
+                extent[k] += 2.0 * spare;
+            }
+        }
+        let mut grid = CellGrid::new(lo, extent, periodic, width, p.len());
+        for i in 0..p.len() {
+            if self.mode[i] == Mode::Event {
+                let c = grid.coords_of(p.position[i]);
+                grid.insert(i, c);
+            }
+        }
+        self.grid = Some(grid);
+    }
+
+    /// Full prediction of ED particle `i` on the cell path: the particles of its own
+    /// and the neighbouring cells, the walls, and the next cell crossing.
+    pub(crate) fn predict_in_cells(&mut self, i: usize, now: f64) {
+        self.sync(i, now);
+        let grid = self.grid.as_ref().expect("on the cell path");
+        let c = grid.coords[i];
+        let found = match grid.interior(c) {
+            Some(base) => self.earliest_in(
+                i,
+                now,
+                grid.interior_neighbours(base).map(|c| (c, [0.0; 3])),
+            ),
+            None => self.earliest_in(i, now, grid.neighbourhood(c).iter()),
+        };
+        let (mut best, mut best_j) = found;
+        let p = &self.system.particles;
+        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
+        let n = self.mode.len();
+        for (w, wall) in self.system.walls.iter().enumerate() {
+            if self.ed[i].partner == (n + w) as u32 {
+                continue;
+            }
+            let dt = sphere_wall(
+                wall.distance(xi),
+                dot(wall.normal, vi),
+                dot(wall.normal, self.system.gravity),
+                ri,
+            );
+            if now + dt < best {
+                best = now + dt;
+                best_j = (n + w) as u32;
+            }
+        }
+        let coll_counter = if (best_j as usize) < n {
+            self.ed[best_j as usize].counter
+        } else {
+            0
+        };
+        let rec = &mut self.ed[i];
+        rec.coll_time = best;
+        rec.coll_partner = best_j;
+        rec.coll_counter = coll_counter;
+        self.predict_crossing(i, now);
+        self.schedule(i);
+    }
+
+    /// The earliest collision of `i` (synchronised at `now`) with the particles of
+    /// `cells` (each with the shift of its periodic image): (time, partner or NONE).
+    #[inline(always)]
+    fn earliest_in(
+        &self,
+        i: usize,
+        now: f64,
+        cells: impl Iterator<Item = (u32, [f64; 3])>,
+    ) -> (f64, u32) {
+        let grid = self.grid.as_ref().expect("on the cell path");
+        let p = &self.system.particles;
+        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
+        let mut best = f64::INFINITY;
+        let mut best_j = NONE;
+        for (cell, s) in cells {
+            let mut j = grid.first(cell);
+            while j != NONE {
+                let ju = j as usize;
+                if ju != i && !self.in_shared_transient(i, ju) {
+                    let (xj, vj) = self.state_at(ju, now);
+                    let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
+                    let v: [f64; 3] = std::array::from_fn(|k| vi[k] - vj[k]);
+                    let dt = sphere_sphere(r, v, ri + p.radius[ju]);
+                    if now + dt < best {
+                        best = now + dt;
+                        best_j = j;
+                    }
+                }
+                j = grid.next(j);
+            }
+        }
+        (best, best_j)
+    }
+
+    /// The earliest crossing of a face of its cell by ED particle `i` (synchronised
+    /// at `now`).
+    fn predict_crossing(&mut self, i: usize, now: f64) {
+        let grid = self.grid.as_ref().expect("on the cell path");
+        let c = grid.coords[i];
+        let (x, v) = (
+            self.system.particles.position[i],
+            self.system.particles.velocity[i],
+        );
+        let mut best = f64::INFINITY;
+        let mut face = 0u8;
+        for k in 0..3 {
+            let (low, high) = grid.faces(k, c[k]);
+            let g = self.system.gravity[k];
+            if high.is_finite() {
+                let t = time_to_face(x[k] - high, v[k], g, 1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k + 1) as u8;
+                }
+            }
+            if low.is_finite() {
+                let t = time_to_face(x[k] - low, v[k], g, -1.0);
+                if t < best {
+                    best = t;
+                    face = (2 * k) as u8;
+                }
+            }
+        }
+        self.ed[i].cross_time = now + best;
+        self.ed[i].cross_face = face;
+    }
+
+    /// A cell crossing of ED particle `i` at `t`: it moves to the next cell (wrapping
+    /// at a periodic face) and is tested against the layer of cells that became its
+    /// neighbours; its earlier prediction stands otherwise.
+    pub(crate) fn crossing(&mut self, i: usize, t: f64) {
+        self.stats.crossings += 1;
+        self.sync(i, t);
+        let face = self.ed[i].cross_face as usize;
+        let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
+        let grid = self.grid.as_mut().expect("on the cell path");
+        let mut c = grid.coords[i];
+        let (next, shift) = grid.step(axis, c[axis], dir);
+        c[axis] = next;
+        grid.relocate(i, c);
+        self.system.particles.position[i][axis] += shift;
+        if !self.ed[i].frozen {
+            let grid = self.grid.as_ref().expect("on the cell path");
+            let (best, j) = match grid.interior(c) {
+                Some(base) => self.earliest_in(
+                    i,
+                    t,
+                    grid.interior_layer(base, axis, dir).map(|c| (c, [0.0; 3])),
+                ),
+                None => self.earliest_in(i, t, grid.new_layer(c, axis, dir).iter()),
+            };
+            if j != NONE && best < self.ed[i].coll_time {
+                let counter = self.ed[j as usize].counter;
+                let rec = &mut self.ed[i];
+                rec.coll_time = best;
+                rec.coll_partner = j;
+                rec.coll_counter = counter;
+            }
+        }
+        self.predict_crossing(i, t);
+        self.schedule(i);
+    }
+
+    /// After an eMD* position jump of `i` (synchronised): wraps it into the box and
+    /// moves it to the cell it now lies in.
+    pub(crate) fn place(&mut self, i: usize) {
+        if let Some(grid) = self.grid.as_mut() {
+            let x = self.system.particles.position[i];
+            let x = self.system.sim_box.map_or(x, |b| b.wrap(x));
+            self.system.particles.position[i] = x;
+            let c = grid.coords_of(x);
+            grid.relocate(i, c);
+        }
+    }
+
+    /// Exception (a) on the cell path (see `rotation_blocked`): would displacing the
+    /// parties push any of them deeper into a third particle or a wall other than
+    /// `own_wall`? (No particle is TD here.)
+    pub(crate) fn rotation_blocked_in_cells(
+        &self,
+        parties: &[(usize, [f64; 3])],
+        own_wall: Option<usize>,
+        t: f64,
+    ) -> bool {
+        let grid = self.grid.as_ref().expect("on the cell path");
+        let p = &self.system.particles;
+        let sim_box = self.system.sim_box;
+        let min_image = |d: [f64; 3]| sim_box.map_or(d, |b| b.min_image(d));
+        for &(q, d) in parties {
+            let x_old = p.position[q];
+            let x_new: [f64; 3] = std::array::from_fn(|k| x_old[k] + d[k]);
+            let c = grid.coords_of(sim_box.map_or(x_new, |b| b.wrap(x_new)));
+            for cell in grid.neighbourhood(c).as_slice() {
+                let mut k = grid.first(*cell);
+                while k != NONE {
+                    let ku = k as usize;
+                    k = grid.next(k);
+                    if parties.iter().any(|&(o, _)| o == ku) {
+                        continue;
+                    }
+                    let xk = self.state_at(ku, t).0;
+                    let contact = p.radius[q] + p.radius[ku];
+                    let d_new = norm(min_image(std::array::from_fn(|c| x_new[c] - xk[c])));
+                    let d_old = norm(min_image(std::array::from_fn(|c| x_old[c] - xk[c])));
+                    if d_new < contact && d_new < d_old {
+                        return true;
+                    }
+                }
+            }
+            for (index, w) in self.system.walls.iter().enumerate() {
+                if own_wall == Some(index) {
+                    continue;
+                }
+                let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
+                if h_new < p.radius[q] && h_new < h_old {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// The mode check on the cell path, due when the particles may have moved one event
+    /// skin: if no ED particle reaches φ ≥ `phi_time` (the only switch possible
+    /// without TD particles), nothing is synchronised or re-predicted; otherwise, and
+    /// for the rebuild's checks (outlet, blow-up, leaving the box) and a particle off
+    /// the grid in open space, it falls back to the full rebuild, which decides the
+    /// modes on the list (and re-enters the cell path with a new grid if all stay ED).
+    #[inline(never)]
+    pub(crate) fn cell_pass(&mut self) -> Result<(), HybridError> {
+        let t = self.time();
+        let mut v_max: f64 = 0.0;
+        let mut rebuild = false;
+        let p = &self.system.particles;
+        let mut positions = std::mem::take(&mut self.positions_now);
+        let mut radius = std::mem::take(&mut self.radius_now);
+        positions.clear();
+        radius.clear();
+        for i in 0..self.mode.len() {
+            if self.mode[i] != Mode::Event {
+                positions.push(p.position[i]);
+                radius.push(0.0);
+                continue;
+            }
+            let (x, v) = self.state_at(i, t);
+            positions.push(x);
+            radius.push(p.radius[i]);
+            let outside = self
+                .system
+                .sim_box
+                .is_some_and(|b| b.outside_closed_axis(x).is_some());
+            let gone = self.opts.outlet.is_some_and(|o| o.distance(x) < 0.0);
+            let grid = self.grid.as_ref().expect("on the cell path");
+            let off_grid = self.system.sim_box.is_none()
+                && (0..3).any(|k| !(grid.lo[k]..=grid.lo[k] + grid.size[k]).contains(&x[k]));
+            if outside || gone || off_grid || !x.iter().chain(&v).all(|c| c.is_finite()) {
+                rebuild = true;
+                break;
+            }
+            v_max = v_max.max(norm(v));
+            if self.ed[i].pending_time.is_finite() {
+                v_max = v_max.max(norm(self.ed[i].pending_vel));
+            }
+        }
+        let dense = !rebuild
+            && self.opts.adaptive
+            && any_dense(
+                &positions,
+                &radius,
+                region(&positions, self.system.sim_box.as_ref()),
+                2.0 * self.system.max_radius() + self.skin,
+                self.opts.phi_time,
+                &mut self.dense,
+            );
+        self.positions_now = positions;
+        self.radius_now = radius;
+        if rebuild || dense {
+            return self.rebuild(self.opts.adaptive);
+        }
+        // The cadence follows the gas (a cloud in open space may contract or spread).
+        self.list_skin = self.event_skin(&self.positions_now);
+        self.v_max_ed = v_max;
+        self.drift_bound = 0.0;
+        self.jump.iter_mut().for_each(|j| *j = 0.0);
+        self.max_jump = 0.0;
+        self.stats.cell_passes += 1;
+        Ok(())
+    }
+}

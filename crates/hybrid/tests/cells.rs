@@ -1,0 +1,273 @@
+//! The cell path of the hybrid engine (all particles event-driven: cells with crossing
+//! events, mode checks without list rebuilds) against independent references: the
+//! eMD* engine of emdstar-edmd on a dilute gas, and the MD engine of emdstar-dem on a
+//! cloud that contracts into a dense cluster (cell path → list path with TD particles
+//! → back to the cell path) and bounces apart.
+
+use emdstar_contact::Vec3;
+use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
+use emdstar_edmd::rules::ExactMor;
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use emdstar_system::{Config, Particles, System};
+
+fn system(text: &str) -> System {
+    Config::from_toml(text).unwrap().build().unwrap()
+}
+
+/// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
+/// a whole number of times.
+fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {
+    let tc = shortest_contact_time(system, t_end).unwrap().unwrap();
+    let steps = (t_end / (fraction * tc)).ceil();
+    (t_end / steps, steps as u64)
+}
+
+/// Largest difference of positions (minimum image) and of velocities.
+fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f64) {
+    let mut dx: f64 = 0.0;
+    let mut dv: f64 = 0.0;
+    for i in 0..a.len() {
+        let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
+        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
+        let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
+        dx = dx.max(Vec3::from(d).norm());
+        dv = dv.max(Vec3::from(w).norm());
+    }
+    (dx, dv)
+}
+
+#[test]
+fn a_dilute_gas_on_the_cell_path_equals_the_emdstar_engine() {
+    // Long enough for 12 crossings per particle, short enough that the round-off
+    // between the two engines does not grow beyond ~1e-11 m (the gas is chaotic: it
+    // grows from 2e-16 m at 0.2 s to 5e-12 m at 4 s and 3e-8 m at 8 s, smoothly).
+    let t_end = 4.0;
+    let sys = system(
+        r#"
+t_end = 4.0
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+[gas]
+count = 216
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.01
+rms_speed = 1.0
+seed = 11
+"#,
+    );
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions::with_dt(dt);
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    h.advance(steps).unwrap();
+    let s = *h.stats();
+    assert_eq!(h.count(Mode::Event), 216);
+    assert_eq!((s.to_time, s.td_particle_steps), (0, 0));
+    // One list build at the start; afterwards only cells and cheap mode checks.
+    assert_eq!(s.rebuilds, 1, "{s:?}");
+    assert!(s.cell_passes >= 5, "too few mode checks to test: {s:?}");
+    assert!(s.crossings > 10 * 216, "too few crossings to test: {s:?}");
+
+    let physics = Physics::EmdStar {
+        materials: Materials::from_system(&sys).unwrap(),
+        mor: Box::new(ExactMor),
+        interference: Interference::HitOnly,
+    };
+    let mut e: Engine = Engine::new(Setup::from_system(&sys), physics).unwrap();
+    e.run_until(t_end).unwrap();
+    let mut reference = sys.particles.clone();
+    e.write_state(&mut reference);
+    assert!(
+        e.stats().pair_collisions > 100,
+        "too few collisions to test"
+    );
+    assert_eq!(s.pair_collisions, e.stats().pair_collisions);
+    let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
+    eprintln!(
+        "cell path: {} collisions, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {s:?}",
+        e.stats().pair_collisions
+    );
+    assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
+}
+
+/// 6 × 6 × 6 elastic spheres on a lattice of 1 m in open space, contracting
+/// homologously (v = −x / 1 s): dilute at first (φ = 0.004 at lattice spacing 1 m), φ
+/// = 0.1 to 0.2 from lattice spacing 0.35 m (t = 0.65 s; the value depends on how the
+/// link cells fall on the lattice), all in contact at t = 0.8 s; they bounce and fly
+/// apart again, beyond where they started (the cell grid of open space must follow).
+fn contracting_lattice() -> System {
+    let mut text = String::from(
+        "t_end = 3.5\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n",
+    );
+    for n in 0..216 {
+        let x = [n % 6, (n / 6) % 6, n / 36].map(|c| c as f64 - 2.5);
+        let v = x.map(|c| -c);
+        text += &format!("[[particles]]\nradius = 0.1\nposition = {x:?}\nvelocity = {v:?}\n");
+    }
+    system(&text)
+}
+
+#[test]
+fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
+    let sys = contracting_lattice();
+    let t_end = 3.5;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions::with_dt(dt);
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let md_opts = MdOptions {
+        dt,
+        contact_end: ContactEnd::ForceZero,
+        skin: Some(h.skin()),
+    };
+    let mut m = Md::new(sys.clone(), md_opts, t_end).unwrap();
+    assert_eq!(h.count(Mode::Event), 216, "the cloud must start dilute");
+    let e0 = h.thermo();
+    let (mut first_td, mut max_td, mut passes_at_max) = (None, 0, 0);
+    let mut rebuilds_back = None;
+    for n in 0..steps {
+        h.advance(1).unwrap();
+        let td = h.count(Mode::Time);
+        if td > 0 && first_td.is_none() {
+            first_td = Some((n + 1) as f64 * dt);
+            // Nothing has touched yet: the lattice closes up at t = 0.8 s.
+            assert_eq!(h.thermo().contacts, 0);
+        }
+        if td > max_td {
+            (max_td, passes_at_max) = (td, h.stats().cell_passes);
+        }
+        if max_td > 0 && td == 0 && rebuilds_back.is_none() {
+            rebuilds_back = Some(h.stats().rebuilds);
+        }
+    }
+    m.advance(steps).unwrap();
+    let s = *h.stats();
+    eprintln!("contracting: first TD at {first_td:?} s, {max_td} TD at most, {s:?}");
+    // Cell path first (mode checks without rebuilds), then the list path with every
+    // particle TD through the contact, then the cell path again.
+    let t_switch = first_td.expect("the cluster must turn time-driven");
+    assert!((0.5..0.8).contains(&t_switch), "{t_switch}");
+    assert!(passes_at_max > 0 && s.rebuilds >= 2, "{s:?}");
+    assert_eq!(max_td, 216);
+    assert_eq!(h.count(Mode::Event), 216, "the cloud must be dilute again");
+    assert!(s.cell_passes > passes_at_max, "{s:?}");
+    // Flying out of the grid of the cell path's return, the cloud gets a new one.
+    let back = rebuilds_back.expect("all ED again");
+    assert!(s.rebuilds > back, "{back} {s:?}");
+    assert!(s.td_particle_steps > 0 && s.to_event >= 2 * 216);
+    // Every contact was MD's: no event-driven collision, no late guard switch.
+    assert_eq!((s.pair_collisions, s.late_conversions), (0, 0), "{s:?}");
+    let (dx, dv) = max_difference(&h.particles(), &m.particles_in_config_order(), &sys);
+    let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
+    eprintln!("contracting vs MD: |dx| = {dx:e} m, |dv| = {dv:e} m/s, E {eh} {em}");
+    assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
+    assert!((eh - em).abs() < 1e-12 * em, "{eh} {em}");
+    let (p0, p1) = (e0.momentum, h.thermo().momentum);
+    let scale = sys.particles.total_mass() * 4.4;
+    for k in 0..3 {
+        assert!((p1[k] - p0[k]).abs() < 1e-13 * scale, "{p0:?} {p1:?}");
+    }
+}
+
+/// An elastic gas under gravity between a floor and a lid (periodic sideways; with
+/// dissipation, particles come to rest on the floor and the event budget hands them
+/// to TD).
+fn gas_under_gravity(damping: f64) -> System {
+    system(&format!(
+        r#"
+t_end = 0.6
+gravity = [0.0, 0.0, -9.81]
+[material]
+model = "linear"
+stiffness = 2e5
+damping = {damping}
+density = 1140.0
+[gas]
+count = 150
+radius = 0.05
+arrangement = "random"
+rms_speed = 2.0
+seed = 4
+[box]
+size = [3.0, 3.0, 3.0]
+periodic = [true, true, false]
+[[walls]]
+normal = [0.0, 0.0, 1.0]
+point = [0.0, 0.0, 0.0]
+[[walls]]
+normal = [0.0, 0.0, -1.0]
+point = [0.0, 0.0, 3.0]
+"#
+    ))
+}
+
+#[test]
+fn walls_and_gravity_on_the_cell_path_match_the_list_path() {
+    // Until 0.6 s: at 0.643 s a particle bounces off the floor into a partner it has
+    // just left, at exactly contact distance, and round-off (1e-12 m between the two
+    // paths) decides whether that E^φ counts as blocked (exception a); from there the
+    // runs differ.
+    let sys = gas_under_gravity(0.0);
+    let t_end = 0.6;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let run = |cells: bool| {
+        let opts = HybridOptions {
+            cells,
+            ..HybridOptions::with_dt(dt)
+        };
+        let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+        h.advance(steps).unwrap();
+        h
+    };
+    let (c, l) = (run(true), run(false));
+    let (sc, sl) = (*c.stats(), *l.stats());
+    eprintln!("gravity: cells {sc:?}\n list {sl:?}");
+    assert_eq!(c.count(Mode::Event), 150);
+    assert_eq!(l.count(Mode::Event), 150);
+    assert!(sc.crossings > 5 * 150 && sc.rebuilds == 1, "{sc:?}");
+    assert!(sl.crossings == 0 && sl.rebuilds > 10, "{sl:?}");
+    assert!(sc.wall_collisions > 50 && sc.pair_collisions > 20, "{sc:?}");
+    assert_eq!(
+        (sc.pair_collisions, sc.wall_collisions, sc.velocity_events),
+        (sl.pair_collisions, sl.wall_collisions, sl.velocity_events)
+    );
+    let (dx, dv) = max_difference(&c.particles(), &l.particles(), &sys);
+    eprintln!("gravity: cells vs list |dx| = {dx:e} m, |dv| = {dv:e} m/s");
+    assert!(
+        dx < 1e-10 && dv < 1e-10,
+        "|dx| = {dx:e} m, |dv| = {dv:e} m/s"
+    );
+}
+
+#[test]
+fn particles_settling_on_the_floor_leave_the_cell_path_through_the_event_budget() {
+    // Damped: particles that come to rest on the floor exceed the event budget and are
+    // handed to TD; the engine leaves the cell path for the list at that step.
+    let sys = gas_under_gravity(20.0);
+    let t_end = 1.0;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions::with_dt(dt);
+    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let p0 = h.thermo().momentum;
+    let e0 = h.thermo().total_energy();
+    h.advance(steps).unwrap();
+    let s = *h.stats();
+    let th = h.thermo();
+    eprintln!("settling: {s:?}, P {:?}", th.momentum);
+    assert!(s.crossings > 0 && s.cell_passes > 0, "{s:?}");
+    assert!(s.budget_conversions > 0 && s.rebuilds > 1, "{s:?}");
+    assert!(s.to_time > 0 && s.td_particle_steps > 0, "{s:?}");
+    assert_eq!(s.late_conversions, 0);
+    // Sideways (periodic, no walls, no gravity) momentum is conserved.
+    let scale = sys.particles.total_mass() * 2.0;
+    for k in 0..2 {
+        assert!(
+            (th.momentum[k] - p0[k]).abs() < 1e-12 * scale,
+            "{p0:?} {th:?}"
+        );
+    }
+    assert!(th.total_energy() < e0);
+}
