@@ -13,9 +13,12 @@ pub(crate) const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 /// x_j + `shifts[code]`.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct FullList {
-    /// `entries[range[i].0..range[i].1]` are the neighbours of particle i.
-    pub range: Vec<(u32, u32)>,
+    /// `entries[range[i].0..range[i].2]` are the neighbours of particle i, those with a
+    /// higher index first (up to `range[i].1`), for the pair loop of the TD forces.
+    pub range: Vec<(u32, u32, u32)>,
     pub entries: Vec<u32>,
+    /// Scratch for the neighbours with a lower index during a build.
+    lower: Vec<u32>,
     pub shifts: [[f64; 3]; 27],
     /// The binned link cells of the last build.
     pub grid: CellGrid,
@@ -127,6 +130,7 @@ impl FullList {
             }
             let ri = radius[i] + skin;
             let begin = self.entries.len() as u32;
+            self.lower.clear();
             for &(other, code) in &cells.0[..cells.1] {
                 let s = self.shifts[code as usize];
                 for &j in grid.items(other as usize) {
@@ -137,11 +141,18 @@ impl FullList {
                     let d: [f64; 3] = std::array::from_fn(|k| xi[k] - positions[j][k] - s[k]);
                     let cut = ri + radius[j];
                     if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                        self.entries.push(j as u32 | code << INDEX_BITS);
+                        let entry = j as u32 | code << INDEX_BITS;
+                        if j > i {
+                            self.entries.push(entry);
+                        } else {
+                            self.lower.push(entry);
+                        }
                     }
                 }
             }
-            self.range.push((begin, self.entries.len() as u32));
+            let upper = self.entries.len() as u32;
+            self.entries.extend_from_slice(&self.lower);
+            self.range.push((begin, upper, self.entries.len() as u32));
         }
         self.grid = grid;
         Ok(())
@@ -150,7 +161,14 @@ impl FullList {
     /// The entries of particle i.
     #[inline]
     pub fn of(&self, i: usize) -> &[u32] {
-        let (a, b) = self.range[i];
+        let (a, _, b) = self.range[i];
+        &self.entries[a as usize..b as usize]
+    }
+
+    /// The entries of particle i with a higher index: every pair once.
+    #[inline]
+    pub fn upper(&self, i: usize) -> &[u32] {
+        let (a, b, _) = self.range[i];
         &self.entries[a as usize..b as usize]
     }
 

@@ -71,9 +71,9 @@ impl Hybrid {
                     }
                 }
             }
-            for &entry in self.list.of(i) {
+            for &entry in self.list.upper(i) {
                 let (j, s) = self.list.split(entry);
-                if j < i || self.mode[j] != Mode::Time {
+                if self.mode[j] != Mode::Time {
                     continue;
                 }
                 let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
