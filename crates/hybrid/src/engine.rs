@@ -222,10 +222,11 @@ impl Hybrid {
                 self.rebuild(self.opts.adaptive)?;
             }
             if 2.0 * v_bound * dt > self.skin {
-                return Err(HybridError::SkinTooThin {
+                return Err(MdError::SkinTooThin {
                     skin: self.skin,
                     step: v_bound * dt,
-                });
+                }
+                .into());
             }
         }
         self.guard();
@@ -280,16 +281,17 @@ impl Hybrid {
             }
             let (x, v) = (p.position[i], p.velocity[i]);
             if !x.iter().chain(&v).all(|c| c.is_finite()) {
-                return Err(HybridError::BlewUp { id: p.id[i], t });
+                return Err(MdError::BlewUp { id: p.id[i], t }.into());
             }
             if let Some(b) = &self.system.sim_box {
                 if let Some(k) = b.outside_closed_axis(x) {
-                    return Err(HybridError::LeftBox {
+                    return Err(MdError::LeftBox {
                         id: p.id[i],
                         axis: ["x", "y", "z"][k],
                         t,
                         position: x,
-                    });
+                    }
+                    .into());
                 }
                 p.position[i] = b.wrap(x);
             }

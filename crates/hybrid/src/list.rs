@@ -2,6 +2,7 @@
 //! fraction that decides the modes.
 
 use crate::options::HybridError;
+use emdstar_dem::MdError;
 use emdstar_system::{CellGrid, SimBox, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
@@ -100,11 +101,12 @@ impl FullList {
             for k in 0..3 {
                 // With fewer than 3 cells a pair could meet through two images.
                 if periodic[k] && grid_min.dims[k] < 3 {
-                    return Err(HybridError::BoxTooSmall {
+                    return Err(MdError::BoxTooSmall {
                         axis: ["x", "y", "z"][k],
                         length: b.size[k],
                         cell: min_cell,
-                    });
+                    }
+                    .into());
                 }
             }
             self.shifts = std::array::from_fn(|code| {

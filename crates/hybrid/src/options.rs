@@ -117,34 +117,4 @@ pub enum HybridError {
     Event(#[from] emdstar_edmd::EngineError),
     #[error("hybrid options: {0}")]
     Invalid(String),
-    #[error(
-        "the box is too small for the cell list: along {axis} it is {length} m long, but a \
-         periodic axis needs at least 3 cells of 2·R_max + skin = {cell} m; enlarge the box \
-         or reduce the skin"
-    )]
-    BoxTooSmall {
-        axis: &'static str,
-        length: f64,
-        cell: f64,
-    },
-    #[error(
-        "particle {id} left the box along the closed axis {axis} at t = {t:e} s (position \
-         {position:?}); add walls at the box faces or make the axis periodic"
-    )]
-    LeftBox {
-        id: u32,
-        axis: &'static str,
-        t: f64,
-        position: [f64; 3],
-    },
-    #[error(
-        "particle {id} has a non-finite position or velocity at t = {t:e} s: the integration \
-         blew up; reduce the time step"
-    )]
-    BlewUp { id: u32, t: f64 },
-    #[error(
-        "skin = {skin:e} m is too thin: particles may move {step:e} m in one step, and the \
-         skin must exceed twice that; raise the skin or lower dt"
-    )]
-    SkinTooThin { skin: f64, step: f64 },
 }
