@@ -4,7 +4,7 @@ use crate::forces::{Contacts, PairForce, WALL};
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
 use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, default_skin, shortest_contact_time};
 use emdstar_contact::PairLaw;
-use emdstar_system::{Particles, System, Thermo, permute};
+use emdstar_system::{Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
 
 /// Particles per chunk of the force loop. Fixed, so that the order in which forces are
@@ -408,24 +408,13 @@ impl Md {
     fn rebuild(&mut self) -> Result<(), MdError> {
         let t = self.time();
         let min_cell = 2.0 * self.system.max_radius() + self.skin;
+        check_and_wrap(
+            &mut self.system.particles,
+            self.system.sim_box.as_ref(),
+            t,
+            |_| false,
+        )?;
         let p = &mut self.system.particles;
-        for i in 0..p.len() {
-            let (x, v) = (p.position[i], p.velocity[i]);
-            if !x.iter().chain(&v).all(|c| c.is_finite()) {
-                return Err(MdError::BlewUp { id: p.id[i], t });
-            }
-            if let Some(b) = &self.system.sim_box {
-                if let Some(k) = b.outside_closed_axis(x) {
-                    return Err(MdError::LeftBox {
-                        id: p.id[i],
-                        axis: ["x", "y", "z"][k],
-                        t,
-                        position: x,
-                    });
-                }
-                p.position[i] = b.wrap(x);
-            }
-        }
         let order = self
             .list
             .sort_order(
@@ -504,4 +493,35 @@ fn elastic_energy(law: &PairLaw, overlap: f64) -> f64 {
         PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
         PairLaw::Hertz { rho_el, .. } => 0.4 * rho_el * overlap * overlap * overlap.sqrt(),
     }
+}
+
+/// Checks that every particle (but those `skip` names) has a finite state and stays
+/// inside the closed axes of `sim_box`, and wraps positions along the periodic ones.
+pub fn check_and_wrap(
+    p: &mut Particles,
+    sim_box: Option<&SimBox>,
+    t: f64,
+    skip: impl Fn(usize) -> bool,
+) -> Result<(), MdError> {
+    for i in 0..p.len() {
+        if skip(i) {
+            continue;
+        }
+        let (x, v) = (p.position[i], p.velocity[i]);
+        if !x.iter().chain(&v).all(|c| c.is_finite()) {
+            return Err(MdError::BlewUp { id: p.id[i], t });
+        }
+        if let Some(b) = sim_box {
+            if let Some(k) = b.outside_closed_axis(x) {
+                return Err(MdError::LeftBox {
+                    id: p.id[i],
+                    axis: ["x", "y", "z"][k],
+                    t,
+                    position: x,
+                });
+            }
+            p.position[i] = b.wrap(x);
+        }
+    }
+    Ok(())
 }

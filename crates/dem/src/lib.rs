@@ -49,7 +49,7 @@ mod forces;
 mod neighbour;
 mod options;
 
-pub use engine::Md;
+pub use engine::{Md, check_and_wrap};
 pub use forces::{touch_correction, unclipped_force};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,

@@ -3,7 +3,7 @@
 use crate::ed::EdRec;
 use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
-use emdstar_dem::{MAX_DT_FRACTION, MdError, default_skin, shortest_contact_time};
+use emdstar_dem::{MAX_DT_FRACTION, MdError, check_and_wrap, default_skin, shortest_contact_time};
 use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
 use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
@@ -274,28 +274,13 @@ impl Hybrid {
                 }
             }
         }
-        let p = &mut self.system.particles;
-        for i in 0..n {
-            if self.mode[i] == Mode::Removed {
-                continue;
-            }
-            let (x, v) = (p.position[i], p.velocity[i]);
-            if !x.iter().chain(&v).all(|c| c.is_finite()) {
-                return Err(MdError::BlewUp { id: p.id[i], t }.into());
-            }
-            if let Some(b) = &self.system.sim_box {
-                if let Some(k) = b.outside_closed_axis(x) {
-                    return Err(MdError::LeftBox {
-                        id: p.id[i],
-                        axis: ["x", "y", "z"][k],
-                        t,
-                        position: x,
-                    }
-                    .into());
-                }
-                p.position[i] = b.wrap(x);
-            }
-        }
+        let mode = &self.mode;
+        check_and_wrap(
+            &mut self.system.particles,
+            self.system.sim_box.as_ref(),
+            t,
+            |i| mode[i] == Mode::Removed,
+        )?;
         // Without TD particles the list serves the events only: a wider skin means
         // fewer rebuilds (each re-predicts every ED particle). After such a period the
         // list is first built wide again, and narrowed once TD particles appear.
