@@ -1,6 +1,6 @@
 //! Building an engine: input checks with clear errors, the cell grid, first predictions.
 
-use crate::cells::{CellGrid, NONE};
+use crate::cells::{CellGrid, NONE, auto_cell_width};
 use crate::engine::{Engine, EventRec, Kin, Slot, dot, sub};
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
@@ -188,11 +188,11 @@ impl<Q: EventQueue> Engine<Q> {
         let max_contact = 2.0 * setup.radius.iter().copied().fold(0.0, f64::max);
         let region = region_of(&setup, max_contact)?;
         let n = setup.position.len();
-        // Dilute gases: cells of about half the mean spacing (V/N)^(1/3) trade a few
-        // more pair tests for far fewer crossings (measured optimum, η = 0.01 to 0.1).
-        let spacing = (region.size.iter().product::<f64>() / n.max(1) as f64).cbrt();
-        let auto = if min_width > 0.0 { 0.0 } else { 0.55 * spacing };
-        let width = max_contact.max(min_width).max(auto);
+        let width = if min_width > 0.0 {
+            max_contact.max(min_width)
+        } else {
+            auto_cell_width(max_contact, region.size.iter().product(), n)
+        };
         let grid = CellGrid::new(region.lo, region.size, region.periodic, width, n);
         let has_gravity = setup.gravity.iter().any(|&g| g != 0.0);
         let mut engine = Self {

@@ -97,6 +97,34 @@ pub fn sphere_wall_naive(height: f64, speed: f64, accel: f64, radius: f64) -> f6
     -(speed + (speed * speed - 2.0 * accel * (height - radius)).sqrt()) / accel
 }
 
+/// Time until a coordinate at `d` = x − face, moving with `v` under `g`, crosses the
+/// face in direction `dir` (±1): the first root of d + v·t + g·t²/2 = 0 with the
+/// velocity pointing along `dir` (parabolic flight, Bannerman et al. 2014, Sec. 3);
+/// 0 if it is already beyond the face and moving outwards (round-off), +∞ if never.
+#[inline]
+pub fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
+    if d * dir >= 0.0 && v * dir > 0.0 {
+        return 0.0;
+    }
+    if g == 0.0 {
+        if v * dir <= 0.0 {
+            return f64::INFINITY;
+        }
+        return (-d / v).max(0.0);
+    }
+    if v * v - 2.0 * g * d < 0.0 {
+        return f64::INFINITY;
+    }
+    let (t1, t2) = quadratic_roots(0.5 * g, v, d);
+    let mut best = f64::INFINITY;
+    for t in [t1, t2] {
+        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
+            best = t;
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -127,32 +127,6 @@ pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// Time until a coordinate at `d` = x − face, moving with `v` under `g`, crosses the
-/// face in direction `dir` (±1); 0 if it is already beyond it and moving outwards.
-#[inline]
-fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
-    if d * dir >= 0.0 && v * dir > 0.0 {
-        return 0.0;
-    }
-    if g == 0.0 {
-        if v * dir <= 0.0 {
-            return f64::INFINITY;
-        }
-        return (-d / v).max(0.0);
-    }
-    if v * v - 2.0 * g * d < 0.0 {
-        return f64::INFINITY;
-    }
-    let (t1, t2) = crate::detect::quadratic_roots(0.5 * g, v, d);
-    let mut best = f64::INFINITY;
-    for t in [t1, t2] {
-        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
-            best = t;
-        }
-    }
-    best
-}
-
 impl<Q: EventQueue> Engine<Q> {
     const MAX_ZERO_TIME_EVENTS: u64 = 10_000_000;
 
@@ -331,46 +305,11 @@ impl<Q: EventQueue> Engine<Q> {
     /// Earliest cell crossing of `i` (advanced to now).
     #[inline]
     fn predict_crossing(&mut self, i: usize) {
-        let c = self.grid.coords[i];
         let (p, v) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
-        let mut best = f64::INFINITY;
-        let mut face = 0u8;
-        if !self.has_gravity {
-            // Straight flight: only the face ahead on each axis can be crossed.
-            for k in 0..3 {
-                let (low, high) = self.grid.faces(k, c[k]);
-                let (target, up) = if v[k] > 0.0 { (high, 1) } else { (low, 0) };
-                if v[k] != 0.0 && target.is_finite() {
-                    let t = ((target - p[k]) / v[k]).max(0.0);
-                    if t < best {
-                        best = t;
-                        face = (2 * k + up) as u8;
-                    }
-                }
-            }
-            self.slot[i].ev.cross_time = self.time + best;
-            self.slot[i].ev.cross_face = face;
-            return;
-        }
-        for k in 0..3 {
-            let (low, high) = self.grid.faces(k, c[k]);
-            let g = self.gravity[k];
-            if high.is_finite() {
-                let t = time_to_face(p[k] - high, v[k], g, 1.0);
-                if t < best {
-                    best = t;
-                    face = (2 * k + 1) as u8;
-                }
-            }
-            if low.is_finite() {
-                let t = time_to_face(p[k] - low, v[k], g, -1.0);
-                if t < best {
-                    best = t;
-                    face = (2 * k) as u8;
-                }
-            }
-        }
-        self.slot[i].ev.cross_time = self.time + best;
+        let (dt, face) = self
+            .grid
+            .next_crossing(self.grid.coords[i], p, v, self.gravity);
+        self.slot[i].ev.cross_time = self.time + dt;
         self.slot[i].ev.cross_face = face;
     }
 

@@ -10,39 +10,8 @@
 use crate::engine::{Hybrid, norm};
 use crate::list::{any_dense, region};
 use crate::options::{HybridError, Mode};
-use emdstar_edmd::cells::{CellGrid, NONE};
-use emdstar_edmd::detect::{quadratic_roots, sphere_sphere, sphere_wall};
-
-/// Time until coordinate offset `d` = x − face (moving with velocity `v` and
-/// acceleration `g` along the axis) crosses the face in direction `dir` (±1); +∞ if
-/// never. Already beyond the face and moving on gives 0 (round-off). As
-/// `emdstar_edmd`'s engine does it (Bannerman et al. 2014, Sec. 3: parabolic flights).
-fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
-    if d * dir >= 0.0 && v * dir > 0.0 {
-        return 0.0;
-    }
-    if g == 0.0 {
-        if v * dir <= 0.0 {
-            return f64::INFINITY;
-        }
-        return (-d / v).max(0.0);
-    }
-    if v * v - 2.0 * g * d < 0.0 {
-        return f64::INFINITY;
-    }
-    let (t1, t2) = quadratic_roots(0.5 * g, v, d);
-    let mut best = f64::INFINITY;
-    for t in [t1, t2] {
-        if t >= 0.0 && (v + g * t) * dir > 0.0 && t < best {
-            best = t;
-        }
-    }
-    best
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
+use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
+use emdstar_edmd::detect::sphere_sphere;
 
 impl Hybrid {
     /// The width of the event cells, as the eMD* engine chooses it: at least the
@@ -50,8 +19,11 @@ impl Hybrid {
     /// a dilute gas (fewer crossings for a few more pair tests).
     fn cell_width(&self, lo_extent: [f64; 3]) -> f64 {
         let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
-        let spacing = (lo_extent.iter().product::<f64>() / active.max(1) as f64).cbrt();
-        (2.0 * self.system.max_radius()).max(0.55 * spacing)
+        auto_cell_width(
+            2.0 * self.system.max_radius(),
+            lo_extent.iter().product(),
+            active,
+        )
     }
 
     /// Enters the cell path at a rebuild (every particle synchronised and wrapped, no
@@ -95,34 +67,8 @@ impl Hybrid {
             ),
             None => self.earliest_in(i, now, grid.neighbourhood(c).iter()),
         };
-        let (mut best, mut best_j) = found;
-        let p = &self.system.particles;
-        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-        let n = self.mode.len();
-        for (w, wall) in self.system.walls.iter().enumerate() {
-            if self.ed[i].partner == (n + w) as u32 {
-                continue;
-            }
-            let dt = sphere_wall(
-                wall.distance(xi),
-                dot(wall.normal, vi),
-                dot(wall.normal, self.system.gravity),
-                ri,
-            );
-            if now + dt < best {
-                best = now + dt;
-                best_j = (n + w) as u32;
-            }
-        }
-        let coll_counter = if (best_j as usize) < n {
-            self.ed[best_j as usize].counter
-        } else {
-            0
-        };
-        let rec = &mut self.ed[i];
-        rec.coll_time = best;
-        rec.coll_partner = best_j;
-        rec.coll_counter = coll_counter;
+        let (best, best_j) = self.earliest_wall(i, now, found);
+        self.keep_collision(i, best, best_j);
         self.predict_crossing(i, now);
         self.schedule(i);
     }
@@ -165,32 +111,14 @@ impl Hybrid {
     /// at `now`).
     fn predict_crossing(&mut self, i: usize, now: f64) {
         let grid = self.grid.as_ref().expect("on the cell path");
-        let c = grid.coords[i];
-        let (x, v) = (
-            self.system.particles.position[i],
-            self.system.particles.velocity[i],
+        let p = &self.system.particles;
+        let (dt, face) = grid.next_crossing(
+            grid.coords[i],
+            p.position[i],
+            p.velocity[i],
+            self.system.gravity,
         );
-        let mut best = f64::INFINITY;
-        let mut face = 0u8;
-        for k in 0..3 {
-            let (low, high) = grid.faces(k, c[k]);
-            let g = self.system.gravity[k];
-            if high.is_finite() {
-                let t = time_to_face(x[k] - high, v[k], g, 1.0);
-                if t < best {
-                    best = t;
-                    face = (2 * k + 1) as u8;
-                }
-            }
-            if low.is_finite() {
-                let t = time_to_face(x[k] - low, v[k], g, -1.0);
-                if t < best {
-                    best = t;
-                    face = (2 * k) as u8;
-                }
-            }
-        }
-        self.ed[i].cross_time = now + best;
+        self.ed[i].cross_time = now + dt;
         self.ed[i].cross_face = face;
     }
 

@@ -121,6 +121,47 @@ impl Hybrid {
         self.ed[i].partner == j as u32 && (j >= n || self.ed[j].partner == i as u32)
     }
 
+    /// The earliest of `found` (time, partner) and the collisions of ED particle `i`
+    /// (synchronised at `now`) with the walls, but the one sharing its transient; a
+    /// wall w is partner `n + w` (Bannerman et al. 2014, Algorithm 2).
+    pub(crate) fn earliest_wall(&self, i: usize, now: f64, found: (f64, u32)) -> (f64, u32) {
+        let (mut best, mut best_j) = found;
+        let p = &self.system.particles;
+        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
+        let n = self.mode.len();
+        for (w, wall) in self.system.walls.iter().enumerate() {
+            if self.in_shared_transient(i, n + w) {
+                continue;
+            }
+            let dt = sphere_wall(
+                wall.distance(xi),
+                dot(wall.normal, vi),
+                dot(wall.normal, self.system.gravity),
+                ri,
+            );
+            if now + dt < best {
+                best = now + dt;
+                best_j = (n + w) as u32;
+            }
+        }
+        (best, best_j)
+    }
+
+    /// Stores `i`'s predicted collision with `partner` (a particle, `n + w` for wall
+    /// w, or NONE) at `time`, with the partner's counter for the staleness check.
+    pub(crate) fn keep_collision(&mut self, i: usize, time: f64, partner: u32) {
+        let n = self.mode.len();
+        let coll_counter = if (partner as usize) < n {
+            self.ed[partner as usize].counter
+        } else {
+            0
+        };
+        let rec = &mut self.ed[i];
+        rec.coll_time = time;
+        rec.coll_partner = partner;
+        rec.coll_counter = coll_counter;
+    }
+
     /// Predicts the earliest collision of ED particle `i` (synchronised at `now`) with
     /// an ED neighbour or a wall and queues its earliest event.
     pub(crate) fn predict(&mut self, i: usize, now: f64) {
@@ -147,33 +188,9 @@ impl Hybrid {
                 best_j = j as u32;
             }
         }
-        let n = self.mode.len();
-        for (w, wall) in self.system.walls.iter().enumerate() {
-            if self.in_shared_transient(i, n + w) {
-                continue;
-            }
-            let height = wall.distance(xi);
-            let dt = sphere_wall(
-                height,
-                dot(wall.normal, vi),
-                dot(wall.normal, self.system.gravity),
-                ri,
-            );
-            if now + dt < best {
-                best = now + dt;
-                best_j = (n + w) as u32;
-            }
-        }
-        let coll_counter = if (best_j as usize) < n {
-            self.ed[best_j as usize].counter
-        } else {
-            0
-        };
-        let rec = &mut self.ed[i];
-        rec.coll_time = best;
-        rec.coll_partner = best_j;
-        rec.coll_counter = coll_counter;
-        rec.cross_time = f64::INFINITY;
+        let (best, best_j) = self.earliest_wall(i, now, (best, best_j));
+        self.keep_collision(i, best, best_j);
+        self.ed[i].cross_time = f64::INFINITY;
         self.schedule(i);
     }
 
