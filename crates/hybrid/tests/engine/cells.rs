@@ -4,38 +4,12 @@
 //! cloud that contracts into a dense cluster (cell path → list path with TD particles
 //! → back to the cell path) and bounces apart.
 
-use emdstar_contact::Vec3;
-use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
+use crate::common::{max_difference, step, system};
+use emdstar_dem::{ContactEnd, Md, MdOptions};
 use emdstar_edmd::rules::ExactMor;
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
-use emdstar_system::{Config, Particles, System};
-
-fn system(text: &str) -> System {
-    Config::from_toml(text).unwrap().build().unwrap()
-}
-
-/// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
-/// a whole number of times.
-fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {
-    let tc = shortest_contact_time(system, t_end).unwrap().unwrap();
-    let steps = (t_end / (fraction * tc)).ceil();
-    (t_end / steps, steps as u64)
-}
-
-/// Largest difference of positions (minimum image) and of velocities.
-fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f64) {
-    let mut dx: f64 = 0.0;
-    let mut dv: f64 = 0.0;
-    for i in 0..a.len() {
-        let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
-        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
-        let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
-        dx = dx.max(Vec3::from(d).norm());
-        dv = dv.max(Vec3::from(w).norm());
-    }
-    (dx, dv)
-}
+use emdstar_system::System;
 
 #[test]
 fn a_dilute_gas_on_the_cell_path_equals_the_emdstar_engine() {

@@ -2,26 +2,14 @@
 //! the eMD* engine on a dilute gas, the MD engine on a dense gas and on collisions
 //! where particles switch modes, and conservation laws.
 
+use crate::common::{max_difference, md, step, system};
 use emdstar_contact::Vec3;
-use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::detect::sphere_sphere;
 use emdstar_edmd::rules::ExactMor;
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_mor::rule::{Body, exact_collision};
-use emdstar_system::{Config, Particles, System};
-
-fn system(text: &str) -> System {
-    Config::from_toml(text).unwrap().build().unwrap()
-}
-
-/// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
-/// a whole number of times.
-fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {
-    let tc = shortest_contact_time(system, t_end).unwrap().unwrap();
-    let steps = (t_end / (fraction * tc)).ceil();
-    (t_end / steps, steps as u64)
-}
+use emdstar_system::System;
 
 fn hybrid(system: &System, dt: f64, adaptive: bool, t_end: f64) -> Hybrid {
     let opts = HybridOptions {
@@ -29,29 +17,6 @@ fn hybrid(system: &System, dt: f64, adaptive: bool, t_end: f64) -> Hybrid {
         ..HybridOptions::with_dt(dt)
     };
     Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
-}
-
-fn md(system: &System, dt: f64, skin: f64, t_end: f64) -> Md {
-    let opts = MdOptions {
-        dt,
-        contact_end: ContactEnd::ForceZero,
-        skin: Some(skin),
-    };
-    Md::new(system.clone(), opts, t_end).unwrap()
-}
-
-/// Largest difference of positions (minimum image) and of velocities.
-fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f64) {
-    let mut dx: f64 = 0.0;
-    let mut dv: f64 = 0.0;
-    for i in 0..a.len() {
-        let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
-        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
-        let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
-        dx = dx.max(Vec3::from(d).norm());
-        dv = dv.max(Vec3::from(w).norm());
-    }
-    (dx, dv)
 }
 
 const TWO_BODY: &str = r#"
