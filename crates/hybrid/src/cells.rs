@@ -204,14 +204,8 @@ impl Hybrid {
                     }
                 }
             }
-            for (index, w) in self.system.walls.iter().enumerate() {
-                if own_wall == Some(index) {
-                    continue;
-                }
-                let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
-                if h_new < p.radius[q] && h_new < h_old {
-                    return true;
-                }
+            if self.wall_blocks(p.radius[q], x_old, x_new, own_wall) {
+                return true;
             }
         }
         false

@@ -426,6 +426,22 @@ impl Hybrid {
         Ok(())
     }
 
+    /// Whether a move of a sphere of `radius` from `x_old` to `x_new` pushes it deeper
+    /// into a wall other than `own_wall` (the one it collides with, whose E^φ sets its
+    /// distance to l·ε_r by design): part of exception (a).
+    pub(crate) fn wall_blocks(
+        &self,
+        radius: f64,
+        x_old: [f64; 3],
+        x_new: [f64; 3],
+        own_wall: Option<usize>,
+    ) -> bool {
+        self.system.walls.iter().enumerate().any(|(index, w)| {
+            let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
+            own_wall != Some(index) && h_new < radius && h_new < h_old
+        })
+    }
+
     /// Exception (a): would displacing the parties push any of them deeper into a third
     /// particle (ED or TD) or a wall other than `own_wall` (the one being hit)? TD
     /// particles are extrapolated from the step start.
@@ -467,14 +483,8 @@ impl Hybrid {
                     return true;
                 }
             }
-            for (index, w) in self.system.walls.iter().enumerate() {
-                if own_wall == Some(index) {
-                    continue;
-                }
-                let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
-                if h_new < p.radius[q] && h_new < h_old {
-                    return true;
-                }
+            if self.wall_blocks(p.radius[q], x_old, x_new, own_wall) {
+                return true;
             }
         }
         false
