@@ -3,8 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
-use emdstar_system::Thermo;
-use emdstar_system::{Config, System};
+use emdstar_system::{Config, System, Thermo};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::path::Path;
