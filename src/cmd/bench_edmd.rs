@@ -224,7 +224,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         );
     }
     let mut out = json!({ "hard_spheres": hs });
-    let table = || -> Result<Box<dyn MorSource>> {
+    let mor_source = || -> Result<Box<dyn MorSource>> {
         Ok(match a.mor {
             MorArg::Exact => Box::new(ExactMor),
             MorArg::Table => Box::new(TableMorSource::default_for(Model::Hertz, true)?),
@@ -232,7 +232,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     };
     if !a.hard_spheres_only {
         let (rate, v) = best_of(a.rounds, || {
-            emdstar_gas(EMDSTAR_CELLS, a.per_particle, table()?, a.queue)
+            emdstar_gas(EMDSTAR_CELLS, a.per_particle, mor_source()?, a.queue)
         })?;
         // The same gas as hard spheres (same N, η and FCC start; units do not matter):
         // what eMD*'s three events and MoR lookup cost over a plain collision.
@@ -291,7 +291,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
                 continue;
             }
             let (star, w) = best_of(a.rounds, || {
-                emdstar_gas(cells, a.per_particle.min(10.0), table()?, a.queue)
+                emdstar_gas(cells, a.per_particle.min(10.0), mor_source()?, a.queue)
             })?;
             if !a.json {
                 println!(
