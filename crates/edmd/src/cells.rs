@@ -337,13 +337,14 @@ impl CellGrid {
     /// The next crossing of a face of cell `c` by a particle at `x` with velocity `v`
     /// under gravity `g`: (time from now, face = axis·2 + 1 if moving up). Border cells
     /// of closed axes reach to ±∞ and have no outer face.
+    #[inline]
     pub fn next_crossing(&self, c: [u32; 3], x: [f64; 3], v: [f64; 3], g: [f64; 3]) -> (f64, u8) {
         let mut best = f64::INFINITY;
         let mut face = 0u8;
-        for k in 0..3 {
-            let (low, high) = self.faces(k, c[k]);
-            if g[k] == 0.0 {
-                // Straight flight along k: only the face ahead can be crossed.
+        if g == [0.0; 3] {
+            // Straight flight: only the face ahead on each axis can be crossed.
+            for k in 0..3 {
+                let (low, high) = self.faces(k, c[k]);
                 let (target, up) = if v[k] > 0.0 { (high, 1) } else { (low, 0) };
                 if v[k] != 0.0 && target.is_finite() {
                     let t = ((target - x[k]) / v[k]).max(0.0);
@@ -352,8 +353,11 @@ impl CellGrid {
                         face = (2 * k + up) as u8;
                     }
                 }
-                continue;
             }
+            return (best, face);
+        }
+        for k in 0..3 {
+            let (low, high) = self.faces(k, c[k]);
             for (target, dir, up) in [(high, 1.0, 1), (low, -1.0, 0)] {
                 if target.is_finite() {
                     let t = time_to_face(x[k] - target, v[k], g[k], dir);

@@ -176,43 +176,70 @@ impl<Q: EventQueue> Engine<Q> {
         own_wall: Option<usize>,
     ) -> bool {
         let now = self.time;
-        for (slot, &p) in parties.iter().enumerate() {
-            let (x_new, x_old) = (new[slot], self.slot[p].kin.pos);
-            // Does a third particle in `cell` end up closer than contact and closer
-            // than before?
-            let blocks = |cell: u32| {
-                let mut k = self.grid.first(cell);
-                while k != NONE {
-                    let ku = k as usize;
-                    if !parties.contains(&ku) {
-                        let (xk, _) = self.state_at(ku, now);
+        // Does a third particle in `cell` end up closer than contact to one of the
+        // `movers` (party slots) and closer than before?
+        let blocks = |cell: u32, movers: &[usize]| {
+            let mut k = self.grid.first(cell);
+            while k != NONE {
+                let ku = k as usize;
+                if !parties.contains(&ku) {
+                    let (xk, _) = self.state_at(ku, now);
+                    for &slot in movers {
+                        let p = parties[slot];
                         let contact = self.slot[p].kin.radius + self.slot[ku].kin.radius;
-                        let d_new = self.min_image(sub(x_new, xk));
+                        let d_new = self.min_image(sub(new[slot], xk));
                         let d_new = dot(d_new, d_new);
                         if d_new < contact * contact {
-                            let d_old = self.min_image(sub(x_old, xk));
+                            let d_old = self.min_image(sub(self.slot[p].kin.pos, xk));
                             if d_new < dot(d_old, d_old) {
                                 return true;
                             }
                         }
                     }
-                    k = self.grid.next(k);
                 }
-                false
+                k = self.grid.next(k);
+            }
+            false
+        };
+        // One or two parties (a wall or a pair collision).
+        debug_assert!(parties.len() <= 2 && new.len() == parties.len());
+        let n = parties.len().min(2);
+        let mut cells = [[0u32; 3]; 2];
+        for slot in 0..n {
+            cells[slot] = self.grid.coords_of(self.wrap(new[slot]));
+        }
+        for slot in 0..n {
+            let c = cells[slot];
+            // Partners landing in the same cell share one scan of its neighbourhood.
+            if cells[..slot].contains(&c) {
+                continue;
+            }
+            let same = n == 2 && slot == 0 && cells[1] == c;
+            let movers: &[usize] = if same {
+                &[0, 1]
+            } else if slot == 0 {
+                &[0]
+            } else {
+                &[1]
             };
-            let c = self.grid.coords_of(self.wrap(x_new));
             let blocked = match self.grid.interior(c) {
-                Some(base) => self.grid.interior_neighbours(base).any(blocks),
+                Some(base) => self
+                    .grid
+                    .interior_neighbours(base)
+                    .any(|cell| blocks(cell, movers)),
                 None => self
                     .grid
                     .neighbourhood(c)
                     .as_slice()
                     .iter()
-                    .any(|&c| blocks(c)),
+                    .any(|&cell| blocks(cell, movers)),
             };
             if blocked {
                 return true;
             }
+        }
+        for (slot, &p) in parties.iter().enumerate() {
+            let (x_new, x_old) = (new[slot], self.slot[p].kin.pos);
             for (w, wall) in self.walls.iter().enumerate() {
                 if own_wall == Some(w) {
                     continue;
