@@ -147,11 +147,7 @@ impl Hybrid {
                 None => self.earliest_in(i, t, grid.new_layer(c, axis, dir).iter()),
             };
             if j != NONE && best < self.ed[i].coll_time {
-                let counter = self.ed[j as usize].counter;
-                let rec = &mut self.ed[i];
-                rec.coll_time = best;
-                rec.coll_partner = j;
-                rec.coll_counter = counter;
+                self.keep_collision(i, best, j);
             }
         }
         self.predict_crossing(i, t);
