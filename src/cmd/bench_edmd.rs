@@ -50,6 +50,9 @@ pub struct BenchEdmdArgs {
     /// --hard-spheres-only, the eMD* gas at η = 0.01; 10 collisions per particle at most).
     #[arg(long)]
     pub scaling: bool,
+    /// With --scaling: also draw the rates against N into this PNG (log-log).
+    #[arg(long, value_name = "FILE.png", requires = "scaling")]
+    pub plot: Option<std::path::PathBuf>,
     /// Skip the eMD* gas.
     #[arg(long)]
     pub hard_spheres_only: bool,
@@ -301,6 +304,12 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
             }
             emdstar_rows.push(w);
         }
+        if let Some(path) = &a.plot {
+            scaling_plot(path, a.hs_eta, &rows, &emdstar_rows)?;
+            if !a.json {
+                println!("wrote {}", path.display());
+            }
+        }
         out["scaling"] = json!(rows);
         out["scaling_emdstar"] = json!(emdstar_rows);
     }
@@ -308,4 +317,39 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         println!("{out}");
     }
     Ok(())
+}
+
+/// Collisions per second against N, log-log, one line per engine.
+fn scaling_plot(path: &std::path::Path, hs_eta: f64, hs: &[Value], star: &[Value]) -> Result<()> {
+    use emdstar_plot::{Axis, PALETTE, Panel, Series, Style, write_png};
+    let points = |rows: &[Value]| -> Vec<(f64, f64)> {
+        rows.iter()
+            .filter_map(|r| {
+                Some((
+                    r["particles"].as_f64()?,
+                    r["collisions_per_second"].as_f64()?,
+                ))
+            })
+            .collect()
+    };
+    let mut p = Panel::new(
+        "Event-driven engine: collisions per second on one core",
+        Axis::log("particles N"),
+        Axis::log("collisions per wall-clock second"),
+    );
+    p.series.push(Series::new(
+        format!("elastic hard spheres, η = {hs_eta}"),
+        points(hs),
+        PALETTE[3],
+        Style::LinePoints(5),
+    ));
+    if !star.is_empty() {
+        p.series.push(Series::new(
+            format!("eMD* Hertz gas, η = {EMDSTAR_ETA}, Y = 1 GPa"),
+            points(star),
+            PALETTE[1],
+            Style::LinePoints(5),
+        ));
+    }
+    write_png(path, (900, 600), 1, 1, &[p]).map_err(|e| anyhow::anyhow!(e))
 }
