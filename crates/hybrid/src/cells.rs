@@ -11,7 +11,6 @@ use crate::engine::{Hybrid, norm};
 use crate::list::{any_dense, region};
 use crate::options::{HybridError, Mode};
 use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
-use emdstar_edmd::detect::sphere_sphere;
 
 impl Hybrid {
     /// The width of the event cells, as the eMD* engine chooses it: at least the
@@ -92,10 +91,7 @@ impl Hybrid {
             while j != NONE {
                 let ju = j as usize;
                 if ju != i && !self.in_shared_transient(i, ju) {
-                    let (xj, vj) = self.state_at(ju, now);
-                    let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
-                    let v: [f64; 3] = std::array::from_fn(|k| vi[k] - vj[k]);
-                    let dt = sphere_sphere(r, v, ri + p.radius[ju]);
+                    let dt = self.pair_time((xi, vi, ri), ju, s, now);
                     if now + dt < best {
                         best = now + dt;
                         best_j = j;

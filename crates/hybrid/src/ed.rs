@@ -121,6 +121,22 @@ impl Hybrid {
         self.ed[i].partner == j as u32 && (j >= n || self.ed[j].partner == i as u32)
     }
 
+    /// Time from `now` until a sphere at (x, v, R) = `a` hits ED particle `j` seen at
+    /// its image shift `s` (Bannerman et al. 2014, Algorithm 1; +∞ if never).
+    #[inline(always)]
+    pub(crate) fn pair_time(
+        &self,
+        (xi, vi, ri): ([f64; 3], [f64; 3], f64),
+        j: usize,
+        s: [f64; 3],
+        now: f64,
+    ) -> f64 {
+        let (xj, vj) = self.state_at(j, now);
+        let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
+        let v: [f64; 3] = std::array::from_fn(|k| vi[k] - vj[k]);
+        sphere_sphere(r, v, ri + self.system.particles.radius[j])
+    }
+
     /// The earliest of `found` (time, partner) and the collisions of ED particle `i`
     /// (synchronised at `now`) with the walls, but the one sharing its transient; a
     /// wall w is partner `n + w` (Bannerman et al. 2014, Algorithm 2).
@@ -179,10 +195,7 @@ impl Hybrid {
             if self.mode[j] != Mode::Event || self.in_shared_transient(i, j) {
                 continue;
             }
-            let (xj, vj) = self.state_at(j, now);
-            let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
-            let v: [f64; 3] = std::array::from_fn(|k| vi[k] - vj[k]);
-            let dt = sphere_sphere(r, v, ri + p.radius[j]);
+            let dt = self.pair_time((xi, vi, ri), j, s, now);
             if now + dt < best {
                 best = now + dt;
                 best_j = j as u32;
