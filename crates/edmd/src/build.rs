@@ -237,10 +237,9 @@ impl<Q: EventQueue> Engine<Q> {
         engine.check_overlaps()?;
         if engine.resort_every > 0 {
             engine.resort();
-        } else {
-            for i in 0..n {
-                engine.predict(i);
-            }
+        }
+        for i in 0..n {
+            engine.predict(i);
         }
         Ok(engine)
     }

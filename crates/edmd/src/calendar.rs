@@ -142,8 +142,10 @@ impl CalendarQueue {
             self.link(id, NEVER);
             return;
         }
-        let b = ((t - self.t0) / self.width).floor();
-        if b <= self.current as f64 {
+        // The bucket is ⌊b⌋; comparisons on b and the truncating cast (b ≥ 1 there)
+        // give it without a call to floor.
+        let b = (t - self.t0) / self.width;
+        if b < self.current as f64 + 1.0 {
             self.heap_push(id);
         } else if b < self.buckets() as f64 {
             self.link(id, b as u32);

@@ -334,38 +334,50 @@ impl CellGrid {
         (low, high)
     }
 
+    /// The next crossing of a face of cell coordinate `c` along axis `k` by a particle
+    /// at `x` with velocity `v` under gravity `g` (all along that axis): (time from
+    /// now, whether through the upper face). Border cells of closed axes reach to ±∞
+    /// and have no outer face.
+    #[inline]
+    pub fn axis_crossing(&self, k: usize, c: u32, x: f64, v: f64, g: f64) -> (f64, bool) {
+        let (low, high) = self.faces(k, c);
+        if g == 0.0 {
+            // Straight flight: only the face ahead can be crossed.
+            let (target, up) = if v > 0.0 { (high, true) } else { (low, false) };
+            if v == 0.0 || !target.is_finite() {
+                return (f64::INFINITY, up);
+            }
+            return (((target - x) / v).max(0.0), up);
+        }
+        let t_high = if high.is_finite() {
+            time_to_face(x - high, v, g, 1.0)
+        } else {
+            f64::INFINITY
+        };
+        let t_low = if low.is_finite() {
+            time_to_face(x - low, v, g, -1.0)
+        } else {
+            f64::INFINITY
+        };
+        if t_low < t_high {
+            (t_low, false)
+        } else {
+            (t_high, true)
+        }
+    }
+
     /// The next crossing of a face of cell `c` by a particle at `x` with velocity `v`
-    /// under gravity `g`: (time from now, face = axis·2 + 1 if moving up). Border cells
-    /// of closed axes reach to ±∞ and have no outer face.
+    /// under gravity `g`: (time from now, face = axis·2 + 1 if moving up), the
+    /// earliest of [`CellGrid::axis_crossing`] over the axes.
     #[inline]
     pub fn next_crossing(&self, c: [u32; 3], x: [f64; 3], v: [f64; 3], g: [f64; 3]) -> (f64, u8) {
         let mut best = f64::INFINITY;
         let mut face = 0u8;
-        if g == [0.0; 3] {
-            // Straight flight: only the face ahead on each axis can be crossed.
-            for k in 0..3 {
-                let (low, high) = self.faces(k, c[k]);
-                let (target, up) = if v[k] > 0.0 { (high, 1) } else { (low, 0) };
-                if v[k] != 0.0 && target.is_finite() {
-                    let t = ((target - x[k]) / v[k]).max(0.0);
-                    if t < best {
-                        best = t;
-                        face = (2 * k + up) as u8;
-                    }
-                }
-            }
-            return (best, face);
-        }
         for k in 0..3 {
-            let (low, high) = self.faces(k, c[k]);
-            for (target, dir, up) in [(high, 1.0, 1), (low, -1.0, 0)] {
-                if target.is_finite() {
-                    let t = time_to_face(x[k] - target, v[k], g[k], dir);
-                    if t < best {
-                        best = t;
-                        face = (2 * k + up) as u8;
-                    }
-                }
+            let (t, up) = self.axis_crossing(k, c[k], x[k], v[k], g[k]);
+            if t < best {
+                best = t;
+                face = (2 * k + usize::from(up)) as u8;
             }
         }
         (best, face)

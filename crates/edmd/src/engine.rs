@@ -83,8 +83,9 @@ pub(crate) struct Kin {
 pub(crate) struct EventRec {
     /// Earliest predicted collision, with a particle or (`n + w`) wall w.
     pub coll_time: f64,
-    /// Next cell crossing.
-    pub cross_time: f64,
+    /// Next crossing of a face along each axis. The motion along one axis does not
+    /// depend on the others, so a crossing only renews the time of its own axis.
+    pub cross: [f64; 3],
     /// eMD*: time of the pending E^v event (+∞ if none).
     pub pending_time: f64,
     pub coll_partner: u32,
@@ -94,8 +95,8 @@ pub(crate) struct EventRec {
     pub counter: u32,
     /// eMD*: the particle (or `n + w` wall) sharing the transient, NONE otherwise.
     pub partner: u32,
-    /// axis·2 + (1 if moving up).
-    pub cross_face: u8,
+    /// Bit k set: the next crossing along axis k is through the upper face.
+    pub cross_up: u8,
     /// The collision was predicted for the moment of prediction: an overlapping,
     /// approaching pair (a stabilising collision, Bannerman 2014, Sec. 4.1).
     pub coll_now: bool,
@@ -105,13 +106,13 @@ impl Default for EventRec {
     fn default() -> Self {
         Self {
             coll_time: f64::INFINITY,
-            cross_time: f64::INFINITY,
+            cross: [f64::INFINITY; 3],
             pending_time: f64::INFINITY,
             coll_partner: NONE,
             coll_counter: 0,
             counter: 0,
             partner: NONE,
-            cross_face: 0,
+            cross_up: 0,
             coll_now: false,
         }
     }
@@ -302,15 +303,37 @@ impl<Q: EventQueue> Engine<Q> {
         self.keep_earliest(i, found);
     }
 
-    /// Earliest cell crossing of `i` (advanced to now).
+    /// Next face crossing of `i` along `axis` (advanced to now).
+    #[inline]
+    fn predict_axis_crossing(&mut self, i: usize, axis: usize) {
+        let (x, v) = (self.slot[i].kin.pos[axis], self.slot[i].kin.vel[axis]);
+        let c = self.grid.coords[i][axis];
+        let (dt, up) = self.grid.axis_crossing(axis, c, x, v, self.gravity[axis]);
+        let ev = &mut self.slot[i].ev;
+        ev.cross[axis] = self.time + dt;
+        ev.cross_up = (ev.cross_up & !(1 << axis)) | (u8::from(up) << axis);
+    }
+
+    /// Next face crossings of `i` along all axes (advanced to now).
     #[inline]
     fn predict_crossing(&mut self, i: usize) {
-        let (p, v) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
-        let (dt, face) = self
-            .grid
-            .next_crossing(self.grid.coords[i], p, v, self.gravity);
-        self.slot[i].ev.cross_time = self.time + dt;
-        self.slot[i].ev.cross_face = face;
+        for axis in 0..3 {
+            self.predict_axis_crossing(i, axis);
+        }
+    }
+
+    /// The earliest cell crossing of `i`: (time, axis, direction ±1).
+    #[inline(always)]
+    fn next_crossing(&self, i: usize) -> (f64, usize, i64) {
+        let ev = &self.slot[i].ev;
+        let mut axis = 0;
+        for k in 1..3 {
+            if ev.cross[k] < ev.cross[axis] {
+                axis = k;
+            }
+        }
+        let dir = if ev.cross_up >> axis & 1 == 1 { 1 } else { -1 };
+        (ev.cross[axis], axis, dir)
     }
 
     /// Pushes the particle's earliest own event to the queue.
@@ -319,7 +342,7 @@ impl<Q: EventQueue> Engine<Q> {
         let t = self.slot[i]
             .ev
             .coll_time
-            .min(self.slot[i].ev.cross_time)
+            .min(self.next_crossing(i).0)
             .min(self.slot[i].ev.pending_time);
         self.queue.set(i, t);
     }
@@ -392,8 +415,9 @@ impl<Q: EventQueue> Engine<Q> {
             self.velocity_event(i);
             return Ok(Event::Velocity(self.id[i]));
         }
-        if self.slot[i].ev.cross_time < self.slot[i].ev.coll_time {
-            self.crossing(i);
+        let (cross_time, axis, dir) = self.next_crossing(i);
+        if cross_time < self.slot[i].ev.coll_time {
+            self.crossing(i, axis, dir);
             return Ok(Event::Crossing(self.id[i]));
         }
         let j = self.slot[i].ev.coll_partner as usize;
@@ -417,20 +441,19 @@ impl<Q: EventQueue> Engine<Q> {
         }
     }
 
-    /// A cell crossing: move the particle to its new cell and test the new layer.
-    fn crossing(&mut self, i: usize) {
+    /// A cell crossing along `axis` in direction `dir`: move the particle to its new
+    /// cell, test the new layer and renew the crossing time along that axis.
+    fn crossing(&mut self, i: usize, axis: usize, dir: i64) {
         self.stats.crossings += 1;
         let now = self.time;
         self.advance(i, now);
-        let face = self.slot[i].ev.cross_face as usize;
-        let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
         let mut c = self.grid.coords[i];
         let (next, shift) = self.grid.step(axis, c[axis], dir);
         c[axis] = next;
         self.slot[i].kin.pos[axis] += shift;
         self.grid.relocate(i, c);
         self.scan_new_layer(i, c, axis, dir);
-        self.predict_crossing(i);
+        self.predict_axis_crossing(i, axis);
         self.schedule(i);
     }
 

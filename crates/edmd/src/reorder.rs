@@ -3,7 +3,6 @@
 //! gas stirs an initial ordering up within a few collisions per particle, so the
 //! engine re-sorts periodically. Events and accessors report the original numbers.
 
-use crate::cells::NONE;
 use crate::engine::Engine;
 use crate::queue::EventQueue;
 
@@ -29,14 +28,11 @@ fn permute<T: Copy>(v: &mut [T], order: &[u32], scratch: &mut Vec<T>) {
 }
 
 impl<Q: EventQueue> Engine<Q> {
-    /// Renumbers the particles in cell order and predicts everything afresh. The
-    /// physics is unchanged: predictions depend only on the current state.
+    /// Renumbers the particles in cell order. Only the numbering changes: states,
+    /// stamps and predicted events move with their particles, partners are renumbered
+    /// and the queue is refiled, so nothing is predicted again.
     pub(crate) fn resort(&mut self) {
         let n = self.len();
-        let now = self.time;
-        for i in 0..n {
-            self.advance(i, now);
-        }
         let mut order: Vec<u32> = (0..n as u32).collect();
         let coords = &self.grid.coords;
         order.sort_by_key(|&i| morton(coords[i as usize]));
@@ -51,16 +47,13 @@ impl<Q: EventQueue> Engine<Q> {
         let mut s_u = Vec::new();
         permute(&mut self.species, &order, &mut s_u);
         permute(&mut self.id, &order, &mut s_u);
-
         let mut s_v = Vec::new();
         permute(&mut self.pending_vel, &order, &mut s_v);
+        // Particles below n are renumbered; walls (n + w) and NONE keep their numbers.
+        let renumber = |j: u32| new_index.get(j as usize).copied().unwrap_or(j);
         for e in self.slot.iter_mut().map(|s| &mut s.ev) {
-            if (e.partner as usize) < n {
-                e.partner = new_index[e.partner as usize];
-            }
-            e.counter = 0;
-            e.coll_partner = NONE;
-            e.coll_time = f64::INFINITY;
+            e.partner = renumber(e.partner);
+            e.coll_partner = renumber(e.coll_partner);
         }
         let mut cells = Vec::new();
         permute(&mut self.grid.coords, &order, &mut cells);
@@ -73,7 +66,7 @@ impl<Q: EventQueue> Engine<Q> {
             self.queue.set(i, f64::INFINITY);
         }
         for i in 0..n {
-            self.predict(i);
+            self.schedule(i);
         }
         self.stats.resorts += 1;
     }
