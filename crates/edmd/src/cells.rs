@@ -34,6 +34,9 @@ pub struct CellGrid {
     /// the new layer for each face (axis·2 + 1 if moving up).
     offsets: [isize; 27],
     layers: [[isize; 9]; 6],
+    /// Per axis and coordinate c: the coordinates at c − 1, c, c + 1 (wrapped, NONE
+    /// beyond a closed axis) and the image shift of each in units of the box size.
+    around: [Vec<[(u32, i8); 3]>; 3],
     next: Vec<u32>,
     prev: Vec<u32>,
     /// Cell coordinates of each particle.
@@ -46,9 +49,11 @@ pub struct CellGrid {
 /// cells: every periodic image within reach is then visited.
 #[derive(Debug, Clone, Copy)]
 pub struct CellSet {
-    pub cells: [u32; 27],
-    pub shifts: [[f64; 3]; 27],
-    pub len: usize,
+    cells: [u32; 27],
+    /// Shifts in units of the box size along each axis.
+    images: [[i8; 3]; 27],
+    size: [f64; 3],
+    len: usize,
 }
 
 impl CellSet {
@@ -57,13 +62,28 @@ impl CellSet {
         &self.cells[..self.len]
     }
 
+    /// Number of cells.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True without cells.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
     /// (cell, shift) pairs.
     #[inline]
     pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + '_ {
+        let size = self.size;
         self.cells[..self.len]
             .iter()
             .copied()
-            .zip(self.shifts[..self.len].iter().copied())
+            .zip(self.images[..self.len].iter().map(move |m| {
+                std::array::from_fn(|k| if m[k] == 0 { 0.0 } else { f64::from(m[k]) * size[k] })
+            }))
     }
 }
 
@@ -108,6 +128,28 @@ impl CellGrid {
                 }
             }
         }
+        let around = std::array::from_fn(|k| {
+            let n = dims[k] as i64;
+            (0..n)
+                .map(|c| {
+                    std::array::from_fn(|m| {
+                        let x = c + m as i64 - 1;
+                        let image = if x < 0 {
+                            -1
+                        } else if x >= n {
+                            1
+                        } else {
+                            0
+                        };
+                        if image != 0 && !periodic[k] {
+                            (NONE, 0)
+                        } else {
+                            (x.rem_euclid(n) as u32, image)
+                        }
+                    })
+                })
+                .collect()
+        });
         Self {
             lo,
             size,
@@ -117,6 +159,7 @@ impl CellGrid {
             head: vec![NONE; dims.iter().product()],
             offsets,
             layers,
+            around,
             next: vec![NONE; n],
             prev: vec![NONE; n],
             coords: vec![[0; 3]; n],
@@ -198,41 +241,37 @@ impl CellGrid {
     }
 
     /// Neighbour coordinates along axis `k` of coordinate `c` at the offsets
-    /// `offsets`, with their shifts, dropping those beyond a closed axis.
+    /// `offsets` (each −1, 0 or 1), with their image shifts, dropping those beyond a
+    /// closed axis.
     #[inline]
-    fn axis_neighbours(&self, k: usize, c: u32, offsets: &[i64]) -> ([(u32, f64); 3], usize) {
-        let n = self.dims[k] as i64;
-        let mut out = [(0u32, 0.0); 3];
+    fn axis_neighbours(&self, k: usize, c: u32, offsets: &[i64]) -> ([(u32, i8); 3], usize) {
+        let row = &self.around[k][c as usize];
+        let mut out = [(0u32, 0i8); 3];
         let mut len = 0;
         for &d in offsets {
-            let x = c as i64 + d;
-            let shift = if x < 0 {
-                -self.size[k]
-            } else if x >= n {
-                self.size[k]
-            } else {
-                0.0
-            };
-            if shift != 0.0 && !self.periodic[k] {
-                continue;
+            let entry = row[(d + 1) as usize];
+            if entry.0 != NONE {
+                out[len] = entry;
+                len += 1;
             }
-            out[len] = (x.rem_euclid(n) as u32, shift);
-            len += 1;
         }
         (out, len)
     }
 
-    fn product(&self, axes: [([(u32, f64); 3], usize); 3]) -> CellSet {
+    fn product(&self, axes: [([(u32, i8); 3], usize); 3]) -> CellSet {
         let mut set = CellSet {
             cells: [0; 27],
-            shifts: [[0.0; 3]; 27],
+            images: [[0; 3]; 27],
+            size: self.size,
             len: 0,
         };
+        let stride = [1, self.dims[0], self.dims[0] * self.dims[1]];
         for &(z, sz) in &axes[2].0[..axes[2].1] {
             for &(y, sy) in &axes[1].0[..axes[1].1] {
+                let row = y as usize * stride[1] + z as usize * stride[2];
                 for &(x, sx) in &axes[0].0[..axes[0].1] {
-                    set.cells[set.len] = self.index([x, y, z]) as u32;
-                    set.shifts[set.len] = [sx, sy, sz];
+                    set.cells[set.len] = (row + x as usize) as u32;
+                    set.images[set.len] = [sx, sy, sz];
                     set.len += 1;
                 }
             }
@@ -282,7 +321,8 @@ impl CellGrid {
             let (nx, nxy) = (self.dims[0] as i64, (self.dims[0] * self.dims[1]) as i64);
             let mut set = CellSet {
                 cells: [0; 27],
-                shifts: [[0.0; 3]; 27],
+                images: [[0; 3]; 27],
+                size: self.size,
                 len: 27,
             };
             let mut m = 0;
@@ -411,7 +451,7 @@ mod tests {
             g.insert(i, [1, 2, 3]);
         }
         g.relocate(2, [0, 0, 0]);
-        let cell = g.neighbourhood([1, 2, 3]).cells[13];
+        let cell = g.neighbourhood([1, 2, 3]).as_slice()[13];
         let mut members = vec![];
         let mut j = g.first(cell);
         while j != NONE {
@@ -430,7 +470,7 @@ mod tests {
         let all = [-1, 0, 1];
         let slow = g.product(std::array::from_fn(|k| g.axis_neighbours(k, c[k], &all)));
         assert_eq!(fast.as_slice(), slow.as_slice());
-        assert_eq!(fast.shifts, slow.shifts);
+        assert!(fast.iter().eq(slow.iter()));
         let base = g.interior(c).unwrap();
         assert_eq!(
             g.interior_neighbours(base).collect::<Vec<_>>(),
@@ -441,7 +481,7 @@ mod tests {
                 let layer = g.new_layer(c, axis, dir);
                 let got: Vec<_> = g.interior_layer(base, axis, dir).collect();
                 assert_eq!(got, layer.as_slice(), "axis {axis} dir {dir}");
-                assert!(layer.shifts[..layer.len].iter().all(|s| *s == [0.0; 3]));
+                assert!(layer.iter().all(|(_, s)| s == [0.0; 3]));
             }
         }
         assert!(g.interior([0, 2, 1]).is_none() && g.interior([2, 2, 3]).is_none());
@@ -453,7 +493,7 @@ mod tests {
         assert_eq!(g.dims, [5, 2, 3]);
         let n = g.neighbourhood([0, 0, 0]);
         // x: 3 (wrapping), y: 3 images of 2 cells, z: 2 (closed, no −1).
-        assert_eq!(n.len, 18);
+        assert_eq!(n.len(), 18);
         let mut v: Vec<_> = n.iter().map(|(c, s)| (c, s.map(|x| x as i64))).collect();
         v.sort();
         v.dedup();
@@ -464,7 +504,7 @@ mod tests {
         );
         // Entering x = 0 moving −x (wrapped from 1): new layer at x = 4.
         let layer = g.new_layer([0, 0, 1], 0, -1);
-        assert_eq!(layer.len, 9);
+        assert_eq!(layer.len(), 9);
         assert!(layer.as_slice().iter().all(|&c| c as usize % 5 == 4));
         assert_eq!(g.step(0, 0, -1), (4, 5.0));
         assert_eq!(g.faces(2, 0), (f64::NEG_INFINITY, 1.0));
