@@ -26,6 +26,8 @@ pub struct CalendarQueue {
     current: usize,
     /// Keys set since the buckets were last sized.
     sets: u64,
+    /// Number of finite keys.
+    finite: usize,
 }
 
 /// An id's key, where it is filed and its list links or heap slot.
@@ -208,6 +210,7 @@ impl EventQueue for CalendarQueue {
             width: 1.0,
             current: 0,
             sets: 0,
+            finite: 0,
         };
         for id in (0..len).rev() {
             q.link(id, NEVER);
@@ -217,6 +220,8 @@ impl EventQueue for CalendarQueue {
 
     fn set(&mut self, id: usize, time: f64) {
         self.sets += 1;
+        self.finite = self.finite + usize::from(time.is_finite())
+            - usize::from(self.node[id].key.is_finite());
         if self.node[id].loc == IN_HEAP {
             self.heap_remove(id);
         } else {
@@ -227,25 +232,15 @@ impl EventQueue for CalendarQueue {
     }
 
     fn peek(&mut self) -> (usize, f64) {
+        if self.finite == 0 {
+            // Only keys at +∞: the smallest id, as the heap reports (in O(1)).
+            return (0, f64::INFINITY);
+        }
         while self.heap.is_empty() {
             self.current += 1;
             if self.current >= self.buckets() && !self.rebuild() {
-                // Only keys at +∞ are left: report the smallest id, as the heap does.
-                let mut id = self.heads[self.buckets() + 1];
-                let mut smallest = NONE;
-                while id != NONE {
-                    smallest = smallest.min(id);
-                    id = self.node[id as usize].next;
-                }
-                self.current = self.buckets();
-                return (
-                    if smallest == NONE {
-                        0
-                    } else {
-                        smallest as usize
-                    },
-                    f64::INFINITY,
-                );
+                debug_assert!(false, "finite keys are counted but none is filed");
+                return (0, f64::INFINITY);
             }
             let b = self.current as u32;
             let mut id = self.heads[b as usize];

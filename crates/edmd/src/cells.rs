@@ -82,7 +82,13 @@ impl CellSet {
             .iter()
             .copied()
             .zip(self.images[..self.len].iter().map(move |m| {
-                std::array::from_fn(|k| if m[k] == 0 { 0.0 } else { f64::from(m[k]) * size[k] })
+                std::array::from_fn(|k| {
+                    if m[k] == 0 {
+                        0.0
+                    } else {
+                        f64::from(m[k]) * size[k]
+                    }
+                })
             }))
     }
 }

@@ -150,6 +150,30 @@ mod tests {
         }
     }
 
+    fn drains_to_infinity_and_refills<Q: EventQueue>() {
+        let mut q = Q::new(5);
+        assert_eq!(q.peek(), (0, f64::INFINITY));
+        for id in 0..5 {
+            q.set(id, 1.0 + id as f64);
+        }
+        assert_eq!(q.peek(), (0, 1.0));
+        for id in 0..5 {
+            q.set(id, f64::INFINITY);
+        }
+        assert_eq!(q.peek(), (0, f64::INFINITY));
+        assert_eq!(q.peek(), (0, f64::INFINITY));
+        q.set(3, 7.5);
+        assert_eq!(q.peek(), (3, 7.5));
+        q.set(4, 0.25);
+        assert_eq!(q.peek(), (4, 0.25));
+    }
+
+    #[test]
+    fn queues_report_only_infinite_keys_and_refill() {
+        drains_to_infinity_and_refills::<IndexedHeap>();
+        drains_to_infinity_and_refills::<crate::CalendarQueue>();
+    }
+
     #[test]
     fn heap_agrees_with_a_linear_scan() {
         check_against_linear_scan::<IndexedHeap>();

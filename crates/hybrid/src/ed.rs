@@ -221,29 +221,21 @@ impl Hybrid {
         } else {
             f64::INFINITY
         };
-        self.queue_set(i, time);
-    }
-
-    /// Sets the queue key of `i`, counting the finite keys.
-    pub(crate) fn queue_set(&mut self, i: usize, time: f64) {
-        let was = self.heap.key(i).is_finite();
-        self.queued = self.queued + usize::from(time.is_finite()) - usize::from(was);
         self.heap.set(i, time);
     }
 
     /// Processes every ED event up to `t_end`, in time order.
     #[inline(never)]
     pub(crate) fn process_events(&mut self, t_end: f64) -> Result<(), HybridError> {
-        // Every branch below queues the particle's next event (or +∞). (The calendar
-        // queue finds "only +∞ left" by walking all ids: not at every step of MD.)
-        while self.queued > 0 {
+        // Every branch below queues the particle's next event (or +∞).
+        loop {
             let (i, t) = self.heap.peek();
             // +∞ when no event is left (`schedule` never queues NaN).
             if t > t_end {
                 break;
             }
             if self.mode[i] != Mode::Event {
-                self.queue_set(i, f64::INFINITY);
+                self.heap.set(i, f64::INFINITY);
                 continue;
             }
             let rec = &self.ed[i];
@@ -338,7 +330,7 @@ impl Hybrid {
         rec.partner = NONE;
         rec.pending_time = f64::INFINITY;
         rec.frozen = false;
-        self.queue_set(i, f64::INFINITY);
+        self.heap.set(i, f64::INFINITY);
         self.td_dirty = true;
         self.converted.push(i as u32);
         self.boundary.push(i as u32);

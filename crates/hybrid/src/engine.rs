@@ -27,8 +27,6 @@ pub struct Hybrid {
     pub(crate) ed: Vec<EdRec>,
     /// Each ED particle's earliest event (+∞ for the others).
     pub(crate) heap: CalendarQueue,
-    /// Number of finite keys in `heap`.
-    pub(crate) queued: usize,
     pub(crate) list: FullList,
     /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
     /// list path.
@@ -130,7 +128,6 @@ impl Hybrid {
             mor,
             ed: vec![EdRec::default(); n],
             heap: CalendarQueue::new(n),
-            queued: 0,
             list: FullList::default(),
             grid: None,
             positions_now: Vec::new(),
