@@ -25,6 +25,11 @@ pub struct HybridArgs {
     /// time-driven (inelastic collapse, resting contacts).
     #[arg(long, value_name = "N", default_value_t = 50)]
     pub max_events_per_step: u32,
+    /// Hybrid: keep the Verlet list and its rebuilds even while no particle is
+    /// time-driven, instead of event-driven cell crossings (the same physics; slower in
+    /// dilute phases; for comparisons).
+    #[arg(long)]
+    pub no_cells: bool,
 }
 
 fn stats_json(s: &HybridStats) -> Value {
@@ -80,6 +85,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
         phi_time: args.hybrid.phi_time,
         phi_event: args.hybrid.phi_event,
         max_events_per_step: args.hybrid.max_events_per_step,
+        cells: !args.hybrid.no_cells,
         ..HybridOptions::with_dt(md.dt)
     };
     let mor = super::edmd_engine::mor_source(&system, &args.edmd)?;

@@ -117,3 +117,22 @@ fn hybrid_bad_options_get_clear_errors() {
     ]);
     assert!(err.contains("run"), "{err}");
 }
+
+#[test]
+fn hybrid_no_cells_keeps_the_list_and_the_physics() {
+    // Every particle event-driven (φ thresholds far above the gas's 0.2): the cell path
+    // by default, the list path with --no-cells; the same collisions either way.
+    let all_ed = ["--phi-time", "0.9", "--phi-event", "0.8"];
+    let cells = run_hybrid("hybrid-cells", &all_ed);
+    let list = run_hybrid("hybrid-list", &[&all_ed[..], &["--no-cells"]].concat());
+    assert!(cells["stats"]["cell_crossings"].as_u64().unwrap() > 0);
+    assert_eq!(list["stats"]["cell_crossings"], 0);
+    assert!(list["stats"]["neighbour_rebuilds"].as_u64().unwrap() >= 1);
+    assert_eq!(cells["stats"]["collisions"], list["stats"]["collisions"]);
+    let (a, b) = (
+        cells["energy_drift"].as_f64().unwrap(),
+        list["energy_drift"].as_f64().unwrap(),
+    );
+    assert!(a < -0.01, "the gas must dissipate for this test: {a}");
+    assert!((a - b).abs() < 1e-9 * a.abs(), "{a} {b}");
+}
