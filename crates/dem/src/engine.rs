@@ -2,7 +2,7 @@
 
 use crate::forces::{Contacts, PairForce, WALL};
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
-use crate::options::{MAX_DT_FRACTION, MdError, MdOptions, default_skin, shortest_contact_time};
+use crate::options::{MdError, MdOptions, prepare_system};
 use emdstar_contact::PairLaw;
 use emdstar_system::{Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
@@ -54,24 +54,7 @@ impl Md {
     /// Prepares `system` for integration with `opts` up to `t_end` (which only enters
     /// the check of the time step against the shortest expected contact time).
     pub fn new(mut system: System, opts: MdOptions, t_end: f64) -> Result<Self, MdError> {
-        system.validate()?;
-        if !(opts.dt.is_finite() && opts.dt > 0.0) {
-            return Err(MdError::BadDt(opts.dt));
-        }
-        if let Some(tc) = shortest_contact_time(&system, t_end)? {
-            let bound = MAX_DT_FRACTION * tc;
-            if opts.dt > bound {
-                return Err(MdError::DtTooCoarse {
-                    dt: opts.dt,
-                    contact_time: tc,
-                    bound,
-                });
-            }
-        }
-        let skin = opts.skin.unwrap_or_else(|| default_skin(&system));
-        if !(skin.is_finite() && skin >= 0.0) {
-            return Err(MdError::BadSkin(skin));
-        }
+        let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         let ns = system.species.len();
         let mut pair_laws = Vec::with_capacity(ns * ns);
         for a in 0..ns {
@@ -82,12 +65,6 @@ impl Md {
         let wall_laws = (0..ns)
             .map(|a| system.wall_pair(a).map(|p| p.0))
             .collect::<Result<_, _>>()?;
-        // Every particle starts on the right side of closed axes; wrap periodic ones.
-        if let Some(b) = system.sim_box {
-            for x in &mut system.particles.position {
-                *x = b.wrap(*x);
-            }
-        }
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let mut md = Self {

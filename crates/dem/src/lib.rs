@@ -53,5 +53,5 @@ pub use engine::{Md, check_and_wrap};
 pub use forces::{touch_correction, unclipped_force};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
-    shortest_contact_time,
+    prepare_system, shortest_contact_time,
 };

@@ -140,6 +140,42 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
     Ok(Some(t_min))
 }
 
+/// The checks every force-based engine makes before it starts: `system` is valid, the
+/// step `dt` is positive and at most [`MAX_DT_FRACTION`] of the shortest contact time
+/// expected up to `t_end`, and the Verlet skin (`None`: [`default_skin`]) is finite and
+/// not negative. Wraps positions along periodic axes; returns the skin.
+pub fn prepare_system(
+    system: &mut System,
+    dt: f64,
+    skin: Option<f64>,
+    t_end: f64,
+) -> Result<f64, MdError> {
+    system.validate()?;
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(MdError::BadDt(dt));
+    }
+    if let Some(tc) = shortest_contact_time(system, t_end)? {
+        let bound = MAX_DT_FRACTION * tc;
+        if dt > bound {
+            return Err(MdError::DtTooCoarse {
+                dt,
+                contact_time: tc,
+                bound,
+            });
+        }
+    }
+    let skin = skin.unwrap_or_else(|| default_skin(system));
+    if !(skin.is_finite() && skin >= 0.0) {
+        return Err(MdError::BadSkin(skin));
+    }
+    if let Some(b) = system.sim_box {
+        for x in &mut system.particles.position {
+            *x = b.wrap(*x);
+        }
+    }
+    Ok(skin)
+}
+
 /// The default Verlet skin: the largest radius R in free space and in dilute boxes,
 /// shrinking as R·½·(0.1/η)^{1/3} above the packing fraction η = 0.0125, so that the
 /// lists stay short in denser gases (measured best on the benchmark gas: skin R at

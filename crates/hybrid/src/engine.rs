@@ -3,7 +3,7 @@
 use crate::ed::EdRec;
 use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
-use emdstar_dem::{MAX_DT_FRACTION, MdError, check_and_wrap, default_skin, shortest_contact_time};
+use emdstar_dem::{MdError, check_and_wrap, prepare_system};
 use emdstar_edmd::cells::CellGrid;
 use emdstar_edmd::rules::MorSource;
 use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
@@ -71,20 +71,10 @@ impl Hybrid {
         mor: Box<dyn MorSource>,
         t_end: f64,
     ) -> Result<Self, HybridError> {
-        system.validate()?;
-        if !(opts.dt.is_finite() && opts.dt > 0.0) {
-            return Err(MdError::BadDt(opts.dt).into());
-        }
-        if let Some(tc) = shortest_contact_time(&system, t_end)? {
-            let bound = MAX_DT_FRACTION * tc;
-            if opts.dt > bound {
-                return Err(MdError::DtTooCoarse {
-                    dt: opts.dt,
-                    contact_time: tc,
-                    bound,
-                }
-                .into());
-            }
+        let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
+        if skin == 0.0 {
+            // Event-driven particles only see partners within the skin.
+            return Err(MdError::BadSkin(skin).into());
         }
         let finite_fraction = |x: f64| x.is_finite() && (0.0..=1.0).contains(&x);
         if !(finite_fraction(opts.phi_event)
@@ -102,16 +92,7 @@ impl Hybrid {
                 "max_events_per_step must be at least 1".into(),
             ));
         }
-        let skin = opts.skin.unwrap_or_else(|| default_skin(&system));
-        if !(skin.is_finite() && skin > 0.0) {
-            return Err(MdError::BadSkin(skin).into());
-        }
         let materials = Materials::from_system(&system)?;
-        if let Some(b) = system.sim_box {
-            for x in &mut system.particles.position {
-                *x = b.wrap(*x);
-            }
-        }
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let mut h = Self {
