@@ -1,55 +1,78 @@
+//! eMD* (default table) alone on the speed check's elastic Hertz gas, for profiling:
+//! events, crossings and cost per simulated second at any packing fraction, Young's
+//! modulus and size (`emdstar validate --only speed` measures MD against it).
+//!
+//! ```text
+//! cargo run --release -p emdstar-harness --example speed_probe -- ETA YOUNG N SECONDS
+//! ```
+//!
+//! SECONDS > 0 runs for that many wall seconds; SECONDS < 0 runs for −SECONDS pair
+//! collisions (a fixed amount of work, e.g. under `valgrind --tool=callgrind`).
+//! `CELL_WIDTH=m` overrides the automatic cell width, `RESORT=events` the re-sorting
+//! interval (0: never).
+
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::*;
-use emdstar_harness::engines::{EventKind, event_engine, lattice_gas};
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_harness::engines::lattice_gas;
+use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use std::time::Instant;
-fn main() {
+
+fn env_number(name: &str) -> Option<f64> {
+    let v = std::env::var(name).ok()?;
+    Some(
+        v.parse()
+            .unwrap_or_else(|_| panic!("{name} = {v:?} is not a number")),
+    )
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<f64> = std::env::args()
         .skip(1)
-        .map(|a| a.parse().unwrap())
-        .collect();
-    let (eta, young, n, secs) = (args[0], args[1], args[2] as usize, args[3]);
-    let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, 0.4, 0.0).unwrap());
-    let system = lattice_gas(&law, 1140.0, 0.1, n, eta, 2.0, 1).unwrap();
-    let width: f64 = std::env::var("W")
-        .ok()
-        .map(|v| v.parse().unwrap())
-        .unwrap_or(0.0);
-    let mut e = if width > 0.0 {
-        let materials = Materials::from_system(&system).unwrap();
-        let physics = Physics::EmdStar {
-            materials,
-            mor: Box::new(TableMorSource::default_for(system.material.model(), true).unwrap()),
-            interference: Interference::HitOnly,
-        };
-        Engine::with_cell_width(Setup::from_system(&system), physics, width).unwrap()
-    } else {
-        event_engine(&system, EventKind::EmdStarTable).unwrap()
+        .map(|a| a.parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{e}; usage: speed_probe ETA YOUNG N SECONDS"))?;
+    let [eta, young, n, seconds] = args[..] else {
+        return Err("usage: speed_probe ETA YOUNG N SECONDS".into());
     };
-    if let Ok(r) = std::env::var("RESORT") {
-        e.set_resort_interval(r.parse().unwrap());
+    let n = n as usize;
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0)?);
+    let system = lattice_gas(&law, DENSITY, RADIUS, n, eta, RMS_SPEED, 1)?;
+    let physics = Physics::EmdStar {
+        materials: Materials::from_system(&system)?,
+        mor: Box::new(TableMorSource::default_for(system.material.model(), true)?),
+        interference: Interference::HitOnly,
+    };
+    let width = env_number("CELL_WIDTH").unwrap_or(0.0);
+    let mut e: Engine = Engine::with_cell_width(Setup::from_system(&system), physics, width)?;
+    if let Some(r) = env_number("RESORT") {
+        e.set_resort_interval(r as u64);
     }
-    e.run_collisions((n / 10) as u64).unwrap();
-    let (t0, ev0, c0) = (e.time(), e.stats().events, e.stats().pair_collisions);
-    let start = Instant::now();
-    if secs < 0.0 {
-        e.run_collisions((-secs) as u64).unwrap();
-    }
-    while start.elapsed().as_secs_f64() < secs {
-        e.run_collisions((n / 10) as u64).unwrap();
-    }
-    let w = start.elapsed().as_secs_f64();
-    let s = e.stats();
-    println!(
-        "sim {:.3} wall {:.3} cost {:.3e} events {} coll {} cross {} ns/event {:.1} wall/sim {:.3e}",
-        e.time() - t0,
-        w,
-        w / (e.time() - t0),
-        s.events - ev0,
-        s.pair_collisions - c0,
-        s.crossings,
-        w * 1e9 / (s.events - ev0) as f64,
-        w / (e.time() - t0)
+    e.run_collisions((n / 10) as u64)?;
+    let (t0, ev0, c0, x0) = (
+        e.time(),
+        e.stats().events,
+        e.stats().pair_collisions,
+        e.stats().crossings,
     );
-    println!("{:?}", s);
+    let start = Instant::now();
+    if seconds < 0.0 {
+        e.run_collisions(-seconds as u64)?;
+    }
+    while start.elapsed().as_secs_f64() < seconds {
+        e.run_collisions((n / 10).max(1) as u64)?;
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let s = e.stats();
+    let events = s.events - ev0;
+    println!(
+        "simulated {:.4} s in {wall:.3} s: {:.4e} wall s per simulated s; {events} events \
+         ({} crossings, {} pair collisions), {:.1} ns per event",
+        e.time() - t0,
+        wall / (e.time() - t0),
+        s.crossings - x0,
+        s.pair_collisions - c0,
+        wall * 1e9 / events as f64
+    );
+    Ok(())
 }
