@@ -33,9 +33,13 @@ impl<Q: EventQueue> Engine<Q> {
     /// and the queue is refiled, so nothing is predicted again.
     pub(crate) fn resort(&mut self) {
         let n = self.len();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        let coords = &self.grid.coords;
-        order.sort_by_key(|&i| morton(coords[i as usize]));
+        // Morton keys once per particle; (key, index) pairs are distinct, so the
+        // unstable sort gives one order.
+        let mut keyed: Vec<(u64, u32)> = (0..n)
+            .map(|i| (morton(self.grid.coords[i]), i as u32))
+            .collect();
+        keyed.sort_unstable();
+        let order: Vec<u32> = keyed.into_iter().map(|(_, i)| i).collect();
         let mut new_index = vec![0u32; n];
         for (new, &old) in order.iter().enumerate() {
             new_index[old as usize] = new as u32;
