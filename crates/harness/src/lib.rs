@@ -20,6 +20,7 @@
 
 pub mod check;
 pub mod cooling;
+pub mod diffusion;
 pub mod engines;
 pub mod exceptions;
 pub mod fig6;

@@ -5,6 +5,7 @@
 
 use emdstar_contact::{ForceLaw, LinearDashpot, ViscoelasticHertz};
 use emdstar_harness::cooling::{CoolingSettings, run as cool};
+use emdstar_harness::diffusion::{DiffusionSettings, run as diffuse};
 use emdstar_harness::engines::{EventKind, event_engine, lattice_gas};
 use emdstar_harness::pair_summary::summarise;
 use emdstar_harness::pairs::{PairSettings, sweep};
@@ -124,4 +125,34 @@ fn pair_sweep_does_not_depend_on_the_thread_count() {
             .collect::<Vec<_>>()
     };
     assert_eq!(key(&one), key(&two));
+}
+
+#[test]
+fn diffusion_of_hard_spheres_is_enskogs_and_emdstar_keeps_the_soft_contact() {
+    let s = DiffusionSettings {
+        particles: 1000,
+        packing_fraction: 0.05,
+        young: 1e7,
+        free_times: 60.0,
+        equilibration_free_times: 5.0,
+        fit_lags: (5.0, 20.0),
+        seed: 1,
+    };
+    let d = diffuse(&s, &|_| {}).unwrap();
+    let (md, emd, star) = (&d.engines[0], &d.engines[1], &d.engines[2]);
+    // eMD collides hard spheres (ε = 1 for A = 0): Enskog's theory within 10 %.
+    let hard = emd.coefficient / d.enskog;
+    assert!((hard - 1.0).abs() < 0.1, "hard spheres D/D_E = {hard}");
+    // The soft contact makes MD diffuse faster than hard spheres; eMD* follows MD
+    // (small gas: within 10 %) and is closer to it than eMD.
+    let (soft, emdstar) = (
+        md.coefficient / emd.coefficient,
+        star.coefficient / md.coefficient,
+    );
+    assert!(soft > 1.05, "MD / eMD = {soft}");
+    assert!((emdstar - 1.0).abs() < 0.1, "eMD* / MD = {emdstar}");
+    assert!(
+        (emdstar - 1.0).abs() < (1.0 / soft - 1.0).abs(),
+        "{emdstar} {soft}"
+    );
 }
