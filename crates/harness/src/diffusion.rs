@@ -8,7 +8,7 @@
 //! D comes from the slope of the mean-square displacement, MSD(t) = 6·D·t at times well
 //! beyond the mean free time, averaged over time origins. The reference is Enskog's
 //! first approximation for hard spheres (Chapman & Cowling, The Mathematical Theory of
-//! Non-Uniform Gases, 3rd ed., 1970, Sec. 16.5):
+//! Non-Uniform Gases, 3rd ed., 1970, Ch. 16):
 //! D_E = 3 / (8 n σ² χ) · √(kT / (π m)), with the Carnahan–Starling contact value
 //! χ = (1 − η/2) / (1 − η)³.
 
@@ -76,7 +76,7 @@ pub fn contact_value(eta: f64) -> f64 {
 
 /// Enskog's self-diffusion coefficient D_E and collision frequency ω_E of hard spheres
 /// of diameter `sigma` at number density `n` and kT/m = `kt_over_m` (Chapman &
-/// Cowling 1970, Secs. 5.21 and 16.5).
+/// Cowling 1970, Chs. 5 and 16): the dilute values divided and multiplied by χ.
 pub fn enskog(n: f64, sigma: f64, eta: f64, kt_over_m: f64) -> (f64, f64) {
     let chi = contact_value(eta);
     let d = 3.0 / (8.0 * n * sigma * sigma * chi) * (kt_over_m / std::f64::consts::PI).sqrt();
@@ -102,12 +102,22 @@ impl Tracker {
         }
     }
 
-    fn observe(&mut self, positions: &[[f64; 3]], keep: bool) {
+    /// Errors if a particle moved so far between samples that its image is ambiguous.
+    fn observe(&mut self, positions: &[[f64; 3]], keep: bool) -> Result<()> {
         for ((u, last), &x) in self.unwrapped.iter_mut().zip(&mut self.last).zip(positions) {
             let d = self
                 .sim_box
                 .min_image(std::array::from_fn(|k| x[k] - last[k]));
             for k in 0..3 {
+                if d[k].abs() > 0.4 * self.sim_box.size[k] {
+                    return Err(HarnessError::Invalid(format!(
+                        "diffusion: a particle moved {:.3} m along axis {k} between two \
+                         samples, too close to half the box ({:.3} m) to unwrap; sample \
+                         more often",
+                        d[k].abs(),
+                        self.sim_box.size[k]
+                    )));
+                }
                 u[k] += d[k];
             }
             *last = x;
@@ -115,6 +125,7 @@ impl Tracker {
         if keep {
             self.samples.push(self.unwrapped.clone());
         }
+        Ok(())
     }
 }
 
@@ -284,7 +295,7 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
     for k in 1..=total {
         let steps = ((k as f64 * interval - md.time()) / md_dt).round().max(0.0) as u64;
         md.advance(steps)?;
-        track.observe(&md_state(&md).0, k >= first_kept);
+        track.observe(&md_state(&md).0, k >= first_kept)?;
         progress("MD");
     }
     let wall = start.elapsed().as_secs_f64();
@@ -297,7 +308,7 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
         for k in 1..=total {
             e.run_until(k as f64 * interval)?;
             e.sync();
-            track.observe(&e.positions(), k >= first_kept);
+            track.observe(&e.positions(), k >= first_kept)?;
             progress(kind.name());
         }
         let wall = start.elapsed().as_secs_f64();
@@ -402,6 +413,24 @@ mod tests {
         let v_mean = (8.0 * kt_m / std::f64::consts::PI).sqrt();
         let path = 1.0 / (2f64.sqrt() * std::f64::consts::PI * n * sigma * sigma);
         assert!((v_mean / omega / path - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tracker_unwraps_periodic_crossings_and_refuses_ambiguous_jumps() {
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [10.0; 3],
+            periodic: [true; 3],
+        };
+        let mut t = Tracker::new(b, &[[9.5, 5.0, 0.5]]);
+        // Crosses x = 10 (wraps to 0.5) and z = 0 (wraps to 9.7).
+        t.observe(&[[0.5, 5.0, 9.7]], true).unwrap();
+        let u = t.samples[0][0];
+        assert!(
+            (u[0] - 10.5).abs() < 1e-12 && (u[2] + 0.3).abs() < 1e-12,
+            "{u:?}"
+        );
+        assert!(t.observe(&[[5.0, 5.0, 9.7]], true).is_err());
     }
 
     #[test]
