@@ -18,12 +18,14 @@ use emdstar_harness::engines::lattice_gas;
 use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use std::time::Instant;
 
-fn env_number(name: &str) -> Option<f64> {
-    let v = std::env::var(name).ok()?;
-    Some(
-        v.parse()
-            .unwrap_or_else(|_| panic!("{name} = {v:?} is not a number")),
-    )
+fn env_number(name: &str) -> Result<Option<f64>, String> {
+    match std::env::var(name) {
+        Ok(v) => v
+            .parse()
+            .map(Some)
+            .map_err(|_| format!("{name} = {v:?} is not a number")),
+        Err(_) => Ok(None),
+    }
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -43,9 +45,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         mor: Box::new(TableMorSource::default_for(system.material.model(), true)?),
         interference: Interference::HitOnly,
     };
-    let width = env_number("CELL_WIDTH").unwrap_or(0.0);
+    let width = env_number("CELL_WIDTH")?.unwrap_or(0.0);
     let mut e: Engine = Engine::with_cell_width(Setup::from_system(&system), physics, width)?;
-    if let Some(r) = env_number("RESORT") {
+    if let Some(r) = env_number("RESORT")? {
         e.set_resort_interval(r as u64);
     }
     e.run_collisions((n / 10) as u64)?;
