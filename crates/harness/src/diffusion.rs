@@ -49,6 +49,8 @@ pub struct EngineDiffusion {
     /// MSD at each lag, m².
     pub msd: Vec<f64>,
     pub collisions: u64,
+    /// eMD*'s exceptions (a) rotation impossible, eMD rule used, and (b) interference.
+    pub exceptions: [u64; 2],
     pub wall_seconds: f64,
 }
 
@@ -172,7 +174,7 @@ fn analyse(
     samples: &[Vec<[f64; 3]>],
     lags: &[f64],
     range: (f64, f64),
-    collisions: u64,
+    stats: Option<&emdstar_edmd::Stats>,
     wall_seconds: f64,
 ) -> EngineDiffusion {
     let n = samples[0].len();
@@ -193,7 +195,8 @@ fn analyse(
         coefficient,
         standard_error: (var / GROUPS as f64).sqrt(),
         msd: curve,
-        collisions,
+        collisions: stats.map_or(0, |s| s.pair_collisions),
+        exceptions: stats.map_or([0; 2], |s| [s.exception_rotation, s.exception_interference]),
         wall_seconds,
     }
 }
@@ -299,7 +302,7 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
         progress("MD");
     }
     let wall = start.elapsed().as_secs_f64();
-    engines.push(analyse("MD", &track.samples, &lags, range, 0, wall));
+    engines.push(analyse("MD", &track.samples, &lags, range, None, wall));
 
     for kind in [EventKind::Emd, EventKind::EmdStarTable] {
         let start = std::time::Instant::now();
@@ -312,13 +315,12 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
             progress(kind.name());
         }
         let wall = start.elapsed().as_secs_f64();
-        let collisions = e.stats().pair_collisions;
         engines.push(analyse(
             kind.name(),
             &track.samples,
             &lags,
             range,
-            collisions,
+            Some(e.stats()),
             wall,
         ));
     }
