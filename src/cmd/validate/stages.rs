@@ -413,8 +413,8 @@ fn diffusion(args: &ValidateArgs) -> Result<StageOutput> {
              N = {}, η = {}, rms speed 2 m/s, from a lattice; {} Enskog mean free times \
              (τ_E = {:.4} s), the first {} dropped; MSD sampled every {:.4} s over time \
              origins one τ_E apart; D = slope/6 over lags of {}–{} τ_E. Errors: the spread \
-             of D over 8 groups of particles (standard error; seed-to-seed differences are \
-             about as large). MD dt = {:.3e} s.",
+             of D over 8 groups of particles, a lower bound (runs with other seeds and sizes \
+             scatter by 1-2 %). MD dt = {:.3e} s.",
             s.young,
             s.particles,
             s.packing_fraction,
