@@ -4,11 +4,8 @@
 //! cloud that contracts into a dense cluster (cell path → list path with TD particles
 //! → back to the cell path) and bounces apart.
 
-use crate::common::{max_difference, step, system};
-use emdstar_dem::{ContactEnd, Md, MdOptions};
-use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
-use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use crate::common::{emdstar_reference, hybrid_with, max_difference, md, step, system};
+use emdstar_hybrid::{HybridOptions, Mode};
 use emdstar_system::System;
 
 #[test]
@@ -36,7 +33,7 @@ seed = 11
     );
     let (dt, steps) = step(&sys, t_end, 0.02);
     let opts = HybridOptions::with_dt(dt);
-    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let mut h = hybrid_with(&sys, opts, t_end);
     h.advance(steps).unwrap();
     let s = *h.stats();
     assert_eq!(h.count(Mode::Event), 216);
@@ -46,24 +43,13 @@ seed = 11
     assert!(s.cell_passes >= 5, "too few mode checks to test: {s:?}");
     assert!(s.crossings > 10 * 216, "too few crossings to test: {s:?}");
 
-    let physics = Physics::EmdStar {
-        materials: Materials::from_system(&sys).unwrap(),
-        mor: Box::new(ExactMor),
-        interference: Interference::HitOnly,
-    };
-    let mut e: Engine = Engine::new(Setup::from_system(&sys), physics).unwrap();
-    e.run_until(t_end).unwrap();
-    let mut reference = sys.particles.clone();
-    e.write_state(&mut reference);
-    assert!(
-        e.stats().pair_collisions > 100,
-        "too few collisions to test"
-    );
-    assert_eq!(s.pair_collisions, e.stats().pair_collisions);
+    let (reference, es) = emdstar_reference(&sys, t_end);
+    assert!(es.pair_collisions > 100, "too few collisions to test");
+    assert_eq!(s.pair_collisions, es.pair_collisions);
     let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
     eprintln!(
         "cell path: {} collisions, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {s:?}",
-        e.stats().pair_collisions
+        es.pair_collisions
     );
     assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
 }
@@ -91,13 +77,8 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     let t_end = 3.5;
     let (dt, steps) = step(&sys, t_end, 0.02);
     let opts = HybridOptions::with_dt(dt);
-    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
-    let md_opts = MdOptions {
-        dt,
-        contact_end: ContactEnd::ForceZero,
-        skin: Some(h.skin()),
-    };
-    let mut m = Md::new(sys.clone(), md_opts, t_end).unwrap();
+    let mut h = hybrid_with(&sys, opts, t_end);
+    let mut m = md(&sys, dt, h.skin(), t_end);
     assert_eq!(h.count(Mode::Event), 216, "the cloud must start dilute");
     let e0 = h.thermo();
     let (mut first_td, mut max_td, mut passes_at_max) = (None, 0, 0);
@@ -192,7 +173,7 @@ fn walls_and_gravity_on_the_cell_path_match_the_list_path() {
             cells,
             ..HybridOptions::with_dt(dt)
         };
-        let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+        let mut h = hybrid_with(&sys, opts, t_end);
         h.advance(steps).unwrap();
         h
     };
@@ -224,7 +205,7 @@ fn particles_settling_on_the_floor_leave_the_cell_path_through_the_event_budget(
     let t_end = 1.0;
     let (dt, steps) = step(&sys, t_end, 0.02);
     let opts = HybridOptions::with_dt(dt);
-    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let mut h = hybrid_with(&sys, opts, t_end);
     let p0 = h.thermo().momentum;
     let e0 = h.thermo().total_energy();
     h.advance(steps).unwrap();

@@ -2,6 +2,9 @@
 
 use emdstar_contact::Vec3;
 use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
+use emdstar_edmd::rules::ExactMor;
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, Stats};
+use emdstar_hybrid::{Hybrid, HybridOptions};
 use emdstar_system::{Config, Particles, System};
 
 pub fn system(text: &str) -> System {
@@ -23,6 +26,25 @@ pub fn md(system: &System, dt: f64, skin: f64, t_end: f64) -> Md {
         skin: Some(skin),
     };
     Md::new(system.clone(), opts, t_end).unwrap()
+}
+
+/// The hybrid engine with the exact MoR.
+pub fn hybrid_with(system: &System, opts: HybridOptions, t_end: f64) -> Hybrid {
+    Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
+}
+
+/// The eMD* engine (exact MoR) run to `t_end`: the final state and its counters.
+pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
+    let physics = Physics::EmdStar {
+        materials: Materials::from_system(system).unwrap(),
+        mor: Box::new(ExactMor),
+        interference: Interference::HitOnly,
+    };
+    let mut e: Engine = Engine::new(Setup::from_system(system), physics).unwrap();
+    e.run_until(t_end).unwrap();
+    let mut state = system.particles.clone();
+    e.write_state(&mut state);
+    (state, *e.stats())
 }
 
 /// Largest difference of positions (minimum image) and of velocities.

@@ -2,11 +2,10 @@
 //! the eMD* engine on a dilute gas, the MD engine on a dense gas and on collisions
 //! where particles switch modes, and conservation laws.
 
-use crate::common::{max_difference, md, step, system};
+use crate::common::{emdstar_reference, hybrid_with, max_difference, md, step, system};
 use emdstar_contact::Vec3;
 use emdstar_edmd::detect::sphere_sphere;
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_mor::rule::{Body, exact_collision};
 use emdstar_system::System;
@@ -16,7 +15,7 @@ fn hybrid(system: &System, dt: f64, adaptive: bool, t_end: f64) -> Hybrid {
         adaptive,
         ..HybridOptions::with_dt(dt)
     };
-    Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
+    hybrid_with(system, opts, t_end)
 }
 
 const TWO_BODY: &str = r#"
@@ -108,22 +107,14 @@ fn a_dilute_gas_runs_fully_event_driven_and_equals_the_emdstar_engine() {
     assert_eq!(h.stats().td_particle_steps, 0);
     assert_eq!(h.stats().to_time, 0);
 
-    let physics = Physics::EmdStar {
-        materials: Materials::from_system(&sys).unwrap(),
-        mor: Box::new(ExactMor),
-        interference: Interference::HitOnly,
-    };
-    let mut e: Engine = Engine::new(Setup::from_system(&sys), physics).unwrap();
-    e.run_until(t_end).unwrap();
-    let mut reference = sys.particles.clone();
-    e.write_state(&mut reference);
-    assert!(e.stats().pair_collisions > 20, "too few collisions to test");
-    assert_eq!(h.stats().pair_collisions, e.stats().pair_collisions);
+    let (reference, es) = emdstar_reference(&sys, t_end);
+    assert!(es.pair_collisions > 20, "too few collisions to test");
+    assert_eq!(h.stats().pair_collisions, es.pair_collisions);
     let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
     eprintln!(
         "dilute: {} collisions, {} wall, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {:?}",
-        e.stats().pair_collisions,
-        e.stats().wall_collisions,
+        es.pair_collisions,
+        es.wall_collisions,
         h.stats()
     );
     assert!(dx < 1e-9 && dv < 1e-9, "|dx| = {dx:e} m, |dv| = {dv:e} m/s");
@@ -208,7 +199,7 @@ fn an_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md()
         skin: Some(1.0),
         ..HybridOptions::with_dt(dt)
     };
-    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let mut h = hybrid_with(&sys, opts, t_end);
     h.set_mode(1, Mode::Event).unwrap();
     let mut m = md(&sys, dt, h.skin(), t_end);
     let e0 = h.thermo();
@@ -389,7 +380,7 @@ fn particles_behind_the_outlet_leave_and_the_rest_falls_freely() {
         }),
         ..HybridOptions::with_dt(dt)
     };
-    let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+    let mut h = hybrid_with(&sys, opts, t_end);
     h.advance(steps).unwrap();
     assert_eq!(h.modes()[0], Mode::Removed);
     assert_ne!(h.modes()[1], Mode::Removed);
@@ -443,7 +434,7 @@ seed = 9
         ..HybridOptions::with_dt(dt)
     };
     let run = || {
-        let mut h = Hybrid::new(sys.clone(), opts, Box::new(ExactMor), t_end).unwrap();
+        let mut h = hybrid_with(&sys, opts, t_end);
         h.advance(steps).unwrap();
         (h.particles(), *h.stats())
     };
