@@ -273,22 +273,16 @@ pub fn sample_count(s: &DiffusionSettings) -> Result<u64> {
 /// Runs MD, eMD and eMD* (table) from one lattice state; `progress(engine)` after each
 /// of the [`sample_count`] samples of each engine.
 pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> {
-    let Plan {
-        system,
-        sim_box,
-        kt_over_m,
-        enskog,
-        free_time,
-        interval,
-        total,
-    } = plan(s)?;
+    let p = plan(s)?;
+    let (system, sim_box, free_time, interval, total) =
+        (&p.system, p.sim_box, p.free_time, p.interval, p.total);
     let first_kept = (s.equilibration_free_times * free_time / interval).ceil() as usize;
     let max_lag = (s.fit_lags.1 * free_time / interval).ceil() as usize;
     let lags: Vec<f64> = (0..=max_lag).map(|k| k as f64 * interval).collect();
     let range = (s.fit_lags.0 * free_time, s.fit_lags.1 * free_time);
     let t_end = total as f64 * interval;
     let md_dt = DEFAULT_DT_FRACTION
-        * shortest_contact_time(&system, t_end)?
+        * shortest_contact_time(system, t_end)?
             .ok_or_else(|| HarnessError::Invalid("the gas is at rest".into()))?;
 
     let mut engines = Vec::new();
@@ -306,7 +300,7 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
 
     for kind in [EventKind::Emd, EventKind::EmdStarTable] {
         let start = std::time::Instant::now();
-        let mut e = event_engine(&system, kind)?;
+        let mut e = event_engine(system, kind)?;
         let mut track = Tracker::new(sim_box, &system.particles.position);
         for k in 1..=total {
             e.run_until(k as f64 * interval)?;
@@ -329,8 +323,8 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
         free_time,
         sample_interval: interval,
         md_dt,
-        kt_over_m,
-        enskog,
+        kt_over_m: p.kt_over_m,
+        enskog: p.enskog,
         lags,
         engines,
     })
