@@ -8,6 +8,7 @@
 use crate::Result;
 use crate::engines::{EventKind, event_engine, lattice_gas};
 use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
+use crate::stats::poisson_interval;
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use serde::Serialize;
 use std::path::Path;
@@ -17,6 +18,18 @@ pub const DENSITY: f64 = 1140.0;
 pub const POISSON: f64 = 0.4;
 /// Root-mean-square speed of the initial Maxwell velocities, m/s.
 pub const RMS_SPEED: f64 = 2.0;
+
+/// How long each gas of the figure runs: at least `min_per_particle` collisions per
+/// particle, then on until `target_exceptions` exceptions (a + b) have been counted or
+/// `max_per_particle` collisions per particle have been done. Counting to a target keeps
+/// the Poisson error of the rare points near 1/√target; the stop rule biases f upwards
+/// by about 1/target.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Effort {
+    pub min_per_particle: f64,
+    pub max_per_particle: f64,
+    pub target_exceptions: u64,
+}
 
 /// One gas of the figure.
 #[derive(Debug, Clone, Serialize)]
@@ -35,23 +48,51 @@ pub struct ExceptionPoint {
     /// Exception frequencies per 1000 collisions (the paper's unit).
     pub per_mille_a: f64,
     pub per_mille_b: f64,
+    /// f_a + f_b per 1000 collisions, and its 68 % Poisson interval.
+    pub per_mille_total: f64,
+    pub per_mille_total_interval: (f64, f64),
 }
 
-/// Runs one gas until `collisions_per_particle`·N/2 collisions are done.
+impl ExceptionPoint {
+    /// The 68 % Poisson interval of a frequency per 1000 collisions for `count` events.
+    pub fn per_mille_interval(&self, count: u64) -> (f64, f64) {
+        let (lo, hi) = poisson_interval(count);
+        let n = self.collisions.max(1) as f64;
+        (1000.0 * lo / n, 1000.0 * hi / n)
+    }
+}
+
+/// Runs one gas for the collisions `effort` asks for.
 pub fn run_point(
     eta: f64,
     young: f64,
     count: usize,
-    collisions_per_particle: f64,
+    effort: Effort,
     seed: u64,
 ) -> Result<ExceptionPoint> {
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0)?);
     let system = lattice_gas(&law, DENSITY, RADIUS, count, eta, RMS_SPEED, seed)?;
     let mut engine = event_engine(&system, EventKind::EmdStarTable)?;
-    engine.run_collisions((collisions_per_particle * count as f64 / 2.0).ceil() as u64)?;
+    let collisions = |per_particle: f64| (per_particle * count as f64 / 2.0).ceil() as u64;
+    let (min, max) = (
+        collisions(effort.min_per_particle),
+        collisions(effort.max_per_particle.max(effort.min_per_particle)),
+    );
+    let chunk = (count as u64 / 2).max(1);
+    engine.run_collisions(min)?;
+    loop {
+        let s = engine.stats();
+        let done = s.pair_collisions;
+        if done >= max
+            || s.exception_rotation + s.exception_interference >= effort.target_exceptions
+        {
+            break;
+        }
+        engine.run_collisions(chunk.min(max - done))?;
+    }
     let s = engine.stats();
     let n = s.pair_collisions.max(1) as f64;
-    Ok(ExceptionPoint {
+    let mut point = ExceptionPoint {
         packing_fraction: eta,
         young,
         particles: count,
@@ -61,7 +102,11 @@ pub fn run_point(
         table_fallbacks: s.mor_fallbacks,
         per_mille_a: 1000.0 * s.exception_rotation as f64 / n,
         per_mille_b: 1000.0 * s.exception_interference as f64 / n,
-    })
+        per_mille_total: 1000.0 * (s.exception_rotation + s.exception_interference) as f64 / n,
+        per_mille_total_interval: (0.0, 0.0),
+    };
+    point.per_mille_total_interval = point.per_mille_interval(point.rotation + point.interference);
+    Ok(point)
 }
 
 /// Writes the two panels: against η at Y = `young_a`, and against Y at η = `eta_b`.
@@ -82,12 +127,12 @@ pub fn plot(
     let young = by_eta.first().map_or(0.0, |p| p.young);
     let eta = by_young.first().map_or(0.0, |p| p.packing_fraction);
     let mut a = Panel::new(
-        format!("a) against packing fraction, Y = {young:.0e} Pa"),
+        format!("a) against packing fraction, Y = {young:.0e} Pa (bars: 68 % Poisson)"),
         Axis::log("packing fraction η"),
         Axis::log("exception frequency f_e (per 1000 collisions)"),
     );
     let mut b = Panel::new(
-        format!("b) against Young's modulus, η = {eta}"),
+        format!("b) against Young's modulus, η = {eta} (bars: 68 % Poisson)"),
         Axis::log("Young's modulus Y (Pa)"),
         Axis::log("exception frequency f_e (per 1000 collisions)"),
     );
@@ -113,6 +158,17 @@ pub fn plot(
             PALETTE[3],
             Style::LinePoints(5),
         ));
+        for p in v {
+            for (count, color) in [(p.rotation, PALETTE[1]), (p.interference, PALETTE[3])] {
+                let (lo, hi) = p.per_mille_interval(count);
+                panel.annotations.push(Annotation::ErrorBar {
+                    x: x(p),
+                    lo,
+                    hi,
+                    color,
+                });
+            }
+        }
         let lowest = v
             .iter()
             .map(|p| p.per_mille_a.min(p.per_mille_b))

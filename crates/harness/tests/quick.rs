@@ -156,3 +156,29 @@ fn diffusion_of_hard_spheres_is_enskogs_and_emdstar_keeps_the_soft_contact() {
         "{emdstar} {soft}"
     );
 }
+
+#[test]
+fn fig7_exceptions_grow_with_density_and_the_count_reaches_its_target() {
+    use emdstar_harness::exceptions::{Effort, run_point};
+    let effort = Effort {
+        min_per_particle: 10.0,
+        max_per_particle: 60.0,
+        target_exceptions: 30,
+    };
+    let dense = run_point(0.2, 1e9, 500, effort, 3).unwrap();
+    let dilute = run_point(0.003, 1e9, 500, effort, 3).unwrap();
+    // The dense gas meets its target within the minimum; the dilute one runs on.
+    assert_eq!(dense.collisions, 2500, "{dense:?}");
+    assert!(
+        dilute.collisions > 2500 && dilute.collisions <= 15_000,
+        "{dilute:?}"
+    );
+    assert!(
+        dilute.rotation + dilute.interference >= 30 || dilute.collisions == 15_000,
+        "{dilute:?}"
+    );
+    // Paper, Fig. 7a: exceptions are rare when dilute, common when dense (> 10×).
+    let (lo_dense, _) = dense.per_mille_total_interval;
+    let (_, hi_dilute) = dilute.per_mille_total_interval;
+    assert!(lo_dense > 10.0 * hi_dilute, "{dense:?} {dilute:?}");
+}

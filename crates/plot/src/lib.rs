@@ -125,6 +125,13 @@ pub enum Annotation {
         text: String,
         color: RGBColor,
     },
+    /// A vertical error bar from `lo` to `hi` at `x`, with short caps.
+    ErrorBar {
+        x: f64,
+        lo: f64,
+        hi: f64,
+        color: RGBColor,
+    },
 }
 
 /// An axis: its label (with units) and whether it is logarithmic (base 10).
@@ -228,6 +235,13 @@ fn data_range(panel: &Panel, axis: &Axis, pick: impl Fn((f64, f64)) -> f64) -> (
                 let at = (panel.x.map(at.0), panel.y.map(at.1));
                 if let (Some(x), Some(y)) = at {
                     vals.push(pick((x, y)));
+                }
+            }
+            Annotation::ErrorBar { x, lo, hi, .. } => {
+                for y in [lo, hi] {
+                    if let (Some(x), Some(y)) = (panel.x.map(*x), panel.y.map(*y)) {
+                        vals.push(pick((x, y)));
+                    }
                 }
             }
         }
@@ -350,6 +364,22 @@ fn draw_panel(area: &DrawingArea<BitMapBackend, Shift>, panel: &Panel) -> Result
                     )))
                     .map_err(err)?;
             }
+            Annotation::ErrorBar { x, lo, hi, color } => {
+                // A lower end at zero on a log axis runs to the bottom of the panel.
+                let (Some(xm), Some(top)) = (panel.x.map(*x), panel.y.map(*hi)) else {
+                    continue;
+                };
+                let bottom = panel.y.map(*lo).unwrap_or(y0).max(y0);
+                let cap = 0.008 * (x1 - x0);
+                let style = color.stroke_width(2);
+                chart
+                    .draw_series([
+                        PathElement::new(vec![(xm, bottom), (xm, top)], style),
+                        PathElement::new(vec![(xm - cap, top), (xm + cap, top)], style),
+                        PathElement::new(vec![(xm - cap, bottom), (xm + cap, bottom)], style),
+                    ])
+                    .map_err(err)?;
+            }
         }
     }
     if labelled {
@@ -389,6 +419,13 @@ mod tests {
             PALETTE[1],
             Style::Line,
         ));
+        // One bar reaching down to zero, which a log axis cannot show.
+        p.annotations.push(Annotation::ErrorBar {
+            x: 0.1,
+            lo: 0.0,
+            hi: 1.5,
+            color: PALETTE[3],
+        });
         write_png(&path, (400, 300), 1, 1, &[p]).unwrap();
         assert!(std::fs::metadata(&path).unwrap().len() > 1000);
         std::fs::remove_dir_all(&dir).unwrap();
