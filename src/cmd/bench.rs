@@ -1,5 +1,6 @@
 //! `emdstar bench md`: particle-steps per second of the MD engine, beside LAMMPS.
 
+use super::lammps::LammpsGas;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_dem::{
@@ -7,8 +8,7 @@ use emdstar_dem::{
 };
 use emdstar_system::Config;
 use serde_json::{Value, json};
-use std::path::PathBuf;
-use std::process::Command;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// What to benchmark.
@@ -158,71 +158,33 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-/// Runs the LAMMPS input with the same gas, time step and skin and reads its loop time.
+/// Runs the LAMMPS input with the same gas, time step and skin.
 fn run_lammps(
     args: &BenchArgs,
-    script: &PathBuf,
+    script: &Path,
     side: usize,
     spacing: f64,
     dt: f64,
     skin: f64,
     eta: f64,
 ) -> Result<Value> {
-    let n = side * side * side;
-    let mass = 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3) * DENSITY;
-    // velocity create T: (3/2) k_B T = ½ m ⟨v²⟩ with k_B in SI units.
-    let temp = mass * RMS_SPEED * RMS_SPEED / (3.0 * 1.380_649e-23);
-    let var = |name: &str, value: String| vec!["-var".to_string(), name.to_string(), value];
-    let mut cmd = Command::new(&args.lmp);
-    cmd.env("OMP_NUM_THREADS", "1")
-        .arg("-in")
-        .arg(script)
-        .args(["-log", "none"]);
-    let mut vars = Vec::new();
-    vars.extend(var("side", side.to_string()));
-    vars.extend(var("spacing", format!("{spacing:e}")));
-    vars.extend(var("diameter", format!("{:e}", 2.0 * RADIUS)));
-    vars.extend(var("density", format!("{DENSITY:e}")));
-    vars.extend(var("temp", format!("{temp:e}")));
-    vars.extend(var("dt", format!("{dt:e}")));
-    vars.extend(var("skin", format!("{skin:e}")));
-    vars.extend(var("warmup", (args.steps / 10).max(1).to_string()));
-    vars.extend(var("steps", args.steps.to_string()));
-    let out_file = std::env::temp_dir().join(format!("emdstar_lammps_{}.txt", std::process::id()));
-    cmd.args(&vars).args(["-screen"]).arg(&out_file);
-    let status = cmd
-        .status()
-        .with_context(|| format!("running {} (is LAMMPS installed?)", args.lmp))?;
-    let text = std::fs::read_to_string(&out_file).unwrap_or_default();
-    let _ = std::fs::remove_file(&out_file);
-    if !status.success() {
-        bail!(
-            "{} failed ({status}): {}",
-            args.lmp,
-            text.lines().rev().take(5).collect::<Vec<_>>().join(" | ")
-        );
-    }
-    // The last "Loop time of X on P procs for S steps with N atoms" is the timed run.
-    let line = text
-        .lines()
-        .rev()
-        .find(|l| l.starts_with("Loop time of"))
-        .context("no 'Loop time' line in the LAMMPS output")?;
-    let words: Vec<&str> = line.split_whitespace().collect();
-    let wall: f64 = words[3].parse()?;
-    let steps: f64 = words[8].parse()?;
-    // "99.5% CPU use with 1 MPI tasks x 1 OpenMP threads" after the timed loop.
-    let cpu_share: f64 = text
-        .lines()
-        .rev()
-        .find(|l| l.contains("% CPU use"))
-        .and_then(|l| l.split('%').next()?.trim().parse().ok())
-        .context("no '% CPU use' line in the LAMMPS output")?;
-    let cpu = wall * cpu_share / 100.0;
+    let gas = LammpsGas {
+        side,
+        spacing,
+        radius: RADIUS,
+        density: DENSITY,
+        rms_speed: RMS_SPEED,
+        dt,
+        skin,
+        warmup: (args.steps / 10).max(1),
+        steps: args.steps,
+    };
+    let t = super::lammps::run(&args.lmp, script, &gas)?;
+    let n = t.particles as f64;
     Ok(json!({
-        "code": "lammps", "eta": eta, "n": n, "threads": 1, "dt": dt, "skin": skin, "steps": steps,
-        "wall_time_s": wall, "cpu_time_s": cpu, "particle_steps_per_s": n as f64 * steps / wall,
-        "particle_steps_per_cpu_s": n as f64 * steps / cpu,
+        "code": "lammps", "eta": eta, "n": t.particles, "threads": 1, "dt": dt, "skin": skin, "steps": t.steps,
+        "wall_time_s": t.wall_s, "cpu_time_s": t.cpu_s, "particle_steps_per_s": n * t.steps / t.wall_s,
+        "particle_steps_per_cpu_s": n * t.steps / t.cpu_s,
     }))
 }
 

@@ -6,6 +6,7 @@ pub mod check;
 pub mod edmd_engine;
 pub mod engine;
 pub mod hybrid_engine;
+pub mod lammps;
 pub mod mor;
 pub mod pair;
 pub mod run;

@@ -9,6 +9,7 @@ use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod speed;
 mod stages;
 
 /// Cross-validate eMD* against eMD against force-based MD (Müller & Pöschel 2013) and
@@ -57,6 +58,11 @@ pub struct ValidateArgs {
     /// diffusion, speed.
     #[arg(long, value_name = "NAME")]
     pub only: Vec<String>,
+    /// Also time LAMMPS (the binary LMP, default `lmp`, with its GRANULAR package) on
+    /// the speed goal's gas and report MD(LAMMPS) / eMD* beside the checks. For
+    /// information: check 5a compares with this project's MD.
+    #[arg(long, value_name = "LMP", num_args = 0..=1, default_missing_value = "lmp")]
+    pub lammps: Option<String>,
 }
 
 /// What one scenario hands to the report.
@@ -66,6 +72,8 @@ pub struct StageOutput {
     pub markdown: Vec<String>,
     pub json: Value,
     pub figures: Vec<PathBuf>,
+    /// Lines printed under the checks: measured figures that are not checks.
+    pub info: Vec<String>,
 }
 
 /// A bar over `total` units of work of one scenario.
@@ -93,6 +101,9 @@ pub fn run(args: &ValidateArgs) -> Result<bool> {
     if args.threads == Some(0) {
         bail!("--threads must be at least 1");
     }
+    if let Some(lmp) = &args.lammps {
+        crate::cmd::lammps::probe(lmp)?;
+    }
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         pool = pool.num_threads(n);
@@ -113,6 +124,9 @@ pub fn run(args: &ValidateArgs) -> Result<bool> {
     let seconds = start.elapsed().as_secs_f64();
     let checks: Vec<&Check> = outputs.iter().flat_map(|(_, o)| &o.checks).collect();
     print_checks(&checks);
+    for line in outputs.iter().flat_map(|(_, o)| &o.info) {
+        println!("{line}");
+    }
     let failed = checks.iter().filter(|c| !c.passed).count();
     println!(
         "{} checks, {} passed, {failed} failed, in {seconds:.0} s; report in {}",

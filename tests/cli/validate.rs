@@ -33,7 +33,7 @@ fn validate_fig6_writes_a_passing_report() {
 }
 
 #[test]
-fn validate_refuses_unknown_scenarios_and_zero_threads() {
+fn validate_refuses_unknown_scenarios_zero_threads_and_a_missing_lammps() {
     let e = emdstar_error(&["validate", "--only", "figure9"]);
     assert!(
         e.contains("unknown scenario 'figure9'") && e.contains("fig7"),
@@ -41,4 +41,10 @@ fn validate_refuses_unknown_scenarios_and_zero_threads() {
     );
     let e = emdstar_error(&["validate", "--threads", "0"]);
     assert!(e.contains("--threads must be at least 1"), "{e}");
+    // Before any scenario runs, and with the way out.
+    let e = emdstar_error(&["validate", "--lammps", "/no/such/lmp"]);
+    assert!(
+        e.contains("cannot start /no/such/lmp") && e.contains("apt-get install lammps"),
+        "{e}"
+    );
 }

@@ -14,7 +14,7 @@ pub fn run(name: &str, args: &ValidateArgs) -> Result<StageOutput> {
         "fig7" => fig7(args),
         "cooling" => cooling(args),
         "diffusion" => diffusion(args),
-        "speed" => speed(args),
+        "speed" => super::speed::run(args),
         other => Err(anyhow!("scenario {other} is not built yet")),
     }
 }
@@ -93,6 +93,7 @@ fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
         markdown,
         json: json!({"summaries": summaries, "skipped": result.skipped, "settings": settings}),
         figures,
+        info: Vec::new(),
     })
 }
 
@@ -150,6 +151,7 @@ fn fig6(args: &ValidateArgs) -> Result<StageOutput> {
             "emdstar_exact_deviation_after": f.emdstar_exact_deviation_after,
         }),
         figures: vec![path],
+        info: Vec::new(),
     })
 }
 
@@ -271,6 +273,7 @@ fn fig7(args: &ValidateArgs) -> Result<StageOutput> {
         markdown,
         json: json!({"by_packing_fraction": by_eta, "by_young": by_young, "particles": count, "effort": effort}),
         figures: vec![path],
+        info: Vec::new(),
     })
 }
 
@@ -392,6 +395,7 @@ fn cooling(args: &ValidateArgs) -> Result<StageOutput> {
         markdown,
         json: json!({ "gases": gases }),
         figures: vec![path],
+        info: Vec::new(),
     })
 }
 
@@ -498,76 +502,6 @@ fn diffusion(args: &ValidateArgs) -> Result<StageOutput> {
         markdown,
         json: json!(d),
         figures: vec![path],
-    })
-}
-
-fn speed(args: &ValidateArgs) -> Result<StageOutput> {
-    use emdstar_harness::speed::{SpeedPoint, measure, plot};
-    let etas = [0.001, 0.01, 0.1];
-    let youngs = [1e7, 1e9, 1e11];
-    let (count, budget) = if args.full {
-        (10_000, 10.0)
-    } else {
-        (2_000, 2.0)
-    };
-    let b = bar("speed", (etas.len() * youngs.len()) as u64);
-    b.set_message(format!(
-        "MD and eMD* on one thread, N = {count}, ≥ {budget} s each"
-    ));
-    // One thread for both engines: a per-core comparison.
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let mut points: Vec<SpeedPoint> = Vec::new();
-    for &y in &youngs {
-        for &eta in &etas {
-            points.push(one.install(|| measure(eta, y, count, budget, args.seed))?);
-            b.inc(1);
-        }
-    }
-    b.finish();
-    let path = args.out.join("speed_ratio.png");
-    plot(&points, &path).map_err(|e| anyhow!(e))?;
-    let mut markdown = vec![
-        format!(
-            "## 5. Speed: MD against eMD* (table), elastic Hertz gas, N = {count}, one thread each"
-        ),
-        String::new(),
-        format!(
-            "Wall seconds per simulated second. MD's cost is measured over a run of steps of ≥ {budget} s wall \
-             (not over the whole simulated time eMD* covers); eMD* over ≥ {budget} s and ≥ 1 collision per particle. \
-             The ratio is a ratio of measured rates on this (shared) machine."
-        ),
-        String::new(),
-        "| η | Y (Pa) | MD dt (s) | MD steps | MD cost | eMD* collisions | eMD* cost | ratio |"
-            .into(),
-        "|---|---|---|---|---|---|---|---|".into(),
-    ];
-    for p in &points {
-        markdown.push(format!(
-            "| {} | {:.0e} | {:.2e} | {} | {:.3e} | {} | {:.3e} | {:.3e} |",
-            p.packing_fraction,
-            p.young,
-            p.md_dt,
-            p.md_steps,
-            p.md_cost,
-            p.emdstar_collisions,
-            p.emdstar_cost,
-            p.ratio
-        ));
-    }
-    let goal = points
-        .iter()
-        .find(|p| p.packing_fraction == 0.001 && p.young == 1e9)
-        .map_or(f64::NAN, |p| p.ratio);
-    let checks = vec![Check::at_least(
-        "5a",
-        "speed: wall-time ratio MD / eMD* at η = 0.001, Y = 1 GPa (goal)",
-        goal,
-        1e3,
-    )];
-    Ok(StageOutput {
-        checks,
-        markdown,
-        json: json!({ "points": points, "threads": 1 }),
-        figures: vec![path],
+        info: Vec::new(),
     })
 }

@@ -1,0 +1,140 @@
+//! Scenario 5 of `emdstar validate`: wall time of MD and of eMD* per simulated second,
+//! and, with `--lammps`, of LAMMPS on the goal's gas (for information).
+
+use super::{StageOutput, ValidateArgs, bar};
+use crate::cmd::lammps::{self, LammpsGas, ScriptFile};
+use anyhow::{Result, anyhow};
+use emdstar_harness::Check;
+use emdstar_harness::speed::{SpeedPoint, measure, plot};
+use serde_json::{Value, json};
+
+/// The goal's gas: η = 0.001, Y = 1 GPa.
+const GOAL: (f64, f64) = (0.001, 1e9);
+
+pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
+    let etas = [0.001, 0.01, 0.1];
+    let youngs = [1e7, 1e9, 1e11];
+    let (count, budget) = if args.full {
+        (10_000, 10.0)
+    } else {
+        (2_000, 2.0)
+    };
+    let b = bar("speed", (etas.len() * youngs.len()) as u64);
+    b.set_message(format!(
+        "MD and eMD* on one thread, N = {count}, ≥ {budget} s each"
+    ));
+    // One thread for both engines: a per-core comparison.
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let mut points: Vec<SpeedPoint> = Vec::new();
+    for &y in &youngs {
+        for &eta in &etas {
+            points.push(one.install(|| measure(eta, y, count, budget, args.seed))?);
+            b.inc(1);
+        }
+    }
+    b.finish();
+    let path = args.out.join("speed_ratio.png");
+    plot(&points, &path).map_err(|e| anyhow!(e))?;
+    let mut markdown = vec![
+        format!(
+            "## 5. Speed: MD against eMD* (table), elastic Hertz gas, N = {count}, one thread each"
+        ),
+        String::new(),
+        format!(
+            "Wall seconds per simulated second. MD's cost is measured over a run of steps of ≥ {budget} s wall \
+             (not over the whole simulated time eMD* covers); eMD* over ≥ {budget} s and ≥ 1 collision per particle. \
+             The ratio is a ratio of measured rates on this (shared) machine."
+        ),
+        String::new(),
+        "| η | Y (Pa) | MD dt (s) | MD steps | MD cost | eMD* collisions | eMD* cost | ratio |"
+            .into(),
+        "|---|---|---|---|---|---|---|---|".into(),
+    ];
+    for p in &points {
+        markdown.push(format!(
+            "| {} | {:.0e} | {:.2e} | {} | {:.3e} | {} | {:.3e} | {:.3e} |",
+            p.packing_fraction,
+            p.young,
+            p.md_dt,
+            p.md_steps,
+            p.md_cost,
+            p.emdstar_collisions,
+            p.emdstar_cost,
+            p.ratio
+        ));
+    }
+    let goal_point = points
+        .iter()
+        .find(|p| (p.packing_fraction, p.young) == GOAL);
+    let goal = goal_point.map_or(f64::NAN, |p| p.ratio);
+    let checks = vec![Check::at_least(
+        "5a",
+        "speed: wall-time ratio MD / eMD* at η = 0.001, Y = 1 GPa (goal)",
+        goal,
+        1e3,
+    )];
+    let mut info = Vec::new();
+    let mut peer = Value::Null;
+    if let (Some(lmp), Some(p)) = (&args.lammps, goal_point) {
+        let (line, json) = lammps_peer(lmp, p, budget, args.seed)?;
+        markdown.extend([String::new(), line.clone()]);
+        info.push(line);
+        peer = json;
+    }
+    Ok(StageOutput {
+        checks,
+        markdown,
+        json: json!({ "points": points, "threads": 1, "lammps": peer }),
+        figures: vec![path],
+        info,
+    })
+}
+
+/// Times LAMMPS on the goal's gas (simple cubic, the cube nearest to N, the same
+/// spacing, rms speed, MD time step and Verlet skin) for about `budget` seconds, and
+/// compares its cost per particle and simulated second with eMD*'s at `p`.
+fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64, seed: u64) -> Result<(String, Value)> {
+    use emdstar_contact::{ForceLaw, ViscoelasticHertz};
+    use emdstar_harness::engines::lattice_gas;
+    use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
+    let b = bar("lammps", 1);
+    b.set_message(format!(
+        "{lmp} on one core, η = {}, Y = {:.0e} Pa",
+        GOAL.0, GOAL.1
+    ));
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(GOAL.1, POISSON, 0.0)?);
+    let system = lattice_gas(&law, DENSITY, RADIUS, p.particles, GOAL.0, RMS_SPEED, seed)?;
+    let side = (p.particles as f64).cbrt().round() as usize;
+    let volume = 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3);
+    // About 5e7 particle-steps per second for LAMMPS on this gas.
+    let steps = ((budget * 5e7 / side.pow(3) as f64) as u64).max(1000);
+    let gas = LammpsGas {
+        side,
+        spacing: (volume / GOAL.0).cbrt(),
+        radius: RADIUS,
+        density: DENSITY,
+        rms_speed: RMS_SPEED,
+        dt: p.md_dt,
+        skin: emdstar_dem::default_skin(&system),
+        warmup: steps / 10,
+        steps,
+    };
+    let script = ScriptFile::new()?;
+    let t = lammps::run(lmp, script.path(), &gas)?;
+    b.finish();
+    let per_particle = |cost: f64, n: usize| cost / n as f64;
+    let lammps_cost = t.cost(gas.dt);
+    let ratio = per_particle(lammps_cost, t.particles) / per_particle(p.emdstar_cost, p.particles);
+    let line = format!(
+        "For information (not a check): LAMMPS ({lmp}, one core, N = {}, same dt {:.2e} s) costs \
+         {lammps_cost:.3e} wall s per simulated s; per particle, LAMMPS / eMD* = {ratio:.0} at \
+         η = {}, Y = {:.0e} Pa (check 5a compares with this project's MD: {:.0}).",
+        t.particles, gas.dt, GOAL.0, GOAL.1, p.ratio
+    );
+    let json = json!({
+        "binary": lmp, "particles": t.particles, "dt": gas.dt, "skin": gas.skin, "steps": t.steps,
+        "wall_time_s": t.wall_s, "cpu_time_s": t.cpu_s, "cost": lammps_cost,
+        "lammps_over_emdstar_per_particle": ratio,
+    });
+    Ok((line, json))
+}
