@@ -106,17 +106,19 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let mut md = Md::new(system.clone(), opts, 0.0)?;
                 md.advance((args.steps / 10).max(1))?;
                 let (steps0, rebuilds0) = (md.steps(), md.rebuilds());
-                let (start, cpu0) = (Instant::now(), cpu_seconds());
+                let (start, cpu0) = (Instant::now(), super::cpu_time::process_seconds());
                 md.advance(args.steps)?;
                 let wall = start.elapsed().as_secs_f64();
-                let cpu = cpu_seconds() - cpu0;
+                let cpu = super::cpu_time::process_seconds()
+                    .zip(cpu0)
+                    .map(|(b, a)| b - a);
                 let th = md.thermo();
                 Ok(json!({
                     "code": "emdstar", "eta": eta, "n": n, "threads": threads, "dt": dt, "skin": skin, "round": round,
                     "steps": md.steps() - steps0, "rebuilds": md.rebuilds() - rebuilds0,
                     "contacts_at_end": th.contacts, "wall_time_s": wall, "cpu_time_s": cpu,
                     "particle_steps_per_s": n as f64 * args.steps as f64 / wall,
-                    "particle_steps_per_cpu_s": n as f64 * args.steps as f64 / cpu,
+                    "particle_steps_per_cpu_s": cpu.map(|c| n as f64 * args.steps as f64 / c),
                 }))
             })?;
                 println!("{row}");
@@ -186,21 +188,4 @@ fn run_lammps(
         "wall_time_s": t.wall_s, "cpu_time_s": t.cpu_s, "particle_steps_per_s": n * t.steps / t.wall_s,
         "particle_steps_per_cpu_s": n * t.steps / t.cpu_s,
     }))
-}
-
-/// CPU time of this process (all threads) in s, from /proc/self/task/*/schedstat (ns).
-fn cpu_seconds() -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return f64::NAN;
-    };
-    let mut ns = 0u64;
-    for task in tasks.flatten() {
-        let text = std::fs::read_to_string(task.path().join("schedstat")).unwrap_or_default();
-        ns += text
-            .split_whitespace()
-            .next()
-            .and_then(|w| w.parse::<u64>().ok())
-            .unwrap_or(0);
-    }
-    ns as f64 * 1e-9
 }

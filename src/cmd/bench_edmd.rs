@@ -72,14 +72,6 @@ fn density(eta: f64) -> f64 {
     6.0 * eta / PI
 }
 
-/// On-CPU time of the calling thread (Linux scheduler statistics), if available: on
-/// a shared machine it excludes the time the benchmark waited for a core.
-fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
-}
-
 /// Runs `collisions` after `warmup` and returns (collisions/s, stats JSON).
 fn time_run<Q: EventQueue>(
     mut engine: Engine<Q>,
@@ -88,10 +80,12 @@ fn time_run<Q: EventQueue>(
 ) -> Result<(f64, Value)> {
     engine.run_collisions(warmup)?;
     let before = *engine.stats();
-    let (start, cpu_start) = (Instant::now(), thread_cpu_seconds());
+    let (start, cpu_start) = (Instant::now(), super::cpu_time::thread_seconds());
     engine.run_collisions(collisions)?;
     let seconds = start.elapsed().as_secs_f64();
-    let cpu = thread_cpu_seconds().zip(cpu_start).map(|(b, a)| b - a);
+    let cpu = super::cpu_time::thread_seconds()
+        .zip(cpu_start)
+        .map(|(b, a)| b - a);
     let s = engine.stats();
     let done = s.collisions() - before.collisions();
     let events = s.events - before.events;

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod bench_edmd;
 pub mod check;
+pub mod cpu_time;
 pub mod edmd_engine;
 pub mod engine;
 pub mod hybrid_engine;
