@@ -15,7 +15,7 @@ fn clock_seconds(clock: i32) -> Option<f64> {
     let mut ts = Timespec { sec: 0, nsec: 0 };
     // SAFETY: clock_gettime writes one timespec through a valid pointer.
     let ok = unsafe { clock_gettime(clock, &mut ts) };
-    (ok == 0).then(|| ts.sec as f64 + ts.nsec as f64 * 1e-9)
+    (ok == 0).then_some(ts.sec as f64 + ts.nsec as f64 * 1e-9)
 }
 
 #[cfg(not(target_os = "linux"))]
