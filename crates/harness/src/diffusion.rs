@@ -39,7 +39,8 @@ pub struct DiffusionSettings {
     pub seed: u64,
 }
 
-/// D of one engine, with its standard error from independent groups of particles.
+/// D of one engine, with its standard error from independent groups of particles (a
+/// lower bound: see [`run_replicas`]).
 #[derive(Debug, Clone, Serialize)]
 pub struct EngineDiffusion {
     pub engine: String,
@@ -270,9 +271,80 @@ pub fn sample_count(s: &DiffusionSettings) -> Result<u64> {
     Ok(plan(s)?.total as u64)
 }
 
+/// A ratio of diffusion coefficients in each independent gas, with its mean and the
+/// standard error of the mean over the gases.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ratio {
+    pub name: String,
+    pub values: Vec<f64>,
+    pub mean: f64,
+    pub standard_error: f64,
+}
+
+impl Ratio {
+    fn over(name: &str, values: Vec<f64>) -> Self {
+        let n = values.len() as f64;
+        let mean = values.iter().sum::<f64>() / n;
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        Self {
+            name: name.into(),
+            mean,
+            standard_error: if values.len() > 1 {
+                (var / n).sqrt()
+            } else {
+                f64::NAN
+            },
+            values,
+        }
+    }
+}
+
+/// Independent gases (seeds `seed`, `seed + 1`, …) and the ratios the checks use.
+#[derive(Debug, Clone, Serialize)]
+pub struct Replicas {
+    pub runs: Vec<Diffusion>,
+    pub emdstar_over_md: Ratio,
+    pub emd_over_md: Ratio,
+    pub emd_over_enskog: Ratio,
+}
+
+/// [`run`] on `count` independent gases in parallel; the scatter of the ratios between
+/// them is their error (it includes what one gas's particle groups cannot see: the
+/// start and the collision sequence).
+pub fn run_replicas(
+    s: &DiffusionSettings,
+    count: usize,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Replicas> {
+    if count == 0 {
+        return Err(HarnessError::Invalid(
+            "diffusion: need at least one gas".into(),
+        ));
+    }
+    let runs: Vec<Diffusion> = (0..count as u64)
+        .into_par_iter()
+        .map(|r| {
+            let s = DiffusionSettings {
+                seed: s.seed + r,
+                ..s.clone()
+            };
+            run(&s, progress)
+        })
+        .collect::<Result<_>>()?;
+    let ratio =
+        |name: &str, f: &dyn Fn(&Diffusion) -> f64| Ratio::over(name, runs.iter().map(f).collect());
+    let d = |r: &Diffusion, k: usize| r.engines[k].coefficient;
+    Ok(Replicas {
+        emdstar_over_md: ratio("eMD*/MD", &|r| d(r, 2) / d(r, 0)),
+        emd_over_md: ratio("eMD/MD", &|r| d(r, 1) / d(r, 0)),
+        emd_over_enskog: ratio("eMD/Enskog", &|r| d(r, 1) / r.enskog),
+        runs,
+    })
+}
+
 /// Runs MD, eMD and eMD* (table) from one lattice state; `progress(engine)` after each
 /// of the [`sample_count`] samples of each engine.
-pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> {
+pub fn run(s: &DiffusionSettings, progress: &(dyn Fn(&str) + Sync)) -> Result<Diffusion> {
     let p = plan(s)?;
     let (system, sim_box, free_time, interval, total) =
         (&p.system, p.sim_box, p.free_time, p.interval, p.total);
@@ -334,8 +406,8 @@ pub fn run(s: &DiffusionSettings, progress: &dyn Fn(&str)) -> Result<Diffusion> 
 /// coefficient MSD/(6t), which levels off at D (right; the fit range marked).
 pub fn plot(d: &Diffusion, path: &Path) -> std::result::Result<(), String> {
     let title = format!(
-        "elastic Hertz gas, N = {}, η = {}, Y = {:.0e} Pa",
-        d.settings.particles, d.settings.packing_fraction, d.settings.young
+        "elastic Hertz gas, N = {}, η = {}, Y = {:.0e} Pa, seed {}",
+        d.settings.particles, d.settings.packing_fraction, d.settings.young, d.settings.seed
     );
     let mut msd = Panel::new(
         format!("mean-square displacement, {title}"),
@@ -400,6 +472,25 @@ pub fn plot(d: &Diffusion, path: &Path) -> std::result::Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ratio_statistics_are_the_mean_and_its_standard_error() {
+        let r = Ratio::over("x", vec![1.0, 2.0, 3.0, 4.0]);
+        // Sample variance 5/3, so the standard error is √(5/12).
+        assert!((r.mean - 2.5).abs() < 1e-15);
+        assert!((r.standard_error - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+        assert!(Ratio::over("x", vec![1.0]).standard_error.is_nan());
+        let s = DiffusionSettings {
+            particles: 100,
+            packing_fraction: 0.05,
+            young: 1e7,
+            free_times: 30.0,
+            equilibration_free_times: 5.0,
+            fit_lags: (5.0, 20.0),
+            seed: 1,
+        };
+        assert!(run_replicas(&s, 0, &|_| {}).is_err());
+    }
 
     #[test]
     fn enskog_mean_free_path_is_the_textbook_one() {

@@ -13,7 +13,7 @@ pub fn run(name: &str, args: &ValidateArgs) -> Result<StageOutput> {
         "fig6" => fig6(args),
         "fig7" => fig7(args),
         "cooling" => cooling(args),
-        "diffusion" => diffusion(args),
+        "diffusion" => super::diffusion::run(args),
         "speed" => super::speed::run(args),
         other => Err(anyhow!("scenario {other} is not built yet")),
     }
@@ -394,113 +394,6 @@ fn cooling(args: &ValidateArgs) -> Result<StageOutput> {
         checks,
         markdown,
         json: json!({ "gases": gases }),
-        figures: vec![path],
-        info: Vec::new(),
-    })
-}
-
-/// Self-diffusion in a free elastic soft-sphere gas (the paper's outlook, Sec. VII):
-/// MD, eMD and eMD* from one state; hard spheres (eMD) against Enskog's theory.
-fn diffusion(args: &ValidateArgs) -> Result<StageOutput> {
-    use emdstar_harness::diffusion::{DiffusionSettings, plot, run, sample_count};
-    let s = DiffusionSettings {
-        particles: if args.full { 16_000 } else { 4_000 },
-        packing_fraction: 0.05,
-        young: 1e7,
-        free_times: if args.full { 150.0 } else { 100.0 },
-        equilibration_free_times: 5.0,
-        fit_lags: (5.0, 25.0),
-        seed: args.seed,
-    };
-    let b = bar("diffusion", 3 * sample_count(&s)?);
-    b.set_message(format!(
-        "N = {}, {} mean free times: MD, eMD, eMD*",
-        s.particles, s.free_times
-    ));
-    let d = run(&s, &|_| b.inc(1))?;
-    b.finish();
-    let path = args.out.join("diffusion_msd.png");
-    plot(&d, &path).map_err(|e| anyhow!(e))?;
-    let (md, emd, star) = (&d.engines[0], &d.engines[1], &d.engines[2]);
-    let rel = |e: &emdstar_harness::diffusion::EngineDiffusion| {
-        (e.coefficient / md.coefficient - 1.0).abs()
-    };
-    let checks = vec![
-        Check::at_most(
-            "4.3a",
-            "self-diffusion: eMD* |D − D_MD|/D_MD (elastic soft spheres, η = 0.05, Y = 10 MPa)",
-            rel(star),
-            0.05,
-        ),
-        Check::at_least(
-            "4.3b",
-            "self-diffusion: eMD's |D − D_MD| / eMD*'s (hard-sphere scattering misses the soft contact)",
-            rel(emd) / rel(star),
-            2.0,
-        ),
-        Check::at_most(
-            "4.3c",
-            "self-diffusion: hard spheres (eMD) |D/D_Enskog − 1| (the MSD method against theory)",
-            (emd.coefficient / d.enskog - 1.0).abs(),
-            0.1,
-        ),
-    ];
-    let mut markdown = vec![
-        "## 4.3 Self-diffusion".to_string(),
-        String::new(),
-        format!(
-            "Free elastic Hertz gas (A = 0, R = 0.1 m, ρ = 1140 kg/m³, ν = 0.4, Y = {:.0e} Pa), \
-             N = {}, η = {}, rms speed 2 m/s, from a lattice; {} Enskog mean free times \
-             (τ_E = {:.4} s), the first {} dropped; MSD sampled every {:.4} s over time \
-             origins one τ_E apart; D = slope/6 over lags of {}–{} τ_E. Errors: the spread \
-             of D over 8 groups of particles, a lower bound (runs with other seeds and sizes \
-             scatter by 1-2 %). MD dt = {:.3e} s.",
-            s.young,
-            s.particles,
-            s.packing_fraction,
-            s.free_times,
-            d.free_time,
-            s.equilibration_free_times,
-            d.sample_interval,
-            s.fit_lags.0,
-            s.fit_lags.1,
-            d.md_dt
-        ),
-        String::new(),
-        "| engine | D (m²/s) | standard error | D / D_MD | D / D_Enskog | collisions | exceptions a, b | wall (s) |"
-            .into(),
-        "|---|---|---|---|---|---|---|---|".into(),
-    ];
-    for e in &d.engines {
-        markdown.push(format!(
-            "| {} | {:.5e} | {:.1e} | {:.4} | {:.4} | {} | {}, {} | {:.1} |",
-            e.engine,
-            e.coefficient,
-            e.standard_error,
-            e.coefficient / md.coefficient,
-            e.coefficient / d.enskog,
-            e.collisions,
-            e.exceptions[0],
-            e.exceptions[1],
-            e.wall_seconds
-        ));
-    }
-    markdown.push(String::new());
-    markdown.push(format!(
-        "Enskog: D_E = 3/(8 n σ² χ) √(kT/(π m)) = {:.5e} m²/s with the Carnahan–Starling χ. \
-         Hard spheres exceed it by a few per cent (higher Chapman–Enskog orders, correlated \
-         collisions); the soft contact of MD and eMD* raises D further, which eMD, \
-         colliding at 2R instantly, cannot show. This soft gas is far from eMD*'s \
-         typical 0.1 % of exceptions: {:.1} % of its collisions fall back to eMD's rule \
-         (a), which pulls its D towards eMD's.",
-        d.enskog,
-        100.0 * star.exceptions[0] as f64 / star.collisions.max(1) as f64
-    ));
-    markdown.push(String::new());
-    Ok(StageOutput {
-        checks,
-        markdown,
-        json: json!(d),
         figures: vec![path],
         info: Vec::new(),
     })
