@@ -32,9 +32,9 @@ mod stages;
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
-/// impacts; about 8 CPU-minutes, 11-22 minutes on a busy 2-core machine). The report
-/// directory gets report.json, report.md and every figure (PNG). The exit code is 1
-/// when a check fails, 2 on an error.
+/// impacts; about 9 CPU-minutes: 6 minutes on an idle 2-core machine, up to about 20
+/// on a busy one). The report directory gets report.json, report.md and every figure
+/// (PNG). The exit code is 1 when a check fails, 2 on an error.
 ///
 /// Example:
 ///   emdstar validate                 # quick, writes ./validate-report/
