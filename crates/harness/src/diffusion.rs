@@ -285,15 +285,12 @@ impl Ratio {
     fn over(name: &str, values: Vec<f64>) -> Self {
         let n = values.len() as f64;
         let mean = values.iter().sum::<f64>() / n;
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        // NaN for a single gas (0/0): no scatter to measure.
+        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
         Self {
             name: name.into(),
             mean,
-            standard_error: if values.len() > 1 {
-                (var / n).sqrt()
-            } else {
-                f64::NAN
-            },
+            standard_error: (var / n).sqrt(),
             values,
         }
     }

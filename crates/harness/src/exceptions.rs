@@ -56,10 +56,14 @@ pub struct ExceptionPoint {
 impl ExceptionPoint {
     /// The 68 % Poisson interval of a frequency per 1000 collisions for `count` events.
     pub fn per_mille_interval(&self, count: u64) -> (f64, f64) {
-        let (lo, hi) = poisson_interval(count);
-        let n = self.collisions.max(1) as f64;
-        (1000.0 * lo / n, 1000.0 * hi / n)
+        per_mille_interval(count, self.collisions)
     }
+}
+
+fn per_mille_interval(count: u64, collisions: u64) -> (f64, f64) {
+    let (lo, hi) = poisson_interval(count);
+    let n = collisions.max(1) as f64;
+    (1000.0 * lo / n, 1000.0 * hi / n)
 }
 
 /// Runs one gas for the collisions `effort` asks for.
@@ -92,7 +96,8 @@ pub fn run_point(
     }
     let s = engine.stats();
     let n = s.pair_collisions.max(1) as f64;
-    let mut point = ExceptionPoint {
+    let exceptions = s.exception_rotation + s.exception_interference;
+    Ok(ExceptionPoint {
         packing_fraction: eta,
         young,
         particles: count,
@@ -102,11 +107,9 @@ pub fn run_point(
         table_fallbacks: s.mor_fallbacks,
         per_mille_a: 1000.0 * s.exception_rotation as f64 / n,
         per_mille_b: 1000.0 * s.exception_interference as f64 / n,
-        per_mille_total: 1000.0 * (s.exception_rotation + s.exception_interference) as f64 / n,
-        per_mille_total_interval: (0.0, 0.0),
-    };
-    point.per_mille_total_interval = point.per_mille_interval(point.rotation + point.interference);
-    Ok(point)
+        per_mille_total: 1000.0 * exceptions as f64 / n,
+        per_mille_total_interval: per_mille_interval(exceptions, s.pair_collisions),
+    })
 }
 
 /// Writes the two panels: against η at Y = `young_a`, and against Y at η = `eta_b`.

@@ -24,6 +24,8 @@ pub struct SpeedPoint {
     pub young: f64,
     pub particles: usize,
     pub md_dt: f64,
+    /// MD's Verlet skin, m.
+    pub md_skin: f64,
     pub md_steps: u64,
     /// Wall seconds per simulated second.
     pub md_cost: f64,
@@ -71,6 +73,7 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
         young,
         particles: count,
         md_dt,
+        md_skin: md.skin(),
         md_steps: steps,
         md_cost,
         emdstar_simulated: simulated,

@@ -76,7 +76,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     let mut info = Vec::new();
     let mut peer = Value::Null;
     if let (Some(lmp), Some(p)) = (&args.lammps, goal_point) {
-        let (line, json) = lammps_peer(lmp, p, budget, args.seed)?;
+        let (line, json) = lammps_peer(lmp, p, budget)?;
         markdown.extend([String::new(), line.clone()]);
         info.push(line);
         peer = json;
@@ -93,17 +93,13 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
 /// Times LAMMPS on the goal's gas (simple cubic, the cube nearest to N, the same
 /// spacing, rms speed, MD time step and Verlet skin) for about `budget` seconds, and
 /// compares its cost per particle and simulated second with eMD*'s at `p`.
-fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64, seed: u64) -> Result<(String, Value)> {
-    use emdstar_contact::{ForceLaw, ViscoelasticHertz};
-    use emdstar_harness::engines::lattice_gas;
-    use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
+fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64) -> Result<(String, Value)> {
+    use emdstar_harness::exceptions::{DENSITY, RADIUS, RMS_SPEED};
     let b = bar("lammps", 1);
     b.set_message(format!(
         "{lmp} on one core, η = {}, Y = {:.0e} Pa",
         GOAL.0, GOAL.1
     ));
-    let law = ForceLaw::Hertz(ViscoelasticHertz::new(GOAL.1, POISSON, 0.0)?);
-    let system = lattice_gas(&law, DENSITY, RADIUS, p.particles, GOAL.0, RMS_SPEED, seed)?;
     let side = (p.particles as f64).cbrt().round() as usize;
     let volume = 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3);
     // About 5e7 particle-steps per second for LAMMPS on this gas.
@@ -115,7 +111,7 @@ fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64, seed: u64) -> Result<(Str
         density: DENSITY,
         rms_speed: RMS_SPEED,
         dt: p.md_dt,
-        skin: emdstar_dem::default_skin(&system),
+        skin: p.md_skin,
         warmup: steps / 10,
         steps,
     };

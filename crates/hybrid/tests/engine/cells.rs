@@ -4,7 +4,9 @@
 //! cloud that contracts into a dense cluster (cell path → list path with TD particles
 //! → back to the cell path) and bounces apart.
 
-use crate::common::{emdstar_reference, hybrid_with, max_difference, md, step, system};
+use crate::common::{
+    dilute_gas, elastic_spheres, emdstar_reference, hybrid_with, max_difference, md, step, system,
+};
 use emdstar_hybrid::{HybridOptions, Mode};
 use emdstar_system::System;
 
@@ -14,23 +16,7 @@ fn a_dilute_gas_on_the_cell_path_equals_the_emdstar_engine() {
     // between the two engines does not grow beyond ~1e-11 m (the gas is chaotic: it
     // grows from 2e-16 m at 0.2 s to 5e-12 m at 4 s and 3e-8 m at 8 s, smoothly).
     let t_end = 4.0;
-    let sys = system(
-        r#"
-t_end = 4.0
-[material]
-model = "linear"
-stiffness = 2000.0
-damping = 1.0
-density = 1140.0
-[gas]
-count = 216
-radius = 0.1
-arrangement = "random"
-packing_fraction = 0.01
-rms_speed = 1.0
-seed = 11
-"#,
-    );
+    let sys = dilute_gas(t_end, 216, 11);
     let (dt, steps) = step(&sys, t_end, 0.02);
     let opts = HybridOptions::with_dt(dt);
     let mut h = hybrid_with(&sys, opts, t_end);
@@ -60,15 +46,13 @@ seed = 11
 /// link cells fall on the lattice), all in contact at t = 0.8 s; they bounce and fly
 /// apart again, beyond where they started (the cell grid of open space must follow).
 fn contracting_lattice() -> System {
-    let mut text = String::from(
-        "t_end = 3.5\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n",
-    );
-    for n in 0..216 {
-        let x = [n % 6, (n / 6) % 6, n / 36].map(|c| c as f64 - 2.5);
-        let v = x.map(|c| -c);
-        text += &format!("[[particles]]\nradius = 0.1\nposition = {x:?}\nvelocity = {v:?}\n");
-    }
-    system(&text)
+    let bodies: Vec<([f64; 3], [f64; 3])> = (0..216)
+        .map(|n| {
+            let x = [n % 6, (n / 6) % 6, n / 36].map(|c| c as f64 - 2.5);
+            (x, x.map(|c| -c))
+        })
+        .collect();
+    elastic_spheres(3.5, "", &bodies)
 }
 
 #[test]

@@ -11,6 +11,28 @@ pub fn system(text: &str) -> System {
     Config::from_toml(text).unwrap().build().unwrap()
 }
 
+/// A dilute damped linear gas (k = 2000 N/m, γ = 1 kg/s, R = 0.1 m, ρ = 1140 kg/m³,
+/// η = 0.01, rms speed 1 m/s), placed at random.
+pub fn dilute_gas(t_end: f64, count: usize, seed: u64) -> System {
+    system(&format!(
+        "t_end = {t_end}\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndamping = 1.0\n\
+         density = 1140.0\n[gas]\ncount = {count}\nradius = 0.1\narrangement = \"random\"\n\
+         packing_fraction = 0.01\nrms_speed = 1.0\nseed = {seed}\n"
+    ))
+}
+
+/// Elastic linear spheres (k = 2000 N/m, R = 0.1 m, ρ = 1140 kg/m³) with the given
+/// positions and velocities; `extra` holds further config lines (e.g. a `[box]`).
+pub fn elastic_spheres(t_end: f64, extra: &str, bodies: &[([f64; 3], [f64; 3])]) -> System {
+    let mut text = format!(
+        "t_end = {t_end}\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n{extra}"
+    );
+    for (x, v) in bodies {
+        text += &format!("[[particles]]\nradius = 0.1\nposition = {x:?}\nvelocity = {v:?}\n");
+    }
+    system(&text)
+}
+
 /// A time step of `fraction` × the shortest expected contact time, fitting `t_end`
 /// a whole number of times.
 pub fn step(system: &System, t_end: f64, fraction: f64) -> (f64, u64) {

@@ -2,7 +2,9 @@
 //! the eMD* engine on a dilute gas, the MD engine on a dense gas and on collisions
 //! where particles switch modes, and conservation laws.
 
-use crate::common::{emdstar_reference, hybrid_with, max_difference, md, step, system};
+use crate::common::{
+    dilute_gas, elastic_spheres, emdstar_reference, hybrid_with, max_difference, md, step, system,
+};
 use emdstar_contact::Vec3;
 use emdstar_edmd::detect::sphere_sphere;
 use emdstar_edmd::rules::ExactMor;
@@ -75,30 +77,10 @@ fn an_event_driven_collision_equals_the_exact_two_body_solution() {
     }
 }
 
-fn dilute_gas() -> System {
-    system(
-        r#"
-t_end = 5.0
-[material]
-model = "linear"
-stiffness = 2000.0
-damping = 1.0
-density = 1140.0
-[gas]
-count = 64
-radius = 0.1
-arrangement = "random"
-packing_fraction = 0.01
-rms_speed = 1.0
-seed = 3
-"#,
-    )
-}
-
 #[test]
 fn a_dilute_gas_runs_fully_event_driven_and_equals_the_emdstar_engine() {
-    let sys = dilute_gas();
     let t_end = 5.0;
+    let sys = dilute_gas(t_end, 64, 3);
     let (dt, steps) = step(&sys, t_end, 0.02);
     let mut h = hybrid(&sys, dt, true, t_end);
     assert_eq!(h.count(Mode::Event), 64);
@@ -239,10 +221,6 @@ fn an_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md()
 /// 64 elastic spheres in a 4 × 4 × 4 block with gaps of 5 % of a radius, flying apart
 /// with random velocities of zero total momentum into a large periodic box.
 fn expanding_cluster() -> System {
-    let mut text = String::from(
-        "t_end = 1.5\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndensity = 1140.0\n\
-         [box]\nsize = [4.0, 4.0, 4.0]\nlo = [-2.0, -2.0, -2.0]\n",
-    );
     let mut seed: u64 = 12345;
     let mut uniform = || {
         seed = seed
@@ -255,11 +233,21 @@ fn expanding_cluster() -> System {
     for w in &mut v {
         *w = std::array::from_fn(|k| 2.0 * (w[k] - mean[k]));
     }
-    for (n, w) in v.iter().enumerate() {
-        let c = [n % 4, (n / 4) % 4, n / 16].map(|c| (c as f64 - 1.5) * 0.205);
-        text += &format!("[[particles]]\nradius = 0.1\nposition = {c:?}\nvelocity = {w:?}\n");
-    }
-    system(&text)
+    let bodies: Vec<([f64; 3], [f64; 3])> = v
+        .iter()
+        .enumerate()
+        .map(|(n, w)| {
+            (
+                [n % 4, (n / 4) % 4, n / 16].map(|c| (c as f64 - 1.5) * 0.205),
+                *w,
+            )
+        })
+        .collect();
+    elastic_spheres(
+        1.5,
+        "[box]\nsize = [4.0, 4.0, 4.0]\nlo = [-2.0, -2.0, -2.0]\n",
+        &bodies,
+    )
 }
 
 #[test]
