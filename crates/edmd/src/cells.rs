@@ -93,6 +93,43 @@ impl CellSet {
     }
 }
 
+/// The up to 9 cells of a new layer (see [`CellGrid::new_layer`]), each with the
+/// shift that brings its particles next to the entered cell.
+#[derive(Debug, Clone, Copy)]
+pub struct Layer {
+    cells: [u32; 9],
+    shifts: [[f64; 3]; 9],
+    len: usize,
+}
+
+impl Layer {
+    #[inline]
+    pub fn as_slice(&self) -> &[u32] {
+        &self.cells[..self.len]
+    }
+
+    /// Number of cells.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True without cells (the layer beyond a closed axis).
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// (cell, shift) pairs.
+    #[inline]
+    pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + '_ {
+        self.cells[..self.len]
+            .iter()
+            .copied()
+            .zip(self.shifts[..self.len].iter().copied())
+    }
+}
+
 impl CellGrid {
     /// A grid over `[lo, lo + size]` with cells at least `min_width` wide, for `n`
     /// particles (all outside any cell until [`CellGrid::insert`]).
@@ -351,15 +388,42 @@ impl CellGrid {
     /// `dir` along `axis`. Along a periodic axis with few cells this is a cell seen
     /// before, but through another periodic image. Empty beyond a closed axis.
     #[inline]
-    pub fn new_layer(&self, c: [u32; 3], axis: usize, dir: i64) -> CellSet {
-        let all = [-1, 0, 1];
-        self.product(std::array::from_fn(|k| {
+    pub fn new_layer(&self, c: [u32; 3], axis: usize, dir: i64) -> Layer {
+        let mut layer = Layer {
+            cells: [0; 9],
+            shifts: [[0.0; 3]; 9],
+            len: 0,
+        };
+        let rows: [&[(u32, i8); 3]; 3] = std::array::from_fn(|k| &self.around[k][c[k] as usize]);
+        let span = |k: usize| {
             if k == axis {
-                self.axis_neighbours(k, c[k], &[dir])
+                let m = (dir + 1) as usize;
+                m..m + 1
             } else {
-                self.axis_neighbours(k, c[k], &all)
+                0..3
             }
-        }))
+        };
+        let shift = |k: usize, image: i8| f64::from(image) * self.size[k];
+        for &(z, sz) in &rows[2][span(2)] {
+            if z == NONE {
+                continue;
+            }
+            for &(y, sy) in &rows[1][span(1)] {
+                if y == NONE {
+                    continue;
+                }
+                let row = self.dims[0] * (y as usize + self.dims[1] * z as usize);
+                for &(x, sx) in &rows[0][span(0)] {
+                    if x == NONE {
+                        continue;
+                    }
+                    layer.cells[layer.len] = (row + x as usize) as u32;
+                    layer.shifts[layer.len] = [shift(0, sx), shift(1, sy), shift(2, sz)];
+                    layer.len += 1;
+                }
+            }
+        }
+        layer
     }
 
     /// The faces bounding cell coordinate `c` along axis `k`: (low, high), with ±∞
