@@ -12,11 +12,12 @@
 //! Defaults: η = 0.001, N = 2000, 3 s per variant; spheres of radius 0.1 m, rms speed
 //! 2 m/s, cells as wide as the engine's automatic width. Four variants run one after
 //! another, each dropping one part of the work, so their differences give the cost of
-//! each part: the pair tests, the reads of the new layer's cells, and the queue.
+//! each part: the pair tests, the reads of the new layer's cells, and the queue. A
+//! last row runs the full crossing on the 4-ary heap instead of the calendar queue.
 
 use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
 use emdstar_edmd::detect::sphere_sphere;
-use emdstar_edmd::{CalendarQueue, EventQueue};
+use emdstar_edmd::{CalendarQueue, EventQueue, IndexedHeap};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
@@ -53,16 +54,16 @@ struct Kin {
     vel: [f64; 3],
 }
 
-struct Gas {
+struct Gas<Q: EventQueue> {
     kin: Vec<Kin>,
     grid: CellGrid,
     cross: Vec<[f64; 3]>,
-    queue: CalendarQueue,
+    queue: Q,
     /// Earliest collision found by the pair tests (kept so they are not optimised out).
     earliest: Vec<f64>,
 }
 
-impl Gas {
+impl<Q: EventQueue> Gas<Q> {
     fn new(eta: f64, n: usize, seed: u64) -> Self {
         let volume = n as f64 * 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3) / eta;
         let l = volume.cbrt();
@@ -86,7 +87,7 @@ impl Gas {
         let mut grid = CellGrid::new([0.0; 3], [l; 3], [true; 3], width, n);
         let mut gas = Self {
             cross: vec![[f64::INFINITY; 3]; n],
-            queue: CalendarQueue::new(n),
+            queue: Q::new(n),
             earliest: vec![f64::INFINITY; n],
             grid: {
                 for (i, k) in kin.iter().enumerate() {
@@ -207,6 +208,22 @@ impl Gas {
     }
 }
 
+/// Prints one row: ns per crossing, pair tests per crossing, wall s per simulated s.
+fn report(label: &str, variant: Variant, (events, pairs, wall, simulated): (u64, u64, f64, f64)) {
+    let per_sim = if variant == Variant::NoQueue {
+        "(out of order)".to_string()
+    } else {
+        format!("{:.3e}", wall / simulated)
+    };
+    println!(
+        "{:<30} {:>12.1} {:>16.2} {:>22}",
+        label,
+        wall / events as f64 * 1e9,
+        pairs as f64 / events as f64,
+        per_sim
+    );
+}
+
 fn main() -> Result<(), String> {
     let args: Vec<f64> = std::env::args()
         .skip(1)
@@ -219,7 +236,7 @@ fn main() -> Result<(), String> {
     if !(eta > 0.0 && eta < 0.5 && n >= 2 && seconds > 0.0) {
         return Err("need 0 < ETA < 0.5, N ≥ 2 and SECONDS > 0".into());
     }
-    let probe = Gas::new(eta, n, 7);
+    let probe = Gas::<CalendarQueue>::new(eta, n, 7);
     println!(
         "η = {eta}, N = {n}: {:?} cells of {:.3} m",
         probe.grid.dims, probe.grid.width[0]
@@ -234,20 +251,11 @@ fn main() -> Result<(), String> {
         Variant::NoLayerScan,
         Variant::NoQueue,
     ] {
-        let mut gas = Gas::new(eta, n, 7);
-        let (events, pairs, wall, simulated) = gas.run(variant, seconds);
-        let per_sim = if variant == Variant::NoQueue {
-            "(out of order)".to_string()
-        } else {
-            format!("{:.3e}", wall / simulated)
-        };
-        println!(
-            "{:<30} {:>12.1} {:>16.2} {:>22}",
-            variant.label(),
-            wall / events as f64 * 1e9,
-            pairs as f64 / events as f64,
-            per_sim
-        );
+        let mut gas = Gas::<CalendarQueue>::new(eta, n, 7);
+        report(variant.label(), variant, gas.run(variant, seconds));
     }
+    let mut gas = Gas::<IndexedHeap>::new(eta, n, 7);
+    let full = Variant::Full;
+    report("full, 4-ary heap queue", full, gas.run(full, seconds));
     Ok(())
 }
