@@ -6,11 +6,11 @@
 //! engine built on these structures can cost per event.
 //!
 //! ```text
-//! cargo run --release -p emdstar-edmd --example crossing_floor -- [ETA] [N] [SECONDS]
+//! cargo run --release -p emdstar-edmd --example crossing_floor -- [ETA] [N] [SECONDS] [WIDTH]
 //! ```
 //!
 //! Defaults: η = 0.001, N = 2000, 3 s per variant; spheres of radius 0.1 m, rms speed
-//! 2 m/s, cells as wide as the engine's automatic width. Four variants run one after
+//! 2 m/s, cells as wide as the engine's automatic width (or WIDTH metres, if given). Four variants run one after
 //! another, each dropping one part of the work, so their differences give the cost of
 //! each part: the pair tests, the reads of the new layer's cells, and the queue. A
 //! last row runs the full crossing on the 4-ary heap instead of the calendar queue.
@@ -64,10 +64,10 @@ struct Gas<Q: EventQueue> {
 }
 
 impl<Q: EventQueue> Gas<Q> {
-    fn new(eta: f64, n: usize, seed: u64) -> Self {
+    fn new(eta: f64, n: usize, width: Option<f64>, seed: u64) -> Self {
         let volume = n as f64 * 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3) / eta;
         let l = volume.cbrt();
-        let width = auto_cell_width(2.0 * RADIUS, volume, n);
+        let width = width.unwrap_or_else(|| auto_cell_width(2.0 * RADIUS, volume, n));
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let sigma = RMS_SPEED / 3f64.sqrt();
         let mut normal = || {
@@ -229,14 +229,21 @@ fn main() -> Result<(), String> {
         .skip(1)
         .map(|a| a.parse::<f64>())
         .collect::<Result<_, _>>()
-        .map_err(|e| format!("{e}; usage: crossing_floor [ETA] [N] [SECONDS]"))?;
+        .map_err(|e| format!("{e}; usage: crossing_floor [ETA] [N] [SECONDS] [WIDTH]"))?;
     let eta = args.first().copied().unwrap_or(0.001);
     let n = args.get(1).copied().unwrap_or(2000.0) as usize;
     let seconds = args.get(2).copied().unwrap_or(3.0);
+    let width = args.get(3).copied();
     if !(eta > 0.0 && eta < 0.5 && n >= 2 && seconds > 0.0) {
         return Err("need 0 < ETA < 0.5, N ≥ 2 and SECONDS > 0".into());
     }
-    let probe = Gas::<CalendarQueue>::new(eta, n, 7);
+    if width.is_some_and(|w| !(w >= 2.0 * RADIUS && w.is_finite())) {
+        return Err(format!(
+            "WIDTH must be at least the contact distance {} m",
+            2.0 * RADIUS
+        ));
+    }
+    let probe = Gas::<CalendarQueue>::new(eta, n, width, 7);
     println!(
         "η = {eta}, N = {n}: {:?} cells of {:.3} m",
         probe.grid.dims, probe.grid.width[0]
@@ -251,10 +258,10 @@ fn main() -> Result<(), String> {
         Variant::NoLayerScan,
         Variant::NoQueue,
     ] {
-        let mut gas = Gas::<CalendarQueue>::new(eta, n, 7);
+        let mut gas = Gas::<CalendarQueue>::new(eta, n, width, 7);
         report(variant.label(), variant, gas.run(variant, seconds));
     }
-    let mut gas = Gas::<IndexedHeap>::new(eta, n, 7);
+    let mut gas = Gas::<IndexedHeap>::new(eta, n, width, 7);
     let full = Variant::Full;
     report("full, 4-ary heap queue", full, gas.run(full, seconds));
     Ok(())
