@@ -31,6 +31,9 @@ pub struct SpeedPoint {
     pub md_cost: f64,
     pub emdstar_simulated: f64,
     pub emdstar_collisions: u64,
+    /// All of eMD*'s events over the same run, and the cell crossings among them.
+    pub emdstar_events: u64,
+    pub emdstar_crossings: u64,
     pub emdstar_cost: f64,
     /// md_cost / emdstar_cost.
     pub ratio: f64,
@@ -58,6 +61,7 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
     let mut e = event_engine(&system, EventKind::EmdStarTable)?;
     e.run_collisions((count / 10) as u64)?;
     let (t0, c0) = (e.time(), e.stats().pair_collisions);
+    let (ev0, x0) = (e.stats().events, e.stats().crossings);
     let start = Instant::now();
     while start.elapsed().as_secs_f64() < budget || e.stats().pair_collisions - c0 < count as u64 {
         e.run_collisions((count / 10).max(1) as u64)?;
@@ -78,9 +82,23 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
         md_cost,
         emdstar_simulated: simulated,
         emdstar_collisions: e.stats().pair_collisions - c0,
+        emdstar_events: e.stats().events - ev0,
+        emdstar_crossings: e.stats().crossings - x0,
         emdstar_cost,
         ratio: md_cost / emdstar_cost,
     })
+}
+
+impl SpeedPoint {
+    /// eMD*'s wall time per event, ns.
+    pub fn emdstar_ns_per_event(&self) -> f64 {
+        self.emdstar_cost * self.emdstar_simulated / self.emdstar_events.max(1) as f64 * 1e9
+    }
+
+    /// The share of eMD*'s events that are cell crossings.
+    pub fn crossing_share(&self) -> f64 {
+        self.emdstar_crossings as f64 / self.emdstar_events.max(1) as f64
+    }
 }
 
 /// Speed-up against packing fraction, one line per Young's modulus.
