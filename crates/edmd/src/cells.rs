@@ -43,20 +43,23 @@ pub struct CellGrid {
     pub coords: Vec<[u32; 3]>,
 }
 
-/// Up to 27 neighbour cells, each with the shift that brings its particles next to
-/// the centre cell (±size along a periodic axis where the stencil wraps). A cell may
-/// appear more than once with different shifts when an axis has fewer than three
-/// cells: every periodic image within reach is then visited.
+/// Up to `N` neighbour cells (27 for a neighbourhood, 9 for a new layer), each with the
+/// shift that brings its particles next to the centre cell (±size along a periodic
+/// axis where the stencil wraps). A cell may appear more than once with different
+/// shifts when an axis has fewer than three cells: every periodic image within reach
+/// is then visited.
 #[derive(Debug, Clone, Copy)]
-pub struct CellSet {
-    cells: [u32; 27],
-    /// Shifts in units of the box size along each axis.
-    images: [[i8; 3]; 27],
-    size: [f64; 3],
+pub struct CellSet<const N: usize = 27> {
+    cells: [u32; N],
+    shifts: [[f64; 3]; N],
     len: usize,
 }
 
-impl CellSet {
+/// The up to 9 cells that become neighbours when a particle enters a cell (see
+/// [`CellGrid::new_layer`]).
+pub type Layer = CellSet<9>;
+
+impl<const N: usize> CellSet<N> {
     #[inline]
     pub fn as_slice(&self) -> &[u32] {
         &self.cells[..self.len]
@@ -68,53 +71,7 @@ impl CellSet {
         self.len
     }
 
-    /// True without cells.
-    #[inline]
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
-    /// (cell, shift) pairs.
-    #[inline]
-    pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + '_ {
-        let size = self.size;
-        self.cells[..self.len]
-            .iter()
-            .copied()
-            .zip(self.images[..self.len].iter().map(move |m| {
-                std::array::from_fn(|k| {
-                    if m[k] == 0 {
-                        0.0
-                    } else {
-                        f64::from(m[k]) * size[k]
-                    }
-                })
-            }))
-    }
-}
-
-/// The up to 9 cells of a new layer (see [`CellGrid::new_layer`]), each with the
-/// shift that brings its particles next to the entered cell.
-#[derive(Debug, Clone, Copy)]
-pub struct Layer {
-    cells: [u32; 9],
-    shifts: [[f64; 3]; 9],
-    len: usize,
-}
-
-impl Layer {
-    #[inline]
-    pub fn as_slice(&self) -> &[u32] {
-        &self.cells[..self.len]
-    }
-
-    /// Number of cells.
-    #[inline]
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// True without cells (the layer beyond a closed axis).
+    /// True without cells (a layer beyond a closed axis).
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.len == 0
@@ -304,17 +261,17 @@ impl CellGrid {
     fn product(&self, axes: [([(u32, i8); 3], usize); 3]) -> CellSet {
         let mut set = CellSet {
             cells: [0; 27],
-            images: [[0; 3]; 27],
-            size: self.size,
+            shifts: [[0.0; 3]; 27],
             len: 0,
         };
         let stride = [1, self.dims[0], self.dims[0] * self.dims[1]];
+        let shift = |k: usize, image: i8| f64::from(image) * self.size[k];
         for &(z, sz) in &axes[2].0[..axes[2].1] {
             for &(y, sy) in &axes[1].0[..axes[1].1] {
                 let row = y as usize * stride[1] + z as usize * stride[2];
                 for &(x, sx) in &axes[0].0[..axes[0].1] {
                     set.cells[set.len] = (row + x as usize) as u32;
-                    set.images[set.len] = [sx, sy, sz];
+                    set.shifts[set.len] = [shift(0, sx), shift(1, sy), shift(2, sz)];
                     set.len += 1;
                 }
             }
@@ -364,8 +321,7 @@ impl CellGrid {
             let (nx, nxy) = (self.dims[0] as i64, (self.dims[0] * self.dims[1]) as i64);
             let mut set = CellSet {
                 cells: [0; 27],
-                images: [[0; 3]; 27],
-                size: self.size,
+                shifts: [[0.0; 3]; 27],
                 len: 27,
             };
             let mut m = 0;
@@ -389,6 +345,8 @@ impl CellGrid {
     /// before, but through another periodic image. Empty beyond a closed axis.
     #[inline]
     pub fn new_layer(&self, c: [u32; 3], axis: usize, dir: i64) -> Layer {
+        // Built directly from the per-axis rows (measured faster than the general
+        // product for the 25 % of crossings that enter border cells).
         let mut layer = Layer {
             cells: [0; 9],
             shifts: [[0.0; 3]; 9],

@@ -15,6 +15,7 @@
 //! - [`cooling`]: freely cooling gases, temperature by MD, eMD and eMD*, with the
 //!   asymptotic laws of Haff (constant ε) and of viscoelastic spheres;
 //! - [`speed`]: wall time of MD against eMD* for the same simulated time;
+//! - [`floor`]: the cost floor of eMD*'s cell crossings on its own grid and queue;
 //! - [`check`]: a numbered check with its bar and verdict;
 //! - [`engines`]: building systems and driving the three engines on them.
 
@@ -24,6 +25,7 @@ pub mod diffusion;
 pub mod engines;
 pub mod exceptions;
 pub mod fig6;
+pub mod floor;
 pub mod pair_summary;
 pub mod pairs;
 pub use emdstar_plot as plot;

@@ -5,6 +5,7 @@ use super::{StageOutput, ValidateArgs, bar};
 use crate::cmd::lammps::{self, LammpsGas, ScriptFile};
 use anyhow::{Result, anyhow};
 use emdstar_harness::Check;
+use emdstar_harness::floor::{self, FloorGas, FloorRun, QueueKind, Variant};
 use emdstar_harness::speed::{SpeedPoint, measure, plot};
 use serde_json::{Value, json};
 
@@ -19,7 +20,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     } else {
         (2_000, 2.0)
     };
-    let b = bar("speed", (etas.len() * youngs.len()) as u64);
+    let b = bar("speed", (etas.len() * youngs.len() + 1) as u64);
     b.set_message(format!(
         "MD and eMD* on one thread, N = {count}, ≥ {budget} s each"
     ));
@@ -32,6 +33,18 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             b.inc(1);
         }
     }
+    b.set_message(format!(
+        "bare cell crossings (no collisions) at η = {}, N = {count}",
+        GOAL.0
+    ));
+    let floor_gas = FloorGas {
+        packing_fraction: GOAL.0,
+        particles: count,
+        cell_width: None,
+        seed: args.seed,
+    };
+    let floor_run =
+        one.install(|| floor::run(&floor_gas, Variant::Full, QueueKind::Calendar, budget))?;
     b.finish();
     let path = args.out.join("speed_ratio.png");
     plot(&points, &path).map_err(|e| anyhow!(e))?;
@@ -45,7 +58,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
              (not over the whole simulated time eMD* covers); eMD* over ≥ {budget} s and ≥ 1 collision per particle. \
              The ratio is a ratio of measured rates on this (shared) machine. In a dilute gas almost all of \
              eMD*'s events are cell crossings, and their cost sets its speed \
-             (`cargo run --release -p emdstar-edmd --example crossing_floor` times bare crossings)."
+             (see the note below the table)."
         ),
         String::new(),
         "| η | Y (Pa) | MD dt (s) | MD steps | MD cost | eMD* collisions | eMD* crossings / events | eMD* ns / event | eMD* cost | ratio |"
@@ -79,14 +92,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     )];
     let mut info = Vec::new();
     if let Some(p) = goal_point {
-        info.push(format!(
-            "At η = {}, Y = {:.0e} Pa, {:.1} % of eMD*'s events are cell crossings; it spends {:.0} ns \
-             per event (the crossing_floor example of emdstar-edmd times bare crossings).",
-            GOAL.0,
-            GOAL.1,
-            100.0 * p.crossing_share(),
-            p.emdstar_ns_per_event()
-        ));
+        let line = floor_line(p, &floor_run);
+        markdown.extend([String::new(), line.clone()]);
+        info.push(line);
     }
     let mut peer = Value::Null;
     if let (Some(lmp), Some(p)) = (&args.lammps, goal_point) {
@@ -98,10 +106,30 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     Ok(StageOutput {
         checks,
         markdown,
-        json: json!({ "points": points, "threads": 1, "lammps": peer }),
+        json: json!({ "points": points, "threads": 1, "lammps": peer, "crossing_floor": floor_run }),
         figures: vec![path],
         info,
     })
+}
+
+/// What eMD* spends at the goal's gas, set against bare crossings on its cells and
+/// queue in the same run.
+fn floor_line(p: &SpeedPoint, floor: &FloorRun) -> String {
+    let floor_cost = floor.cost().unwrap_or(f64::NAN);
+    format!(
+        "For information: at η = {}, Y = {:.0e} Pa, {:.1} % of eMD*'s events are cell crossings, at \
+         {:.0} ns per event. Bare crossings on the same cells and queue (free flight, no collisions; \
+         `cargo run --release -p emdstar-harness --example crossing_floor` breaks them down) cost \
+         {:.0} ns each, {floor_cost:.3e} wall s per simulated s: eMD* / bare crossings = {:.2}, \
+         MD / bare crossings = {:.0}.",
+        GOAL.0,
+        GOAL.1,
+        100.0 * p.crossing_share(),
+        p.emdstar_ns_per_event(),
+        floor.ns_per_crossing(),
+        p.emdstar_cost / floor_cost,
+        p.md_cost / floor_cost
+    )
 }
 
 /// Times LAMMPS on the goal's gas (simple cubic, the cube nearest to N, the same
