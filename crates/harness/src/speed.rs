@@ -10,7 +10,7 @@
 use crate::Result;
 use crate::engines::{EventKind, event_engine, lattice_gas, md_engine};
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
-use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
+use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_dem::{DEFAULT_DT_FRACTION, shortest_contact_time};
 use serde::Serialize;
@@ -129,16 +129,25 @@ pub fn plot(points: &[SpeedPoint], path: &Path) -> std::result::Result<(), Strin
             Style::LinePoints(5),
         ));
     }
-    let etas: Vec<f64> = points.iter().map(|q| q.packing_fraction).collect();
-    let (lo, hi) = (
-        etas.iter().copied().fold(f64::MAX, f64::min),
-        etas.iter().copied().fold(f64::MIN, f64::max),
-    );
+    // The goal is one point (η = 0.001, Y = 1 GPa): a marker, and a bar spanning the gap
+    // from the measured ratio when it falls short.
+    let (goal_eta, goal_young, goal_ratio) = (1e-3, 1e9, 1e3);
     p.series.push(Series::new(
-        "goal 10³ (η = 0.001, Y = 1 GPa)",
-        vec![(lo, 1e3), (hi, 1e3)],
+        "goal 10³ at η = 0.001, Y = 1 GPa",
+        vec![(goal_eta, goal_ratio)],
         PALETTE[7],
-        Style::Dashed,
+        Style::Points(7),
     ));
+    if let Some(q) = points
+        .iter()
+        .find(|q| q.packing_fraction == goal_eta && q.young == goal_young && q.ratio < goal_ratio)
+    {
+        p.annotations.push(Annotation::ErrorBar {
+            x: goal_eta,
+            lo: q.ratio,
+            hi: goal_ratio,
+            color: PALETTE[7],
+        });
+    }
     write_png(path, (1000, 700), 1, 1, &[p])
 }
