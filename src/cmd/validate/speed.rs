@@ -6,11 +6,8 @@ use crate::cmd::lammps::{self, LammpsGas, ScriptFile};
 use anyhow::{Result, anyhow};
 use emdstar_harness::Check;
 use emdstar_harness::floor::{self, FloorGas, FloorRun, QueueKind, Variant};
-use emdstar_harness::speed::{SpeedPoint, measure, plot};
+use emdstar_harness::speed::{GOAL_GAS, GOAL_RATIO, SpeedPoint, measure, plot};
 use serde_json::{Value, json};
-
-/// The goal's gas: η = 0.001, Y = 1 GPa.
-const GOAL: (f64, f64) = (0.001, 1e9);
 
 pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     let etas = [0.001, 0.01, 0.1];
@@ -35,10 +32,10 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     }
     b.set_message(format!(
         "bare cell crossings (no collisions) at η = {}, N = {count}",
-        GOAL.0
+        GOAL_GAS.0
     ));
     let floor_gas = FloorGas {
-        packing_fraction: GOAL.0,
+        packing_fraction: GOAL_GAS.0,
         particles: count,
         cell_width: None,
         seed: args.seed,
@@ -82,13 +79,13 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     }
     let goal_point = points
         .iter()
-        .find(|p| (p.packing_fraction, p.young) == GOAL);
+        .find(|p| (p.packing_fraction, p.young) == GOAL_GAS);
     let goal = goal_point.map_or(f64::NAN, |p| p.ratio);
     let checks = vec![Check::at_least(
         "5a",
         "speed: wall-time ratio MD / eMD* at η = 0.001, Y = 1 GPa (goal)",
         goal,
-        1e3,
+        GOAL_RATIO,
     )];
     let mut info = Vec::new();
     if let Some(p) = goal_point {
@@ -122,8 +119,8 @@ fn floor_line(p: &SpeedPoint, floor: &FloorRun) -> String {
          `cargo run --release -p emdstar-harness --example crossing_floor` breaks them down) cost \
          {:.0} ns each, {floor_cost:.3e} wall s per simulated s: eMD* / bare crossings = {:.2}, \
          MD / bare crossings = {:.0}.",
-        GOAL.0,
-        GOAL.1,
+        GOAL_GAS.0,
+        GOAL_GAS.1,
         100.0 * p.crossing_share(),
         p.emdstar_ns_per_event(),
         floor.ns_per_crossing(),
@@ -140,7 +137,7 @@ fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64) -> Result<(String, Value)
     let b = bar("lammps", 1);
     b.set_message(format!(
         "{lmp} on one core, η = {}, Y = {:.0e} Pa",
-        GOAL.0, GOAL.1
+        GOAL_GAS.0, GOAL_GAS.1
     ));
     let side = (p.particles as f64).cbrt().round() as usize;
     let volume = 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3);
@@ -148,7 +145,7 @@ fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64) -> Result<(String, Value)
     let steps = ((budget * 5e7 / side.pow(3) as f64) as u64).max(1000);
     let gas = LammpsGas {
         side,
-        spacing: (volume / GOAL.0).cbrt(),
+        spacing: (volume / GOAL_GAS.0).cbrt(),
         radius: RADIUS,
         density: DENSITY,
         rms_speed: RMS_SPEED,
@@ -167,7 +164,7 @@ fn lammps_peer(lmp: &str, p: &SpeedPoint, budget: f64) -> Result<(String, Value)
         "For information (not a check): LAMMPS ({lmp}, one core, N = {}, same dt {:.2e} s) costs \
          {lammps_cost:.3e} wall s per simulated s; per particle, LAMMPS / eMD* = {ratio:.0} at \
          η = {}, Y = {:.0e} Pa (check 5a compares with this project's MD: {:.0}).",
-        t.particles, gas.dt, GOAL.0, GOAL.1, p.ratio
+        t.particles, gas.dt, GOAL_GAS.0, GOAL_GAS.1, p.ratio
     );
     let json = json!({
         "binary": lmp, "particles": t.particles, "dt": gas.dt, "skin": gas.skin, "steps": t.steps,
