@@ -5,11 +5,12 @@
 //! particle hits one in its transient between E^φ and E^v. The frequencies are per
 //! collision; the paper finds "about 0.1 %" for typical parameters.
 
-use crate::Result;
 use crate::engines::{EventKind, event_engine, lattice_gas};
 use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::poisson_interval;
+use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -110,6 +111,78 @@ pub fn run_point(
         per_mille_total: 1000.0 * exceptions as f64 / n,
         per_mille_total_interval: per_mille_interval(exceptions, s.pair_collisions),
     })
+}
+
+/// One point of the figure run on several independent gases (seeds `seed`, `seed + 1`,
+/// …) and pooled.
+#[derive(Debug, Clone, Serialize)]
+pub struct PooledPoint {
+    /// The gases, in seed order.
+    pub gases: Vec<ExceptionPoint>,
+    /// All counts summed (collisions, a, b, fallbacks); its interval is the Poisson
+    /// interval of the pooled count.
+    pub pooled: ExceptionPoint,
+    /// f_a + f_b per 1000 collisions: mean over the gases and the standard error of the
+    /// mean. This error includes what a Poisson interval leaves out: the scatter between
+    /// starts, the stop rule and exceptions that come in clusters.
+    pub mean: f64,
+    pub standard_error: f64,
+}
+
+/// [`run_point`] on `gases` independent gases in parallel, pooled.
+pub fn run_replicas(
+    eta: f64,
+    young: f64,
+    count: usize,
+    effort: Effort,
+    seed: u64,
+    gases: usize,
+) -> Result<PooledPoint> {
+    if gases == 0 {
+        return Err(HarnessError::Invalid(
+            "Fig. 7: need at least one gas".into(),
+        ));
+    }
+    let runs: Vec<ExceptionPoint> = (0..gases as u64)
+        .into_par_iter()
+        .map(|r| run_point(eta, young, count, effort, seed + r))
+        .collect::<Result<_>>()?;
+    Ok(pool(runs))
+}
+
+/// Sums the counts of independent gases of one point.
+fn pool(gases: Vec<ExceptionPoint>) -> PooledPoint {
+    let sum = |f: fn(&ExceptionPoint) -> u64| gases.iter().map(f).sum::<u64>();
+    let collisions = sum(|p| p.collisions);
+    let (a, b) = (sum(|p| p.rotation), sum(|p| p.interference));
+    let n = collisions.max(1) as f64;
+    let pooled = ExceptionPoint {
+        packing_fraction: gases[0].packing_fraction,
+        young: gases[0].young,
+        particles: gases[0].particles,
+        collisions,
+        rotation: a,
+        interference: b,
+        table_fallbacks: sum(|p| p.table_fallbacks),
+        per_mille_a: 1000.0 * a as f64 / n,
+        per_mille_b: 1000.0 * b as f64 / n,
+        per_mille_total: 1000.0 * (a + b) as f64 / n,
+        per_mille_total_interval: per_mille_interval(a + b, collisions),
+    };
+    let k = gases.len() as f64;
+    let mean = gases.iter().map(|p| p.per_mille_total).sum::<f64>() / k;
+    // NaN for a single gas (0/0): no scatter to measure.
+    let var = gases
+        .iter()
+        .map(|p| (p.per_mille_total - mean).powi(2))
+        .sum::<f64>()
+        / (k - 1.0);
+    PooledPoint {
+        gases,
+        pooled,
+        mean,
+        standard_error: (var / k).sqrt(),
+    }
 }
 
 /// Writes the two panels: against η at Y = `young_a`, and against Y at η = `eta_b`.

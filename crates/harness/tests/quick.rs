@@ -182,3 +182,43 @@ fn fig7_exceptions_grow_with_density_and_the_count_reaches_its_target() {
     let (_, hi_dilute) = dilute.per_mille_total_interval;
     assert!(lo_dense > 10.0 * hi_dilute, "{dense:?} {dilute:?}");
 }
+
+#[test]
+fn fig7_gases_pool_their_counts_and_run_as_they_would_alone() {
+    use emdstar_harness::exceptions::{Effort, run_point, run_replicas};
+    let effort = Effort {
+        min_per_particle: 10.0,
+        max_per_particle: 30.0,
+        target_exceptions: 10,
+    };
+    let pooled = run_replicas(0.01, 1e9, 400, effort, 5, 3).unwrap();
+    assert_eq!(pooled.gases.len(), 3);
+    // Run in parallel, each gas is the gas of its seed run alone.
+    for (k, gas) in pooled.gases.iter().enumerate() {
+        let alone = run_point(0.01, 1e9, 400, effort, 5 + k as u64).unwrap();
+        assert_eq!(
+            (gas.collisions, gas.rotation, gas.interference),
+            (alone.collisions, alone.rotation, alone.interference)
+        );
+    }
+    let p = &pooled.pooled;
+    let sum = |f: fn(&emdstar_harness::exceptions::ExceptionPoint) -> u64| {
+        pooled.gases.iter().map(f).sum::<u64>()
+    };
+    assert_eq!(p.collisions, sum(|g| g.collisions));
+    assert_eq!(
+        p.rotation + p.interference,
+        sum(|g| g.rotation + g.interference)
+    );
+    let f = 1000.0 * (p.rotation + p.interference) as f64 / p.collisions as f64;
+    assert!((p.per_mille_total - f).abs() < 1e-12 * f);
+    let (lo, hi) = p.per_mille_total_interval;
+    assert!(lo < f && f < hi);
+    // The mean over gases lies between the smallest and largest gas.
+    let fs: Vec<f64> = pooled.gases.iter().map(|g| g.per_mille_total).collect();
+    let (min, max) = fs
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    assert!(min <= pooled.mean && pooled.mean <= max && pooled.standard_error >= 0.0);
+    assert!(run_replicas(0.01, 1e9, 400, effort, 5, 0).is_err());
+}
