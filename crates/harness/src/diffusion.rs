@@ -15,7 +15,7 @@
 use crate::engines::{EventKind, event_engine, lattice_gas, md_engine, md_state};
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
-use crate::stats::linear_fit;
+use crate::stats::{linear_fit, mean_and_standard_error};
 use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_dem::{DEFAULT_DT_FRACTION, shortest_contact_time};
@@ -283,14 +283,11 @@ pub struct Ratio {
 
 impl Ratio {
     fn over(name: &str, values: Vec<f64>) -> Self {
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        // NaN for a single gas (0/0): no scatter to measure.
-        let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+        let (mean, standard_error) = mean_and_standard_error(&values);
         Self {
             name: name.into(),
             mean,
-            standard_error: (var / n).sqrt(),
+            standard_error,
             values,
         }
     }

@@ -7,7 +7,7 @@
 
 use crate::engines::{EventKind, event_engine, lattice_gas};
 use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
-use crate::stats::poisson_interval;
+use crate::stats::{mean_and_standard_error, poisson_interval};
 use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use rayon::prelude::*;
@@ -169,19 +169,13 @@ fn pool(gases: Vec<ExceptionPoint>) -> PooledPoint {
         per_mille_total: 1000.0 * (a + b) as f64 / n,
         per_mille_total_interval: per_mille_interval(a + b, collisions),
     };
-    let k = gases.len() as f64;
-    let mean = gases.iter().map(|p| p.per_mille_total).sum::<f64>() / k;
-    // NaN for a single gas (0/0): no scatter to measure.
-    let var = gases
-        .iter()
-        .map(|p| (p.per_mille_total - mean).powi(2))
-        .sum::<f64>()
-        / (k - 1.0);
+    let totals: Vec<f64> = gases.iter().map(|p| p.per_mille_total).collect();
+    let (mean, standard_error) = mean_and_standard_error(&totals);
     PooledPoint {
         gases,
         pooled,
         mean,
-        standard_error: (var / k).sqrt(),
+        standard_error,
     }
 }
 

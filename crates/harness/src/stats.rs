@@ -40,6 +40,15 @@ pub fn fit_rms(points: &[(f64, f64)], (a, b): (f64, f64)) -> f64 {
     (s / points.len() as f64).sqrt()
 }
 
+/// The mean of independent values and the standard error of that mean (NaN for a single
+/// value: there is no scatter to measure).
+pub fn mean_and_standard_error(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
 /// The central 68.3 % (±1σ) confidence interval of a Poisson mean after observing
 /// `count` events: Garwood's exact interval in the Wilson–Hilferty cube-root form,
 /// good to about 1 % even at a count of 1 (Breslow & Day 1987, Vol. II, Eq. 2.12).
@@ -62,6 +71,15 @@ mod tests {
         assert_eq!(quantile(&v, 0.5), 50.0);
         assert_eq!(quantile(&v, 0.99), 99.0);
         assert!(quantile(&[], 0.5).is_nan());
+    }
+
+    #[test]
+    fn standard_error_of_a_known_sample() {
+        // 1, 2, 3, 4: mean 2.5, sample variance 5/3, standard error √(5/12).
+        let (m, se) = mean_and_standard_error(&[1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(m, 2.5);
+        assert!((se - (5.0f64 / 12.0).sqrt()).abs() < 1e-15);
+        assert!(mean_and_standard_error(&[7.0]).1.is_nan());
     }
 
     #[test]
