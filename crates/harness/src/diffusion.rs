@@ -12,7 +12,9 @@
 //! D_E = 3 / (8 n σ² χ) · √(kT / (π m)), with the Carnahan–Starling contact value
 //! χ = (1 − η/2) / (1 − η)³.
 
-use crate::engines::{EventKind, event_engine, lattice_gas, md_engine, md_state};
+use crate::engines::{
+    EventKind, event_engine, lattice_gas, md_engine, md_state, on_independent_gases,
+};
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::{linear_fit, mean_and_standard_error};
@@ -310,21 +312,9 @@ pub fn run_replicas(
     count: usize,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<Replicas> {
-    if count == 0 {
-        return Err(HarnessError::Invalid(
-            "diffusion: need at least one gas".into(),
-        ));
-    }
-    let runs: Vec<Diffusion> = (0..count as u64)
-        .into_par_iter()
-        .map(|r| {
-            let s = DiffusionSettings {
-                seed: s.seed + r,
-                ..s.clone()
-            };
-            run(&s, progress)
-        })
-        .collect::<Result<_>>()?;
+    let runs = on_independent_gases("diffusion", s.seed, count, |seed| {
+        run(&DiffusionSettings { seed, ..s.clone() }, progress)
+    })?;
     let ratio =
         |name: &str, f: &dyn Fn(&Diffusion) -> f64| Ratio::over(name, runs.iter().map(f).collect());
     let d = |r: &Diffusion, k: usize| r.engines[k].coefficient;

@@ -1,11 +1,12 @@
 //! Building systems and driving the three engines on them, with the default MoR tables.
 
-use crate::Result;
+use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, Model};
 use emdstar_dem::{Md, MdOptions};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
 use emdstar_system::{Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, System};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// The event-driven engines.
@@ -154,4 +155,23 @@ pub fn md_engine(system: System, dt: f64, t_end: f64) -> Result<Md> {
 pub fn md_state(md: &Md) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let p = md.particles_in_config_order();
     (p.position, p.velocity)
+}
+
+/// `run(seed + r)` for r = 0 … `gases` − 1, in parallel, in seed order: independent
+/// gases of one scenario (`what` names it in the error for zero gases).
+pub fn on_independent_gases<T: Send>(
+    what: &str,
+    seed: u64,
+    gases: usize,
+    run: impl Fn(u64) -> Result<T> + Sync,
+) -> Result<Vec<T>> {
+    if gases == 0 {
+        return Err(HarnessError::Invalid(format!(
+            "{what}: need at least one gas"
+        )));
+    }
+    (0..gases as u64)
+        .into_par_iter()
+        .map(|r| run(seed + r))
+        .collect()
 }

@@ -5,12 +5,11 @@
 //! particle hits one in its transient between E^φ and E^v. The frequencies are per
 //! collision; the paper finds "about 0.1 %" for typical parameters.
 
-use crate::engines::{EventKind, event_engine, lattice_gas};
+use crate::Result;
+use crate::engines::{EventKind, event_engine, lattice_gas, on_independent_gases};
 use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::{mean_and_standard_error, poisson_interval};
-use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -138,15 +137,9 @@ pub fn run_replicas(
     seed: u64,
     gases: usize,
 ) -> Result<PooledPoint> {
-    if gases == 0 {
-        return Err(HarnessError::Invalid(
-            "Fig. 7: need at least one gas".into(),
-        ));
-    }
-    let runs: Vec<ExceptionPoint> = (0..gases as u64)
-        .into_par_iter()
-        .map(|r| run_point(eta, young, count, effort, seed + r))
-        .collect::<Result<_>>()?;
+    let runs = on_independent_gases("Fig. 7", seed, gases, |s| {
+        run_point(eta, young, count, effort, s)
+    })?;
     Ok(pool(runs))
 }
 
