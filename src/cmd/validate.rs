@@ -16,19 +16,21 @@ mod stages;
 /// Cross-validate eMD* against eMD against force-based MD (Müller & Pöschel 2013) and
 /// write a report.
 ///
-/// Runs six scenarios and prints each check with its number, its value, its bar and
+/// Runs six scenarios (their --only names in brackets; self-diffusion's checks are
+/// numbered 4.3) and prints each check with its number, its value, its bar and
 /// pass/fail:
-///   1. pair sweep: random oblique impacts over the paper's Tab. I and II boxes (both
-///      force laws, equal and unequal spheres) through MD at several dt, eMD, eMD*
-///      (table and exact MoR), against the exact two-body solution;
-///   2. the paper's Fig. 6: trajectories of MD against eMD and eMD*;
-///   3. the paper's Fig. 7: eMD* exception frequencies in a free elastic gas against
-///      packing fraction and Young's modulus;
-///   4. freely cooling gases (viscoelastic, then linear dashpot): temperature by MD,
-///      eMD and eMD* from one initial state; Haff's law and T ∝ t^(-5/3);
-///      self-diffusion of an elastic soft-sphere gas by the three engines, hard
-///      spheres against Enskog's theory (checks 4.3);
-///   5. speed: wall time of MD and eMD* for the same simulated time.
+///   1. [pairs] pair sweep: random oblique impacts over the paper's Tab. I and II
+///      boxes (both force laws, equal and unequal spheres) through MD at several dt,
+///      eMD, eMD* (table and exact MoR), against the exact two-body solution;
+///   2. [fig6] the paper's Fig. 6: trajectories of MD against eMD and eMD*;
+///   3. [fig7] the paper's Fig. 7: eMD* exception frequencies in a free elastic gas
+///      against packing fraction and Young's modulus;
+///   4. [cooling] freely cooling gases (viscoelastic, then linear dashpot):
+///      temperature by MD, eMD and eMD* from one initial state; Haff's law and
+///      T ∝ t^(-5/3);
+///      [diffusion] self-diffusion of an elastic soft-sphere gas by the three
+///      engines, hard spheres against Enskog's theory (checks 4.3);
+///   5. [speed] wall time of MD and eMD* for the same simulated time.
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
