@@ -8,12 +8,13 @@
 //!
 //! T = Σ m (v − v_cm)²/(3N) in J, as in `emdstar_system::Particles::granular_temperature`.
 
-use crate::engines::{EventKind, event_engine, lattice_gas, md_engine};
+use crate::engines::{
+    ENGINE_STYLES, EventKind, default_md_dt, event_engine, lattice_gas, md_engine,
+};
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::{fit_rms, linear_fit};
 use crate::{HarnessError, Result};
 use emdstar_contact::ForceLaw;
-use emdstar_dem::{DEFAULT_DT_FRACTION, shortest_contact_time};
 use emdstar_system::{Particles, System};
 use serde::Serialize;
 use std::path::Path;
@@ -135,9 +136,7 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
     let times: Vec<f64> = (0..s.samples)
         .map(|k| s.t_end * k as f64 / (s.samples - 1) as f64)
         .collect();
-    let tc = shortest_contact_time(&system, s.t_end)?
-        .ok_or_else(|| HarnessError::Invalid("the gas is at rest".into()))?;
-    let md_dt = DEFAULT_DT_FRACTION * tc;
+    let md_dt = default_md_dt(&system, s.t_end)?;
     let mut curves = Vec::new();
 
     let start = std::time::Instant::now();
@@ -217,12 +216,7 @@ pub fn plot(gases: &[Cooling], path: &Path) -> std::result::Result<(), String> {
             Axis::log("granular temperature T (J)"),
         );
         p.legend = LegendAt::UpperRight;
-        let styles = [
-            (PALETTE[0], Style::Line),
-            (PALETTE[1], Style::Dashed),
-            (PALETTE[2], Style::Dashed),
-        ];
-        for ((c, fit), (color, style)) in g.curves.iter().zip(&g.fits).zip(styles) {
+        for ((c, fit), (color, style)) in g.curves.iter().zip(&g.fits).zip(ENGINE_STYLES) {
             let pts = g
                 .times
                 .iter()

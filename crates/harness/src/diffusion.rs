@@ -13,14 +13,14 @@
 //! χ = (1 − η/2) / (1 − η)³.
 
 use crate::engines::{
-    EventKind, event_engine, lattice_gas, md_engine, md_state, on_independent_gases,
+    ENGINE_STYLES, EventKind, default_md_dt, event_engine, lattice_gas, md_engine, md_state,
+    on_independent_gases,
 };
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::{linear_fit, mean_and_standard_error};
 use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
-use emdstar_dem::{DEFAULT_DT_FRACTION, shortest_contact_time};
 use emdstar_system::SimBox;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -191,12 +191,11 @@ fn analyse(
             slope_coefficient(lags, &msd(samples, &members, max_lag), range)
         })
         .collect();
-    let mean = per_group.iter().sum::<f64>() / GROUPS as f64;
-    let var = per_group.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (GROUPS - 1) as f64;
+    let (_, standard_error) = mean_and_standard_error(&per_group);
     EngineDiffusion {
         engine: engine.into(),
         coefficient,
-        standard_error: (var / GROUPS as f64).sqrt(),
+        standard_error,
         msd: curve,
         collisions: stats.map_or(0, |s| s.pair_collisions),
         exceptions: stats.map_or([0; 2], |s| [s.exception_rotation, s.exception_interference]),
@@ -337,9 +336,7 @@ pub fn run(s: &DiffusionSettings, progress: &(dyn Fn(&str) + Sync)) -> Result<Di
     let lags: Vec<f64> = (0..=max_lag).map(|k| k as f64 * interval).collect();
     let range = (s.fit_lags.0 * free_time, s.fit_lags.1 * free_time);
     let t_end = total as f64 * interval;
-    let md_dt = DEFAULT_DT_FRACTION
-        * shortest_contact_time(system, t_end)?
-            .ok_or_else(|| HarnessError::Invalid("the gas is at rest".into()))?;
+    let md_dt = default_md_dt(system, t_end)?;
 
     let mut engines = Vec::new();
     let start = std::time::Instant::now();
@@ -405,12 +402,7 @@ pub fn plot(d: &Diffusion, path: &Path) -> std::result::Result<(), String> {
         Axis::linear("MSD / 6t (m²/s)"),
     );
     running.legend = LegendAt::LowerRight;
-    let styles = [
-        (PALETTE[0], Style::Line),
-        (PALETTE[1], Style::Dashed),
-        (PALETTE[2], Style::Dashed),
-    ];
-    for (e, (color, style)) in d.engines.iter().zip(styles) {
+    for (e, (color, style)) in d.engines.iter().zip(ENGINE_STYLES) {
         let label = format!("{}: D = {:.4e} m²/s", e.engine, e.coefficient);
         let pts = d.lags.iter().copied().zip(e.msd.iter().copied()).collect();
         msd.series

@@ -1,8 +1,9 @@
 //! Building systems and driving the three engines on them, with the default MoR tables.
 
+use crate::plot::{PALETTE, RGBColor, Style};
 use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, Model};
-use emdstar_dem::{Md, MdOptions};
+use emdstar_dem::{DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
 use emdstar_system::{Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, System};
@@ -150,6 +151,22 @@ pub fn md_engine(system: System, dt: f64, t_end: f64) -> Result<Md> {
     };
     Ok(Md::new(system, opts, t_end)?)
 }
+
+/// MD's default time step on `system` up to `t_end`: [`DEFAULT_DT_FRACTION`] of the
+/// shortest contact time expected (as `emdstar run` chooses it).
+pub fn default_md_dt(system: &System, t_end: f64) -> Result<f64> {
+    let tc = shortest_contact_time(system, t_end)?
+        .ok_or_else(|| HarnessError::Invalid("the gas is at rest: no contact time".into()))?;
+    Ok(DEFAULT_DT_FRACTION * tc)
+}
+
+/// Line colours and styles of MD, eMD and eMD* in the harness's plots: MD solid, the
+/// event-driven engines dashed.
+pub const ENGINE_STYLES: [(RGBColor, Style); 3] = [
+    (PALETTE[0], Style::Line),
+    (PALETTE[1], Style::Dashed),
+    (PALETTE[2], Style::Dashed),
+];
 
 /// Positions and velocities of an MD engine, by particle number.
 pub fn md_state(md: &Md) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {

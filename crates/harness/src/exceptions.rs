@@ -54,6 +54,30 @@ pub struct ExceptionPoint {
 }
 
 impl ExceptionPoint {
+    /// The point with these counts, its frequencies per 1000 collisions and the interval.
+    fn from_counts(
+        (packing_fraction, young, particles): (f64, f64, usize),
+        collisions: u64,
+        (rotation, interference): (u64, u64),
+        table_fallbacks: u64,
+    ) -> Self {
+        let n = collisions.max(1) as f64;
+        let exceptions = rotation + interference;
+        Self {
+            packing_fraction,
+            young,
+            particles,
+            collisions,
+            rotation,
+            interference,
+            table_fallbacks,
+            per_mille_a: 1000.0 * rotation as f64 / n,
+            per_mille_b: 1000.0 * interference as f64 / n,
+            per_mille_total: 1000.0 * exceptions as f64 / n,
+            per_mille_total_interval: per_mille_interval(exceptions, collisions),
+        }
+    }
+
     /// The 68 % Poisson interval of a frequency per 1000 collisions for `count` events.
     pub fn per_mille_interval(&self, count: u64) -> (f64, f64) {
         per_mille_interval(count, self.collisions)
@@ -95,21 +119,12 @@ pub fn run_point(
         engine.run_collisions(chunk.min(max - done))?;
     }
     let s = engine.stats();
-    let n = s.pair_collisions.max(1) as f64;
-    let exceptions = s.exception_rotation + s.exception_interference;
-    Ok(ExceptionPoint {
-        packing_fraction: eta,
-        young,
-        particles: count,
-        collisions: s.pair_collisions,
-        rotation: s.exception_rotation,
-        interference: s.exception_interference,
-        table_fallbacks: s.mor_fallbacks,
-        per_mille_a: 1000.0 * s.exception_rotation as f64 / n,
-        per_mille_b: 1000.0 * s.exception_interference as f64 / n,
-        per_mille_total: 1000.0 * exceptions as f64 / n,
-        per_mille_total_interval: per_mille_interval(exceptions, s.pair_collisions),
-    })
+    Ok(ExceptionPoint::from_counts(
+        (eta, young, count),
+        s.pair_collisions,
+        (s.exception_rotation, s.exception_interference),
+        s.mor_fallbacks,
+    ))
 }
 
 /// One point of the figure run on several independent gases (seeds `seed`, `seed + 1`,
@@ -146,22 +161,13 @@ pub fn run_replicas(
 /// Sums the counts of independent gases of one point.
 fn pool(gases: Vec<ExceptionPoint>) -> PooledPoint {
     let sum = |f: fn(&ExceptionPoint) -> u64| gases.iter().map(f).sum::<u64>();
-    let collisions = sum(|p| p.collisions);
-    let (a, b) = (sum(|p| p.rotation), sum(|p| p.interference));
-    let n = collisions.max(1) as f64;
-    let pooled = ExceptionPoint {
-        packing_fraction: gases[0].packing_fraction,
-        young: gases[0].young,
-        particles: gases[0].particles,
-        collisions,
-        rotation: a,
-        interference: b,
-        table_fallbacks: sum(|p| p.table_fallbacks),
-        per_mille_a: 1000.0 * a as f64 / n,
-        per_mille_b: 1000.0 * b as f64 / n,
-        per_mille_total: 1000.0 * (a + b) as f64 / n,
-        per_mille_total_interval: per_mille_interval(a + b, collisions),
-    };
+    let first = &gases[0];
+    let pooled = ExceptionPoint::from_counts(
+        (first.packing_fraction, first.young, first.particles),
+        sum(|p| p.collisions),
+        (sum(|p| p.rotation), sum(|p| p.interference)),
+        sum(|p| p.table_fallbacks),
+    );
     let totals: Vec<f64> = gases.iter().map(|p| p.per_mille_total).collect();
     let (mean, standard_error) = mean_and_standard_error(&totals);
     PooledPoint {

@@ -5,17 +5,19 @@
 //! almost every event of eMD* is a crossing, so this bounds from below what any engine
 //! built on these structures can cost there.
 //!
-//! The gas is that of [`crate::speed`] at the same packing fraction and size: radius
-//! 0.1 m, rms speed 2 m/s (Maxwell), uniform random positions in a periodic cube, cells
-//! of the engine's automatic width unless another is given.
+//! The gas is that of [`crate::speed`] for the same packing fraction, size and seed
+//! (the same lattice start and Maxwell velocities, radius 0.1 m, rms speed 2 m/s, in a
+//! periodic cube), with cells of the engine's automatic width unless another is given.
 
-use crate::exceptions::{RADIUS, RMS_SPEED};
+use crate::engines::lattice_gas;
+use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
+use crate::speed::GOAL_GAS;
 use crate::{HarnessError, Result};
+use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
 use emdstar_edmd::detect::sphere_sphere;
 use emdstar_edmd::{CalendarQueue, EventQueue, IndexedHeap};
-use rand::{RngExt, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use emdstar_system::System;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -125,9 +127,25 @@ pub fn run(gas: &FloorGas, variant: Variant, queue: QueueKind, seconds: f64) -> 
             2.0 * RADIUS
         )));
     }
+    // The speed check's gas: the same lattice start and Maxwell velocities for the same
+    // seed (the contact law does not enter free flight).
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(GOAL_GAS.1, POISSON, 0.0)?);
+    let system = lattice_gas(
+        &law,
+        DENSITY,
+        RADIUS,
+        gas.particles,
+        gas.packing_fraction,
+        RMS_SPEED,
+        gas.seed,
+    )?;
     Ok(match queue {
-        QueueKind::Calendar => Flight::<CalendarQueue>::new(gas).run(variant, queue, seconds),
-        QueueKind::Heap => Flight::<IndexedHeap>::new(gas).run(variant, queue, seconds),
+        QueueKind::Calendar => {
+            Flight::<CalendarQueue>::new(&system, gas.cell_width)?.run(variant, queue, seconds)
+        }
+        QueueKind::Heap => {
+            Flight::<IndexedHeap>::new(&system, gas.cell_width)?.run(variant, queue, seconds)
+        }
     })
 }
 
@@ -150,31 +168,25 @@ struct Flight<Q: EventQueue> {
 }
 
 impl<Q: EventQueue> Flight<Q> {
-    fn new(gas: &FloorGas) -> Self {
-        let n = gas.particles;
-        let volume =
-            n as f64 * 4.0 / 3.0 * std::f64::consts::PI * RADIUS.powi(3) / gas.packing_fraction;
-        let l = volume.cbrt();
-        let width = gas
-            .cell_width
-            .unwrap_or_else(|| auto_cell_width(2.0 * RADIUS, volume, n));
-        let mut rng = ChaCha8Rng::seed_from_u64(gas.seed);
-        let sigma = RMS_SPEED / 3f64.sqrt();
-        let mut normal = || {
-            let (a, b): (f64, f64) = (rng.random::<f64>().max(1e-300), rng.random());
-            sigma * (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
-        };
-        let vel: Vec<[f64; 3]> = (0..n).map(|_| [normal(), normal(), normal()]).collect();
-        let mut rng = ChaCha8Rng::seed_from_u64(gas.seed.wrapping_add(1));
-        let kin: Vec<Kin> = vel
-            .into_iter()
-            .map(|v| Kin {
-                pos: std::array::from_fn(|_| rng.random::<f64>() * l),
+    fn new(system: &System, cell_width: Option<f64>) -> Result<Self> {
+        let sim_box = system
+            .sim_box
+            .ok_or_else(|| HarnessError::Invalid("the lattice gas has no box".into()))?;
+        let n = system.particles.len();
+        let width =
+            cell_width.unwrap_or_else(|| auto_cell_width(2.0 * RADIUS, sim_box.volume(), n));
+        let kin: Vec<Kin> = system
+            .particles
+            .position
+            .iter()
+            .zip(&system.particles.velocity)
+            .map(|(&pos, &vel)| Kin {
+                pos,
                 stamp: 0.0,
-                vel: v,
+                vel,
             })
             .collect();
-        let mut grid = CellGrid::new([0.0; 3], [l; 3], [true; 3], width, n);
+        let mut grid = CellGrid::new(sim_box.lo, sim_box.size, sim_box.periodic, width, n);
         for (i, k) in kin.iter().enumerate() {
             let c = grid.coords_of(k.pos);
             grid.insert(i, c);
@@ -192,7 +204,7 @@ impl<Q: EventQueue> Flight<Q> {
             }
             flight.queue.set(i, flight.next_crossing(i).0);
         }
-        flight
+        Ok(flight)
     }
 
     fn predict_axis(&mut self, i: usize, axis: usize, now: f64) {

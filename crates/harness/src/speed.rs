@@ -8,11 +8,10 @@
 //! of measured rates. Wall times depend on the thread pool the caller runs this in.
 
 use crate::Result;
-use crate::engines::{EventKind, event_engine, lattice_gas, md_engine};
+use crate::engines::{EventKind, default_md_dt, event_engine, lattice_gas, md_engine};
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::plot::{Annotation, Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
-use emdstar_dem::{DEFAULT_DT_FRACTION, shortest_contact_time};
 use serde::Serialize;
 use std::path::Path;
 use std::time::Instant;
@@ -51,8 +50,7 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
     let system = lattice_gas(&law, DENSITY, RADIUS, count, eta, RMS_SPEED, seed)?;
     // Cap on eMD*'s simulated time (s): a gas that hardly collides cannot loop for ever.
     let horizon = 1e3;
-    let tc = shortest_contact_time(&system, 0.0)?.unwrap_or(1.0);
-    let md_dt = DEFAULT_DT_FRACTION * tc;
+    let md_dt = default_md_dt(&system, 0.0)?;
     let mut md = md_engine(system.clone(), md_dt, 0.0)?;
     md.advance(20)?;
     let start = Instant::now();
