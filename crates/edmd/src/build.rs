@@ -2,10 +2,11 @@
 
 use crate::cells::{CellGrid, NONE, auto_cell_width};
 use crate::engine::{Engine, EventRec, Kin, Slot, dot, sub};
+use crate::epoch::{AUTO_EPOCHS_BELOW, Epochs};
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
-use crate::setup::{Physics, Region, Setup, Wall};
+use crate::setup::{BroadPhase, Physics, Region, Setup, Wall};
 use crate::stats::Stats;
 
 fn invalid<T>(msg: String) -> Result<T> {
@@ -157,13 +158,31 @@ impl<Q: EventQueue> Engine<Q> {
     /// packing fraction, walls cutting particles, a periodic box too small, species
     /// without materials.
     pub fn new(setup: Setup, physics: Physics) -> Result<Self> {
-        Self::with_cell_width(setup, physics, 0.0)
+        Self::build(setup, physics, 0.0, BroadPhase::Auto)
     }
 
-    /// As [`Engine::new`], with cells at least `min_width` wide instead of the automatic
-    /// choice (never narrower than the largest contact distance; wider cells mean fewer
+    /// As [`Engine::new`] on cell crossings, with cells at least `min_width` wide
+    /// instead of the automatic choice (never narrower than the largest contact distance; wider cells mean fewer
     /// crossings but more pair tests). `min_width` = 0 is the automatic choice.
     pub fn with_cell_width(setup: Setup, physics: Physics, min_width: f64) -> Result<Self> {
+        Self::build(setup, physics, min_width, BroadPhase::Crossings)
+    }
+
+    /// As [`Engine::new`], with the broad phase chosen.
+    pub fn with_broad_phase(
+        setup: Setup,
+        physics: Physics,
+        broad_phase: BroadPhase,
+    ) -> Result<Self> {
+        Self::build(setup, physics, 0.0, broad_phase)
+    }
+
+    fn build(
+        setup: Setup,
+        physics: Physics,
+        min_width: f64,
+        broad_phase: BroadPhase,
+    ) -> Result<Self> {
         check_particles(&setup)?;
         if let Some(m) = physics.materials()
             && let Some((i, s)) = setup
@@ -195,6 +214,36 @@ impl<Q: EventQueue> Engine<Q> {
         };
         let grid = CellGrid::new(region.lo, region.size, region.periodic, width, n);
         let has_gravity = setup.gravity.iter().any(|&g| g != 0.0);
+        let use_epochs = match broad_phase {
+            BroadPhase::Crossings => false,
+            BroadPhase::Epochs | BroadPhase::Auto => {
+                let fit = !has_gravity && Epochs::fit(region.size, region.periodic, max_contact, n);
+                if broad_phase == BroadPhase::Epochs && !fit {
+                    return invalid(
+                        "the epoch broad phase needs no gravity and, along periodic axes, a \
+                         box wider than four times the largest contact distance plus a cell; \
+                         use BroadPhase::Crossings"
+                            .into(),
+                    );
+                }
+                let spheres: f64 = setup
+                    .radius
+                    .iter()
+                    .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+                    .sum();
+                let dilute = spheres < AUTO_EPOCHS_BELOW * region.size.iter().product::<f64>();
+                fit && (broad_phase == BroadPhase::Epochs || dilute)
+            }
+        };
+        let epochs = use_epochs.then(|| {
+            Box::new(Epochs::new(
+                region.lo,
+                region.size,
+                region.periodic,
+                max_contact,
+                n,
+            ))
+        });
         let mut engine = Self {
             slot: (0..n)
                 .map(|i| Slot {
@@ -218,7 +267,8 @@ impl<Q: EventQueue> Engine<Q> {
             species: setup.species,
             pending_vel: vec![[0.0; 3]; n],
             grid,
-            queue: Q::new(n),
+            epochs,
+            queue: Q::new(n + usize::from(use_epochs)),
             time: 0.0,
             walls,
             gravity: setup.gravity,
@@ -238,8 +288,16 @@ impl<Q: EventQueue> Engine<Q> {
         if engine.resort_every > 0 {
             engine.resort();
         }
-        for i in 0..n {
-            engine.predict(i);
+        if engine.epochs.is_some() {
+            for i in 0..n {
+                engine.predict_walls(i);
+                engine.schedule(i);
+            }
+            engine.rebuild_epoch();
+        } else {
+            for i in 0..n {
+                engine.predict(i);
+            }
         }
         Ok(engine)
     }

@@ -162,8 +162,10 @@ impl<Q: EventQueue> Engine<Q> {
         let x = self.wrap(x);
         self.slot[p].kin.pos = x;
         self.slot[p].kin.stamp = self.time;
-        let c = self.grid.coords_of(x);
-        self.grid.relocate(p, c);
+        if self.epochs.is_none() {
+            let c = self.grid.coords_of(x);
+            self.grid.relocate(p, c);
+        }
     }
 
     /// Exception (a): would moving `parties` to `new` push any of them deeper into a
@@ -176,26 +178,29 @@ impl<Q: EventQueue> Engine<Q> {
         own_wall: Option<usize>,
     ) -> bool {
         let now = self.time;
-        // Does a third particle in `cell` end up closer than contact to one of the
-        // `movers` (party slots) and closer than before?
+        // Does third particle `k` end up closer than contact to one of the `movers`
+        // (party slots) and closer than before?
+        let blocked_by = |k: usize, movers: &[usize]| {
+            if parties.contains(&k) {
+                return false;
+            }
+            let (xk, _) = self.state_at(k, now);
+            movers.iter().any(|&slot| {
+                let p = parties[slot];
+                let contact = self.slot[p].kin.radius + self.slot[k].kin.radius;
+                let d_new = self.min_image(sub(new[slot], xk));
+                let d_new = dot(d_new, d_new);
+                d_new < contact * contact && {
+                    let d_old = self.min_image(sub(self.slot[p].kin.pos, xk));
+                    d_new < dot(d_old, d_old)
+                }
+            })
+        };
         let blocks = |cell: u32, movers: &[usize]| {
             let mut k = self.grid.first(cell);
             while k != NONE {
-                let ku = k as usize;
-                if !parties.contains(&ku) {
-                    let (xk, _) = self.state_at(ku, now);
-                    for &slot in movers {
-                        let p = parties[slot];
-                        let contact = self.slot[p].kin.radius + self.slot[ku].kin.radius;
-                        let d_new = self.min_image(sub(new[slot], xk));
-                        let d_new = dot(d_new, d_new);
-                        if d_new < contact * contact {
-                            let d_old = self.min_image(sub(self.slot[p].kin.pos, xk));
-                            if d_new < dot(d_old, d_old) {
-                                return true;
-                            }
-                        }
-                    }
+                if blocked_by(k as usize, movers) {
+                    return true;
                 }
                 k = self.grid.next(k);
             }
@@ -204,6 +209,17 @@ impl<Q: EventQueue> Engine<Q> {
         // One or two parties (a wall or a pair collision).
         debug_assert!(parties.len() <= 2 && new.len() == parties.len());
         let n = parties.len().min(2);
+        if self.epochs.is_some() {
+            // Filed boxes hold each sphere now: a third sphere within contact of a
+            // new position is filed in a cell within the mover's radius of it.
+            for slot in 0..n {
+                let reach = self.slot[parties[slot]].kin.radius;
+                if self.any_near_in_epoch(new[slot], reach, |k| blocked_by(k, &[slot])) {
+                    return true;
+                }
+            }
+            return self.walls_block(parties, new, own_wall);
+        }
         let mut cells = [[0u32; 3]; 2];
         for slot in 0..n {
             cells[slot] = self.grid.coords_of(self.wrap(new[slot]));
@@ -238,6 +254,12 @@ impl<Q: EventQueue> Engine<Q> {
                 return true;
             }
         }
+        self.walls_block(parties, new, own_wall)
+    }
+
+    /// Exception (a) for walls: would a party move deeper into a wall other than
+    /// `own_wall` than it is now?
+    fn walls_block(&self, parties: &[usize], new: &[[f64; 3]], own_wall: Option<usize>) -> bool {
         for (slot, &p) in parties.iter().enumerate() {
             let (x_new, x_old) = (new[slot], self.slot[p].kin.pos);
             for (w, wall) in self.walls.iter().enumerate() {

@@ -49,6 +49,24 @@ pub fn sphere_sphere(r: [f64; 3], v: [f64; 3], sigma: f64) -> f64 {
     gap / (-b + disc.sqrt())
 }
 
+/// [`sphere_sphere`] without data-dependent branches, for sweeping many candidate
+/// pairs of which few approach: the same value in every case, computed as
+/// max(0, (r² − σ²)/(−r·v + √max(0, disc))) and kept only where r·v < 0 and the
+/// discriminant is positive (an overlapping, approaching pair has disc ≥ (r·v)² > 0
+/// and gives 0). Receding or missing pairs give +∞.
+#[inline(always)]
+pub fn sphere_sphere_flat(r: [f64; 3], v: [f64; 3], sigma: f64) -> f64 {
+    let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    let gap = r2 - sigma * sigma;
+    let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    let disc = b * b - v2 * gap;
+    let t = (gap / (-b + disc.max(0.0).sqrt())).max(0.0);
+    // All ones where the pair meets (a mask, so that no branch depends on the data).
+    let hit = (u64::from(b < 0.0) & u64::from(disc > 0.0)).wrapping_neg();
+    f64::from_bits((t.to_bits() & hit) | (f64::INFINITY.to_bits() & !hit))
+}
+
 /// Sphere–wall collision time under a constant acceleration, Bannerman 2014,
 /// Algorithm 2 (parabolic free flight), in the wall's normal coordinate.
 ///
@@ -128,6 +146,39 @@ pub fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_flat_pair_test_equals_the_branching_one() {
+        let mut seed = 7u64;
+        let mut rand = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut cases: Vec<([f64; 3], [f64; 3], f64)> = (0..20_000)
+            .map(|_| {
+                let r = [rand() * 3.0, rand() * 3.0, rand() * 3.0];
+                let v = [rand(), rand(), rand()];
+                (r, v, 1.0 + rand().abs())
+            })
+            .collect();
+        // Touching, overlapping, at rest, and grazing pairs.
+        cases.extend([
+            ([2.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 2.0),
+            ([1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], 2.0),
+            ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], 2.0),
+            ([3.0, 2.0, 0.0], [-1.0, 0.0, 0.0], 2.0),
+            ([1.0, 0.0, 0.0], [1.0, 0.0, 0.0], 2.0),
+        ]);
+        let mut hits = 0;
+        for (r, v, sigma) in cases {
+            let (a, b) = (sphere_sphere(r, v, sigma), sphere_sphere_flat(r, v, sigma));
+            assert_eq!(a, b, "r {r:?} v {v:?} σ {sigma}");
+            hits += usize::from(a.is_finite());
+        }
+        assert!(hits > 1000, "only {hits} approaching pairs were tried");
+    }
 
     #[test]
     fn roots_are_accurate_when_b_dominates() {

@@ -6,6 +6,7 @@
 use crate::calendar::CalendarQueue;
 use crate::cells::{CellGrid, NONE};
 use crate::detect::{sphere_sphere, sphere_wall};
+use crate::epoch::Epochs;
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -21,8 +22,10 @@ pub enum Event {
     Wall(u32, u32),
     /// An eMD* E^v event: the particle took its post-collision velocity.
     Velocity(u32),
-    /// A particle moved into another cell.
+    /// A particle moved into another cell (with epochs: renewed its swept box early).
     Crossing(u32),
+    /// A new epoch of the epoch broad phase began (no particle changed).
+    Epoch,
     /// A stale prediction was discarded and the particle re-predicted.
     Stale(u32),
     /// An interfering collision whose pair stopped approaching once the pending E^v
@@ -45,6 +48,8 @@ pub struct Engine<Q: EventQueue = CalendarQueue> {
     /// eMD*: the velocity the pending E^v event applies.
     pub(crate) pending_vel: Vec<[f64; 3]>,
     pub(crate) grid: CellGrid,
+    /// The epoch broad phase; `None` runs on cell crossings (the grid's lists).
+    pub(crate) epochs: Option<Box<Epochs>>,
     pub(crate) queue: Q,
     pub(crate) time: f64,
     pub(crate) walls: Vec<Wall>,
@@ -355,7 +360,21 @@ impl<Q: EventQueue> Engine<Q> {
         self.slot[i].ev.coll_time = f64::INFINITY;
         self.slot[i].ev.coll_partner = NONE;
         self.slot[i].ev.coll_now = false;
-        self.scan_neighbourhood(i);
+        if self.epochs.is_some() {
+            self.predict_in_epoch(i);
+        } else {
+            self.scan_neighbourhood(i);
+        }
+        self.predict_walls(i);
+        if self.epochs.is_none() {
+            self.predict_crossing(i);
+        }
+        self.schedule(i);
+    }
+
+    /// The earliest wall collision of `i` (advanced to now), if before its prediction.
+    pub(crate) fn predict_walls(&mut self, i: usize) {
+        let now = self.time;
         let n = self.len();
         for w in 0..self.walls.len() {
             if self.in_shared_transient(i, n + w) {
@@ -375,8 +394,6 @@ impl<Q: EventQueue> Engine<Q> {
                 self.slot[i].ev.coll_now = false;
             }
         }
-        self.predict_crossing(i);
-        self.schedule(i);
     }
 
     /// Processes the next event.
@@ -405,7 +422,12 @@ impl<Q: EventQueue> Engine<Q> {
         self.time = t;
         self.stats.events += 1;
         self.since_resort += 1;
-        if self.resort_every > 0 && self.since_resort >= self.resort_every {
+        if i == self.len() {
+            self.rebuild_epoch();
+            return Ok(Event::Epoch);
+        }
+        if self.epochs.is_none() && self.resort_every > 0 && self.since_resort >= self.resort_every
+        {
             self.since_resort = 0;
             self.resort();
             self.stats.events -= 1;
@@ -445,6 +467,11 @@ impl<Q: EventQueue> Engine<Q> {
     /// cell, test the new layer and renew the crossing time along that axis.
     fn crossing(&mut self, i: usize, axis: usize, dir: i64) {
         self.stats.crossings += 1;
+        if self.epochs.is_some() {
+            // The swept box reached its horizon before the epoch's end.
+            self.predict(i);
+            return;
+        }
         let now = self.time;
         self.advance(i, now);
         let mut c = self.grid.coords[i];

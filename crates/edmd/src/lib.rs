@@ -36,6 +36,7 @@ pub mod cells;
 mod collide;
 pub mod detect;
 mod engine;
+mod epoch;
 mod error;
 pub mod gas;
 pub mod queue;
@@ -43,13 +44,14 @@ mod reorder;
 pub mod rules;
 mod setup;
 mod stats;
+mod sweep;
 mod system;
 
 pub use calendar::CalendarQueue;
 pub use engine::{Engine, Event};
 pub use error::{EngineError, Result};
 pub use queue::{EventQueue, IndexedHeap};
-pub use setup::{Interference, Materials, PairEntry, Physics, Region, Setup, Wall};
+pub use setup::{BroadPhase, Interference, Materials, PairEntry, Physics, Region, Setup, Wall};
 pub use stats::Stats;
 #[cfg(test)]
 mod engine_tests;

@@ -12,6 +12,20 @@ pub struct Region {
     pub periodic: [bool; 3],
 }
 
+/// How the event engine finds the pairs to test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BroadPhase {
+    /// Epochs where they fit (see [`BroadPhase::Epochs`]), cell crossings otherwise.
+    #[default]
+    Auto,
+    /// A cell grid with a crossing event whenever a particle changes cell (Alder &
+    /// Wainwright 1959; Rapaport 1980).
+    Crossings,
+    /// Swept boxes filed once per epoch (needs no gravity, and periodic axes wider
+    /// than four contact distances plus a cell).
+    Epochs,
+}
+
 /// A plane wall. Particles live on the side the unit `normal` points to.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wall {

@@ -15,7 +15,10 @@ pub struct Stats {
     /// the wall. Impacts that merely land a round-off inside σ are not counted (see
     /// `separation_histogram`).
     pub stabilising: u64,
+    /// Cell crossings (with epochs: swept boxes renewed before the epoch's end).
     pub crossings: u64,
+    /// Epochs begun by the epoch broad phase.
+    pub epochs: u64,
     /// Predictions found stale by the collision counters.
     pub stale: u64,
     /// E^v events at their scheduled time.

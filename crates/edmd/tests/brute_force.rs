@@ -2,7 +2,9 @@
 //! brute-force reference: every step advances all particles and tests every pair in
 //! all 27 periodic images with the textbook quadratic formula, O(N²) per collision.
 
-use emdstar_edmd::{CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas};
+use emdstar_edmd::{
+    BroadPhase, CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas,
+};
 
 /// Elastic equal hard spheres of diameter 1 in the periodic cube of `setup`, run by
 /// brute force: the first `count` collisions as (i, j, time) with i < j.
@@ -100,4 +102,37 @@ fn collision_sequence_equals_the_brute_force_reference() {
         resorted.set_resort_interval(53);
         assert_same(&reference, &engine_collisions(resorted, count), "re-sorted");
     }
+}
+
+#[test]
+fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
+    // η ≈ 0.003: the mean free path exceeds the box, so spheres wrap around many times
+    // between collisions; one sphere flies 20 times faster than the rest, so that its
+    // swept box must end early (a renewal before the epoch's end).
+    let mut setup = gas::fcc(3, 0.005, 1.0, 1.0, 1.0, 5);
+    let rms = (setup.velocity.iter().flatten().map(|v| v * v).sum::<f64>()
+        / setup.velocity.len() as f64)
+        .sqrt();
+    setup.velocity[0] = [20.0 * rms / 3f64.sqrt(); 3];
+    // Round-off grows so fast here (a near-grazing collision near the 55th) that
+    // crossings and the brute force also part after about 50 collisions.
+    let count = 45;
+    let reference = brute_force(&setup, count);
+    let physics = || Physics::HardSpheres { restitution: 1.0 };
+    let mut e: Engine =
+        Engine::with_broad_phase(setup.clone(), physics(), BroadPhase::Epochs).unwrap();
+    let mut got = vec![];
+    while got.len() < count {
+        if let Event::Collision(i, j) = e.step().unwrap() {
+            got.push((i.min(j), i.max(j), e.time()));
+        }
+    }
+    assert_same(&reference, &got, "epochs");
+    let s = e.stats();
+    assert!(s.epochs > 10 && s.crossings > 0, "{s:?}");
+    // The automatic choice takes epochs here and crossings in a dense gas.
+    let auto: Engine = Engine::new(setup, physics()).unwrap();
+    assert!(auto.stats().epochs > 0);
+    let dense: Engine = Engine::new(gas::fcc(3, 0.5, 1.0, 1.0, 1.0, 5), physics()).unwrap();
+    assert_eq!(dense.stats().epochs, 0);
 }

@@ -13,7 +13,7 @@
 
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_edmd::{BroadPhase, Engine, Interference, Materials, Physics, Setup};
 use emdstar_harness::engines::lattice_gas;
 use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use std::time::Instant;
@@ -46,7 +46,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         interference: Interference::HitOnly,
     };
     let width = env_number("CELL_WIDTH")?.unwrap_or(0.0);
-    let mut e: Engine = Engine::with_cell_width(Setup::from_system(&system), physics, width)?;
+    let setup = Setup::from_system(&system);
+    let mut e: Engine = match std::env::var("BROAD").as_deref() {
+        Ok("epochs") => Engine::with_broad_phase(setup, physics, BroadPhase::Epochs)?,
+        _ => Engine::with_cell_width(setup, physics, width)?,
+    };
     if let Some(r) = env_number("RESORT")? {
         e.set_resort_interval(r as u64);
     }
@@ -69,11 +73,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let events = s.events - ev0;
     println!(
         "simulated {:.4} s in {wall:.3} s: {:.4e} wall s per simulated s; {events} events \
-         ({} crossings, {} pair collisions), {:.1} ns per event",
+         ({} crossings, {} pair collisions, {} epochs), {:.1} ns per event",
         e.time() - t0,
         wall / (e.time() - t0),
         s.crossings - x0,
         s.pair_collisions - c0,
+        s.epochs,
         wall * 1e9 / events as f64
     );
     Ok(())

@@ -1,0 +1,354 @@
+//! Swept boxes for the event engine's epoch broad phase: instead of a cell-crossing
+//! event every cell width of flight, time is cut into epochs and each particle is
+//! filed once per epoch under every cell its swept box (the bounding box of the sphere
+//! over the rest of the epoch) touches. Two particles can only meet within the epoch
+//! if their boxes share a cell, so one pass over the cells finds every candidate pair
+//! (the swept-volume broad phase of continuous collision detection, e.g. Ericson,
+//! *Real-Time Collision Detection*, Sec. 7.1 and 9.5). A particle whose trajectory
+//! changes in mid-epoch files its new box in per-cell overflow lists.
+//!
+//! In a dilute gas this replaces about three crossing events per unit of flight by a
+//! share of one sequential rebuild per epoch, with no queue operation for particles
+//! that meet nobody.
+
+use crate::cells::NONE;
+
+/// ⌊x⌋ as an integer, saturating far outside (no libm call; boxes beyond the grid
+/// are clamped or wrapped by the caller).
+#[inline(always)]
+fn floor_to_int(x: f64) -> i64 {
+    let x = x.clamp(-4.0e15, 4.0e15);
+    let t = x as i64;
+    t - i64::from(x < t as f64)
+}
+
+/// A box's cells along one axis: the first (wrapped into the grid) and how many.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Span {
+    first: u32,
+    count: u32,
+}
+
+/// The cells of one swept box.
+pub(crate) type Spans = [Span; 3];
+
+/// A particle as filed at the rebuild: its state at the epoch's start, the end of its
+/// box, the box's cells and its eMD* transient partner. Copied into every cell it
+/// touches, so that the pair pass reads each cell's particles from one run of memory.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Filed {
+    pub pos: [f64; 3],
+    pub radius: f64,
+    pub vel: [f64; 3],
+    pub horizon: f64,
+    pub spans: Spans,
+    pub id: u32,
+    pub partner: u32,
+}
+
+/// The epoch grid: cells filed by swept box, rebuilt every epoch.
+#[derive(Debug, Clone)]
+pub(crate) struct SweepGrid {
+    lo: [f64; 3],
+    periodic: [bool; 3],
+    dims: [u32; 3],
+    inv_width: [f64; 3],
+    /// Entries of cell c: `filed[start[c]..start[c + 1]]` (filed at the rebuild).
+    start: Vec<u32>,
+    filed: Vec<Filed>,
+    /// Each particle at the rebuild.
+    pub boxes: Vec<Filed>,
+    /// Boxes filed in mid-epoch: list heads per cell, and (particle, next) nodes.
+    extra_head: Vec<u32>,
+    extra: Vec<[u32; 2]>,
+    /// Per particle: the query that last visited it (each candidate is visited once).
+    seen: Vec<u32>,
+    query: u32,
+    /// Cells of the running query (scratch).
+    visited: Vec<u32>,
+}
+
+impl SweepGrid {
+    /// A grid over `[lo, lo + size]` with cells at least `min_width` wide, for `n`
+    /// particles. Along closed axes the border cells reach to ±∞.
+    pub fn new(
+        lo: [f64; 3],
+        size: [f64; 3],
+        periodic: [bool; 3],
+        min_width: f64,
+        n: usize,
+    ) -> Self {
+        let dims: [u32; 3] = std::array::from_fn(|k| {
+            let cells = (size[k] / min_width).floor();
+            if cells.is_finite() && cells >= 1.0 {
+                cells.min(1024.0) as u32
+            } else {
+                1
+            }
+        });
+        let cells = dims.iter().map(|&d| d as usize).product::<usize>();
+        Self {
+            lo,
+            periodic,
+            dims,
+            inv_width: std::array::from_fn(|k| f64::from(dims[k]) / size[k]),
+            start: vec![0; cells + 1],
+            filed: Vec::new(),
+            boxes: vec![Filed::default(); n],
+            extra_head: vec![NONE; cells],
+            extra: Vec::new(),
+            seen: vec![0; n],
+            query: 0,
+            visited: Vec::new(),
+        }
+    }
+
+    /// The cells that the box `[lo, hi]` touches.
+    #[inline]
+    pub fn spans(&self, lo: [f64; 3], hi: [f64; 3]) -> Spans {
+        std::array::from_fn(|k| {
+            let d = i64::from(self.dims[k]);
+            let a = floor_to_int((lo[k] - self.lo[k]) * self.inv_width[k]);
+            let b = floor_to_int((hi[k] - self.lo[k]) * self.inv_width[k]);
+            if self.periodic[k] {
+                // Boxes start within a few periods of the grid.
+                let mut first = a;
+                while first < 0 {
+                    first += d;
+                }
+                while first >= d {
+                    first -= d;
+                }
+                Span {
+                    first: first as u32,
+                    count: (b - a + 1).min(d) as u32,
+                }
+            } else {
+                let (a, b) = (a.clamp(0, d - 1), b.clamp(0, d - 1));
+                Span {
+                    first: a as u32,
+                    count: (b - a + 1) as u32,
+                }
+            }
+        })
+    }
+
+    /// Calls `f(cell index, cell coordinates)` for every cell of `s`.
+    #[inline]
+    fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize, [u32; 3])) {
+        let d = self.dims;
+        let wrap = |k: usize, c: u32| if c >= d[k] { c - d[k] } else { c };
+        for z in 0..s[2].count {
+            let cz = wrap(2, s[2].first + z);
+            for y in 0..s[1].count {
+                let cy = wrap(1, s[1].first + y);
+                let row = (cz * d[1] + cy) * d[0];
+                for x in 0..s[0].count {
+                    let cx = wrap(0, s[0].first + x);
+                    f((row + cx) as usize, [cx, cy, cz]);
+                }
+            }
+        }
+    }
+
+    /// Files every particle under the cells of its box (`boxes`, set beforehand)
+    /// and empties the overflow lists.
+    pub fn file_all(&mut self) {
+        let mut start = std::mem::take(&mut self.start);
+        start.iter_mut().for_each(|s| *s = 0);
+        for b in &self.boxes {
+            self.for_cells(&b.spans, |c, _| start[c + 1] += 1);
+        }
+        for c in 1..start.len() {
+            start[c] += start[c - 1];
+        }
+        let mut filed = std::mem::take(&mut self.filed);
+        filed.resize(start[start.len() - 1] as usize, Filed::default());
+        let mut next = std::mem::take(&mut self.visited);
+        next.clear();
+        next.extend_from_slice(&start);
+        for b in &self.boxes {
+            self.for_cells(&b.spans, |c, _| {
+                filed[next[c] as usize] = *b;
+                next[c] += 1;
+            });
+        }
+        self.visited = next;
+        self.filed = filed;
+        self.start = start;
+        self.extra_head.iter_mut().for_each(|h| *h = NONE);
+        self.extra.clear();
+    }
+
+    /// Calls `f(a, b)` once for every pair filed together at the rebuild: in the first
+    /// cell (per axis) that both boxes share.
+    pub fn for_each_filed_pair(&self, mut f: impl FnMut(&Filed, &Filed)) {
+        let d = self.dims;
+        // The first shared cell along axis k: the start of one span inside the other
+        // (written as selects: which case holds is data, not a predictable branch).
+        let first_shared = |k: usize, a: Span, b: Span| {
+            let ahead = b.first.wrapping_sub(a.first);
+            let ahead = if b.first >= a.first {
+                ahead
+            } else {
+                ahead.wrapping_add(d[k])
+            };
+            if ahead < a.count { b.first } else { a.first }
+        };
+        let mut cell = 0;
+        for cz in 0..d[2] {
+            for cy in 0..d[1] {
+                for cx in 0..d[0] {
+                    let (s0, s1) = (self.start[cell] as usize, self.start[cell + 1] as usize);
+                    cell += 1;
+                    if s1 - s0 < 2 {
+                        continue;
+                    }
+                    let here = [cx, cy, cz];
+                    let run = &self.filed[s0..s1];
+                    for (m, a) in run.iter().enumerate() {
+                        for b in &run[m + 1..] {
+                            if (first_shared(0, a.spans[0], b.spans[0]) == here[0])
+                                & (first_shared(1, a.spans[1], b.spans[1]) == here[1])
+                                & (first_shared(2, a.spans[2], b.spans[2]) == here[2])
+                            {
+                                f(a, b);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Calls `f(j)` once for every particle filed (at the rebuild or since) in a cell
+    /// of `s`, then files `i` there.
+    pub fn scan_and_file(&mut self, i: usize, s: &Spans, mut f: impl FnMut(usize)) {
+        self.query = self.query.wrapping_add(1);
+        if self.query == 0 {
+            self.seen.iter_mut().for_each(|q| *q = 0);
+            self.query = 1;
+        }
+        let q = self.query;
+        self.seen[i] = q;
+        let mut cells = std::mem::take(&mut self.visited);
+        cells.clear();
+        let mut seen = std::mem::take(&mut self.seen);
+        self.for_cells(s, |c, _| {
+            let mut visit = |j: u32| {
+                if seen[j as usize] != q {
+                    seen[j as usize] = q;
+                    f(j as usize);
+                }
+            };
+            for b in &self.filed[self.start[c] as usize..self.start[c + 1] as usize] {
+                visit(b.id);
+            }
+            let mut node = self.extra_head[c];
+            while node != NONE {
+                let [j, next] = self.extra[node as usize];
+                visit(j);
+                node = next;
+            }
+            cells.push(c as u32);
+        });
+        self.seen = seen;
+        for &c in &cells {
+            self.extra.push([i as u32, self.extra_head[c as usize]]);
+            self.extra_head[c as usize] = (self.extra.len() - 1) as u32;
+        }
+        self.visited = cells;
+    }
+
+    /// Whether `f(j)` holds for any particle filed in a cell of `s` (without filing).
+    pub fn any_in(&self, s: &Spans, mut f: impl FnMut(usize) -> bool) -> bool {
+        let mut found = false;
+        self.for_cells(s, |c, _| {
+            if found {
+                return;
+            }
+            let filed = &self.filed[self.start[c] as usize..self.start[c + 1] as usize];
+            found = filed.iter().any(|b| f(b.id as usize));
+            let mut node = self.extra_head[c];
+            while !found && node != NONE {
+                let [j, next] = self.extra[node as usize];
+                found = f(j as usize);
+                node = next;
+            }
+        });
+        found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid() -> SweepGrid {
+        SweepGrid::new([0.0; 3], [10.0, 10.0, 10.0], [true, true, false], 1.0, 4)
+    }
+
+    #[test]
+    fn spans_wrap_periodic_axes_and_clamp_closed_ones() {
+        let g = grid();
+        let s = g.spans([-0.5, 9.2, -3.0], [0.5, 10.7, 20.0]);
+        assert_eq!((s[0].first, s[0].count), (9, 2));
+        assert_eq!((s[1].first, s[1].count), (9, 2));
+        assert_eq!((s[2].first, s[2].count), (0, 10));
+        // A box longer than the period visits each cell once.
+        let s = g.spans([0.5, 0.0, 0.0], [25.0, 0.5, 0.5]);
+        assert_eq!(s[0].count, 10);
+    }
+
+    #[test]
+    fn every_pair_of_touching_boxes_is_reported_exactly_once() {
+        // Brute force over random boxes: the pairs whose cell sets intersect.
+        let mut g = SweepGrid::new([0.0; 3], [6.0, 6.0, 6.0], [true, false, true], 1.0, 40);
+        let mut seed = 12345u64;
+        let mut rand = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut cells: Vec<Vec<usize>> = Vec::new();
+        for i in 0..40 {
+            let lo: [f64; 3] = std::array::from_fn(|_| rand() * 8.0 - 1.0);
+            let hi: [f64; 3] = std::array::from_fn(|k| lo[k] + rand() * 3.0);
+            let s = g.spans(lo, hi);
+            g.boxes[i] = Filed {
+                spans: s,
+                id: i as u32,
+                ..Filed::default()
+            };
+            let mut mine = Vec::new();
+            g.for_cells(&s, |c, _| mine.push(c));
+            cells.push(mine);
+        }
+        g.file_all();
+        let mut reported = Vec::new();
+        g.for_each_filed_pair(|a, b| {
+            reported.push((a.id.min(b.id) as usize, a.id.max(b.id) as usize))
+        });
+        let mut expected = Vec::new();
+        for i in 0..40 {
+            for j in i + 1..40 {
+                if cells[i].iter().any(|c| cells[j].contains(c)) {
+                    expected.push((i, j));
+                }
+            }
+        }
+        let unique: std::collections::BTreeSet<_> = reported.iter().copied().collect();
+        assert_eq!(unique.len(), reported.len(), "a pair was reported twice");
+        assert_eq!(unique.into_iter().collect::<Vec<_>>(), expected);
+        // Mid-epoch scans see filed particles once and file the scanning one.
+        let s = g.spans([0.0; 3], [6.0, 6.0, 6.0]);
+        let mut seen = Vec::new();
+        g.scan_and_file(0, &s, |j| seen.push(j));
+        seen.sort_unstable();
+        assert_eq!(seen, (1..40).collect::<Vec<_>>());
+        let mut again = Vec::new();
+        g.scan_and_file(1, &g.spans([0.5; 3], [0.6; 3]), |j| again.push(j));
+        assert!(again.contains(&0), "the box filed in mid-epoch is found");
+    }
+}
