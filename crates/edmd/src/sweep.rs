@@ -106,31 +106,39 @@ impl SweepGrid {
     /// The cells that the box `[lo, hi]` touches.
     #[inline]
     pub fn spans(&self, lo: [f64; 3], hi: [f64; 3]) -> Spans {
-        std::array::from_fn(|k| {
-            let d = i64::from(self.dims[k]);
-            let a = floor_to_int((lo[k] - self.lo[k]) * self.inv_width[k]);
-            let b = floor_to_int((hi[k] - self.lo[k]) * self.inv_width[k]);
-            if self.periodic[k] {
-                // Boxes start within a few periods of the grid.
-                let mut first = a;
-                while first < 0 {
-                    first += d;
-                }
-                while first >= d {
-                    first -= d;
-                }
-                Span {
-                    first: first as u32,
-                    count: (b - a + 1).min(d) as u32,
-                }
-            } else {
-                let (a, b) = (a.clamp(0, d - 1), b.clamp(0, d - 1));
-                Span {
-                    first: a as u32,
-                    count: (b - a + 1) as u32,
-                }
+        [
+            self.span(0, lo[0], hi[0]),
+            self.span(1, lo[1], hi[1]),
+            self.span(2, lo[2], hi[2]),
+        ]
+    }
+
+    /// The cells of `[lo, hi]` along axis `k`.
+    #[inline(always)]
+    fn span(&self, k: usize, lo: f64, hi: f64) -> Span {
+        let d = i64::from(self.dims[k]);
+        let a = floor_to_int((lo - self.lo[k]) * self.inv_width[k]);
+        let b = floor_to_int((hi - self.lo[k]) * self.inv_width[k]);
+        if self.periodic[k] {
+            // Boxes start within a few periods of the grid.
+            let mut first = a;
+            while first < 0 {
+                first += d;
             }
-        })
+            while first >= d {
+                first -= d;
+            }
+            Span {
+                first: first as u32,
+                count: (b - a + 1).min(d) as u32,
+            }
+        } else {
+            let (a, b) = (a.clamp(0, d - 1), b.clamp(0, d - 1));
+            Span {
+                first: a as u32,
+                count: (b - a + 1) as u32,
+            }
+        }
     }
 
     /// Calls `f(cell index, cell coordinates)` for every cell of `s`.

@@ -2,7 +2,7 @@
 
 use emdstar_contact::{ForceLaw, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, gas};
+use emdstar_edmd::{BroadPhase, Engine, Event, Interference, Materials, Physics, Setup, gas};
 
 /// A soft elastic Hertz gas (Y = 10 MPa so that exceptions are frequent), R = 0.1 m,
 /// ρ = 1140 kg/m³, thermal speed ≈ 2 m/s (Müller & Pöschel 2013, Sec. VI B 6).
@@ -22,9 +22,15 @@ fn soft_gas(eta: f64, interference: Interference) -> (Setup, Physics) {
 
 #[test]
 fn elastic_emdstar_gas_conserves_energy_and_momentum_through_exceptions() {
-    for interference in [Interference::HitOnly, Interference::BothPartners] {
+    let variants = [
+        (Interference::HitOnly, BroadPhase::Crossings),
+        (Interference::BothPartners, BroadPhase::Crossings),
+        (Interference::HitOnly, BroadPhase::Epochs),
+        (Interference::BothPartners, BroadPhase::Epochs),
+    ];
+    for (interference, broad_phase) in variants {
         let (setup, physics) = soft_gas(0.2, interference);
-        let mut e: Engine = Engine::new(setup, physics).unwrap();
+        let mut e: Engine = Engine::with_broad_phase(setup, physics, broad_phase).unwrap();
         let (e0, p0) = (e.kinetic_energy(), e.momentum());
         e.run_collisions(20_000).unwrap();
         let s = *e.stats();
@@ -45,6 +51,45 @@ fn elastic_emdstar_gas_conserves_energy_and_momentum_through_exceptions() {
         } else {
             assert_eq!(s.early_partner_updates, 0);
         }
-        eprintln!("{interference:?}: {s:?}");
+        eprintln!("{interference:?}, {broad_phase:?}: {s:?}");
     }
+}
+
+/// The first `count` events that change a particle, with their times.
+fn events(mut e: Engine, count: usize) -> Vec<(Event, f64)> {
+    let mut out = vec![];
+    while out.len() < count {
+        match e.step().unwrap() {
+            Event::Crossing(_) | Event::Epoch | Event::Stale(_) => {}
+            // Which partner's prediction comes first is not physics.
+            Event::Collision(i, j) => out.push((Event::Collision(i.min(j), i.max(j)), e.time())),
+            Event::Resolved(i, j) => out.push((Event::Resolved(i.min(j), i.max(j)), e.time())),
+            ev => out.push((ev, e.time())),
+        }
+    }
+    out
+}
+
+#[test]
+fn epochs_and_crossings_run_the_same_emdstar_events() {
+    // Soft and dense enough for both exceptions within the compared stretch: E^φ, E^v,
+    // interference and eMD fallbacks must come in the same order at the same times.
+    let (setup, physics) = soft_gas(0.2, Interference::HitOnly);
+    let crossings = Engine::with_broad_phase(setup.clone(), physics, BroadPhase::Crossings);
+    let (_, physics) = soft_gas(0.2, Interference::HitOnly);
+    let epochs = Engine::with_broad_phase(setup, physics, BroadPhase::Epochs);
+    let count = 600;
+    let (a, b) = (
+        events(crossings.unwrap(), count),
+        events(epochs.unwrap(), count),
+    );
+    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!(x.0, y.0, "event {k}: {x:?} vs {y:?}");
+        assert!((x.1 - y.1).abs() <= 1e-9 * x.1, "event {k}: {x:?} vs {y:?}");
+    }
+    let resolved = a
+        .iter()
+        .filter(|e| matches!(e.0, Event::Resolved(..)))
+        .count();
+    assert!(resolved > 0, "no interference among the compared events");
 }

@@ -2,7 +2,8 @@
 //! stability of inelastic runs, and bad input.
 
 use emdstar_edmd::{
-    Engine, EngineError, Event, EventQueue, IndexedHeap, Physics, Region, Setup, Wall, gas,
+    BroadPhase, Engine, EngineError, Event, EventQueue, IndexedHeap, Physics, Region, Setup, Wall,
+    gas,
 };
 
 fn elastic() -> Physics {
@@ -94,16 +95,78 @@ fn cells_agree_with_one_big_cell() {
 /// runs the N = 13500 version.)
 #[test]
 fn inelastic_overlaps_never_grow() {
-    let setup = gas::fcc(8, 0.2, 1.0, 1.0, 1.0, 9);
-    let mut e: Engine = Engine::new(setup, Physics::HardSpheres { restitution: 0.8 }).unwrap();
-    e.run_collisions(300_000).unwrap();
-    let s = e.stats();
-    assert!(s.max_impact_overlap < 1e-12, "{}", s.max_impact_overlap);
-    // Impacts land on both sides of σ (Fig. 3): some overlap, some stop short.
-    let h = s.separation_histogram;
+    for (broad_phase, collisions) in [
+        (BroadPhase::Crossings, 300_000),
+        (BroadPhase::Epochs, 100_000),
+    ] {
+        let setup = gas::fcc(8, 0.2, 1.0, 1.0, 1.0, 9);
+        let physics = Physics::HardSpheres { restitution: 0.8 };
+        let mut e: Engine = Engine::with_broad_phase(setup, physics, broad_phase).unwrap();
+        e.run_collisions(collisions).unwrap();
+        let s = e.stats();
+        assert!(
+            s.max_impact_overlap < 1e-12,
+            "{broad_phase:?}: {}",
+            s.max_impact_overlap
+        );
+        // Impacts land on both sides of σ (Fig. 3): some overlap, some stop short.
+        let h = s.separation_histogram;
+        assert!(
+            h[..8].iter().sum::<u64>() > 0 && h[9..].iter().sum::<u64>() > 0,
+            "{broad_phase:?}: {h:?}"
+        );
+    }
+}
+
+/// A dilute gas in a closed box with six walls: epochs (closed axes, border cells
+/// reaching to ±∞, wall predictions kept across epochs) give the crossing engine's
+/// pair and wall collisions.
+#[test]
+fn epochs_agree_with_crossings_between_walls() {
+    let mut setup = gas::fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
+    let region = setup.region.unwrap();
+    setup.region = Some(Region {
+        periodic: [false; 3],
+        ..region
+    });
+    for k in 0..3 {
+        for (side, sign) in [(region.lo[k], 1.0), (region.lo[k] + region.size[k], -1.0)] {
+            let mut normal = [0.0; 3];
+            normal[k] = sign;
+            let mut point = [0.0; 3];
+            point[k] = side - sign * 0.5;
+            setup.walls.push(Wall { normal, point });
+        }
+    }
+    let events = |broad_phase| {
+        let mut e: Engine =
+            Engine::with_broad_phase(setup.clone(), elastic(), broad_phase).unwrap();
+        let mut out = vec![];
+        while out.len() < 400 {
+            match e.step().unwrap() {
+                Event::Collision(i, j) => out.push((i.min(j), i.max(j), e.time())),
+                Event::Wall(i, w) => out.push((i, u32::MAX - w, e.time())),
+                _ => {}
+            }
+        }
+        (out, *e.stats())
+    };
+    let (a, sa) = events(BroadPhase::Crossings);
+    let (b, sb) = events(BroadPhase::Epochs);
+    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!((x.0, x.1), (y.0, y.1), "event {k}: {x:?} {y:?}");
+        assert!(
+            (x.2 - y.2).abs() < 1e-9 * x.2.max(1.0),
+            "event {k}: {x:?} {y:?}"
+        );
+    }
     assert!(
-        h[..8].iter().sum::<u64>() > 0 && h[9..].iter().sum::<u64>() > 0,
-        "{h:?}"
+        sb.epochs > 5 && sb.pair_collisions > 20 && sb.wall_collisions > 20,
+        "{sb:?}"
+    );
+    assert_eq!(
+        (sa.pair_collisions, sa.wall_collisions),
+        (sb.pair_collisions, sb.wall_collisions)
     );
 }
 
