@@ -90,9 +90,9 @@ impl Epochs {
     #[inline]
     fn sweep(&self, p: [f64; 3], v: [f64; 3], radius: f64, t0: f64, end: f64) -> (Spans, f64) {
         let mut span = end - t0;
-        for k in 0..3 {
-            if v[k].abs() * span > self.reach[k] {
-                span = self.reach[k] / v[k].abs();
+        for (vk, reach) in v.iter().zip(self.reach) {
+            if vk.abs() * span > reach {
+                span = reach / vk.abs();
             }
         }
         let horizon = if span < end - t0 { t0 + span } else { end };
