@@ -87,7 +87,7 @@ impl Epochs {
 
     /// The swept box of a sphere at `p` moving with `v` from `t0` to `end`, cut short
     /// where it would reach too far along a periodic axis: (cells, horizon).
-    #[inline]
+    #[inline(always)]
     fn sweep(&self, p: [f64; 3], v: [f64; 3], radius: f64, t0: f64, end: f64) -> (Spans, f64) {
         let mut span = end - t0;
         for (vk, reach) in v.iter().zip(self.reach) {
@@ -145,7 +145,9 @@ impl<Q: EventQueue> Engine<Q> {
                 p = wrapped;
             }
             let radius = self.slot[i].kin.radius;
-            let (spans, horizon) = ep.sweep(p, v, radius, t0, end);
+            // A particle in an eMD* transient changes course at its E^v.
+            let stop = end.min(self.slot[i].ev.pending_time);
+            let (spans, horizon) = ep.sweep(p, v, radius, t0, stop);
             ep.grid.boxes[i] = Filed {
                 pos: p,
                 radius,
@@ -208,7 +210,8 @@ impl<Q: EventQueue> Engine<Q> {
         let p = self.wrap(self.slot[i].kin.pos);
         self.slot[i].kin.pos = p;
         let (vi, ri) = (self.slot[i].kin.vel, self.slot[i].kin.radius);
-        let (spans, horizon) = ep.sweep(p, vi, ri, now, ep.end);
+        let stop = ep.end.min(self.slot[i].ev.pending_time);
+        let (spans, horizon) = ep.sweep(p, vi, ri, now, stop);
         self.slot[i].ev.cross[0] = if horizon < ep.end {
             horizon
         } else {

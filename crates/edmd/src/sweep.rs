@@ -55,7 +55,7 @@ pub(crate) struct SweepGrid {
     inv_width: [f64; 3],
     /// Entries of cell c: `filed[start[c]..start[c + 1]]` (filed at the rebuild).
     start: Vec<u32>,
-    filed: Vec<Filed>,
+    filed: Vec<u32>,
     /// Each particle at the rebuild.
     pub boxes: Vec<Filed>,
     /// Boxes filed in mid-epoch: list heads per cell, and (particle, next) nodes.
@@ -104,7 +104,7 @@ impl SweepGrid {
     }
 
     /// The cells that the box `[lo, hi]` touches.
-    #[inline]
+    #[inline(always)]
     pub fn spans(&self, lo: [f64; 3], hi: [f64; 3]) -> Spans {
         [
             self.span(0, lo[0], hi[0]),
@@ -171,13 +171,13 @@ impl SweepGrid {
             start[c] += start[c - 1];
         }
         let mut filed = std::mem::take(&mut self.filed);
-        filed.resize(start[start.len() - 1] as usize, Filed::default());
+        filed.resize(start[start.len() - 1] as usize, 0);
         let mut next = std::mem::take(&mut self.visited);
         next.clear();
         next.extend_from_slice(&start);
-        for b in &self.boxes {
+        for (i, b) in self.boxes.iter().enumerate() {
             self.for_cells(&b.spans, |c, _| {
-                filed[next[c] as usize] = *b;
+                filed[next[c] as usize] = i as u32;
                 next[c] += 1;
             });
         }
@@ -214,8 +214,10 @@ impl SweepGrid {
                     }
                     let here = [cx, cy, cz];
                     let run = &self.filed[s0..s1];
-                    for (m, a) in run.iter().enumerate() {
-                        for b in &run[m + 1..] {
+                    for (m, &ia) in run.iter().enumerate() {
+                        let a = &self.boxes[ia as usize];
+                        for &ib in &run[m + 1..] {
+                            let b = &self.boxes[ib as usize];
                             if (first_shared(0, a.spans[0], b.spans[0]) == here[0])
                                 & (first_shared(1, a.spans[1], b.spans[1]) == here[1])
                                 & (first_shared(2, a.spans[2], b.spans[2]) == here[2])
@@ -249,8 +251,8 @@ impl SweepGrid {
                     f(j as usize);
                 }
             };
-            for b in &self.filed[self.start[c] as usize..self.start[c + 1] as usize] {
-                visit(b.id);
+            for &j in &self.filed[self.start[c] as usize..self.start[c + 1] as usize] {
+                visit(j);
             }
             let mut node = self.extra_head[c];
             while node != NONE {
@@ -276,7 +278,7 @@ impl SweepGrid {
                 return;
             }
             let filed = &self.filed[self.start[c] as usize..self.start[c + 1] as usize];
-            found = filed.iter().any(|b| f(b.id as usize));
+            found = filed.iter().any(|&j| f(j as usize));
             let mut node = self.extra_head[c];
             while !found && node != NONE {
                 let [j, next] = self.extra[node as usize];
