@@ -6,7 +6,7 @@ use super::engine::{drift_fields, progress_bar, with_fields};
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, Stats};
+use emdstar_edmd::{BroadPhase, Engine, Interference, Materials, Physics, Setup, Stats};
 use emdstar_system::{Config, System, Thermo, ThermoLog, XyzWriter};
 use emdstar_table::Table;
 use serde_json::{Value, json};
@@ -34,6 +34,19 @@ pub enum InterferenceChoice {
     Both,
 }
 
+/// How the event engine finds the pairs it tests.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BroadPhaseChoice {
+    /// Epochs in dilute gases without gravity (packing fraction below 0.012), cell
+    /// crossings otherwise.
+    Auto,
+    /// A cell grid with a crossing event whenever a particle changes cell.
+    Crossings,
+    /// Swept boxes filed once per epoch (no gravity; periodic boxes wider than four
+    /// contact distances plus a cell).
+    Epochs,
+}
+
 /// Options of the event-driven engines (emd, emdstar).
 #[derive(Args, Debug, Clone)]
 pub struct EdmdArgs {
@@ -46,6 +59,25 @@ pub struct EdmdArgs {
     /// eMD*: exception (b) variant.
     #[arg(long, value_enum, default_value_t = InterferenceChoice::Hit)]
     pub interference: InterferenceChoice,
+    /// How candidate pairs are found (the same collisions either way; epochs are
+    /// 1.7-2 times faster at packing fraction 0.001, crossings win above about 0.01).
+    #[arg(long, value_enum, default_value_t = BroadPhaseChoice::Auto)]
+    pub broad_phase: BroadPhaseChoice,
+}
+
+/// The event engine for `system` with the options of `args`.
+fn build_engine(kind: EngineKind, system: &System, args: &EdmdArgs) -> Result<Engine> {
+    let broad_phase = match args.broad_phase {
+        BroadPhaseChoice::Auto => BroadPhase::Auto,
+        BroadPhaseChoice::Crossings => BroadPhase::Crossings,
+        BroadPhaseChoice::Epochs => BroadPhase::Epochs,
+    };
+    let setup = Setup::from_system(system);
+    Ok(Engine::with_broad_phase(
+        setup,
+        physics(kind, system, args)?,
+        broad_phase,
+    )?)
 }
 
 /// The source of the matrix of restitution chosen by `args` (eMD* and the hybrid).
@@ -97,8 +129,7 @@ pub fn pair(
     args: &EdmdArgs,
     as_json: bool,
 ) -> Result<()> {
-    let mut engine: Engine =
-        Engine::new(Setup::from_system(&system), physics(kind, &system, args)?)?;
+    let mut engine = build_engine(kind, &system, args)?;
     engine.run_until(config.t_end)?;
     engine.write_state(&mut system.particles);
     let p = &system.particles;
@@ -135,6 +166,7 @@ fn stats_json(s: &Stats) -> Value {
         "wall_collisions": s.wall_collisions,
         "stabilising_collisions": s.stabilising,
         "cell_crossings": s.crossings,
+        "epochs": s.epochs,
         "stale_events": s.stale,
         "velocity_events": s.velocity_events,
         "exceptions": {
@@ -217,8 +249,7 @@ pub fn run(
         }
     }
     let n = system.particles.len();
-    let mut engine: Engine =
-        Engine::new(Setup::from_system(&system), physics(kind, &system, args)?)?;
+    let mut engine = build_engine(kind, &system, args)?;
     let mut traj = XyzWriter::create(&out.trajectory)?;
     let mut log = ThermoLog::create(&out.log)?;
     let first = thermo(&mut engine, &system);

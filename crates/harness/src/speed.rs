@@ -38,6 +38,8 @@ pub struct SpeedPoint {
     /// All of eMD*'s events over the same run, and the cell crossings among them.
     pub emdstar_events: u64,
     pub emdstar_crossings: u64,
+    /// Epochs of the epoch broad phase over the run (0: eMD* ran on cell crossings).
+    pub emdstar_epochs: u64,
     pub emdstar_cost: f64,
     /// md_cost / emdstar_cost.
     pub ratio: f64,
@@ -64,7 +66,7 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
     let mut e = event_engine(&system, EventKind::EmdStarTable)?;
     e.run_collisions((count / 10) as u64)?;
     let (t0, c0) = (e.time(), e.stats().pair_collisions);
-    let (ev0, x0) = (e.stats().events, e.stats().crossings);
+    let (ev0, x0, p0) = (e.stats().events, e.stats().crossings, e.stats().epochs);
     let start = Instant::now();
     while start.elapsed().as_secs_f64() < budget || e.stats().pair_collisions - c0 < count as u64 {
         e.run_collisions((count / 10).max(1) as u64)?;
@@ -87,6 +89,7 @@ pub fn measure(eta: f64, young: f64, count: usize, budget: f64, seed: u64) -> Re
         emdstar_collisions: e.stats().pair_collisions - c0,
         emdstar_events: e.stats().events - ev0,
         emdstar_crossings: e.stats().crossings - x0,
+        emdstar_epochs: e.stats().epochs - p0,
         emdstar_cost,
         ratio: md_cost / emdstar_cost,
     })
@@ -98,7 +101,17 @@ impl SpeedPoint {
         self.emdstar_cost * self.emdstar_simulated / self.emdstar_events.max(1) as f64 * 1e9
     }
 
-    /// The share of eMD*'s events that are cell crossings.
+    /// How eMD* found its candidate pairs: "epochs" or "crossings".
+    pub fn broad_phase(&self) -> &'static str {
+        if self.emdstar_epochs > 0 {
+            "epochs"
+        } else {
+            "crossings"
+        }
+    }
+
+    /// The share of eMD*'s events that are cell crossings (with epochs: early renewals
+    /// of swept boxes).
     pub fn crossing_share(&self) -> f64 {
         self.emdstar_crossings as f64 / self.emdstar_events.max(1) as f64
     }
