@@ -4,7 +4,8 @@
 //! - [`detect`]: stable event detection, Bannerman 2014, Algorithms 1 and 2;
 //! - [`bouncing`]: their bouncing-ball stability test (Sec. 5);
 //! - [`queue`]: the event queue behind the [`EventQueue`] trait;
-//! - [`cells`]: the cell grid with crossing events;
+//! - [`cells`]: the cell grid with crossing events, and (private) `sweep`: the swept
+//!   boxes of the epoch broad phase ([`BroadPhase`]);
 //! - [`rules`]: collision rules and the source of the matrix of restitution;
 //! - [`Engine`]: the event loop with delayed updates, built from a [`Setup`] (or an
 //!   `emdstar_system::System` via [`Setup::from_system`]) and a [`Physics`].
@@ -15,9 +16,15 @@
 //!   the earliest of them. A predicted collision stores the partner's collision
 //!   counter; if the partner has changed since, the event is stale and the particle is
 //!   re-predicted (no deletions from the queue, no allocation per event);
-//! - particles are moved on only when touched (delayed updates); cells are at least
-//!   one contact distance wide, with explicit periodic image shifts per neighbour cell,
-//!   and each crossing tests only the layer of cells that became neighbours;
+//! - particles are moved on only when touched (delayed updates);
+//! - candidate pairs come from one of two broad phases. With cell crossings, cells are
+//!   at least one contact distance wide, with explicit periodic image shifts per
+//!   neighbour cell, and each crossing tests only the layer of cells that became
+//!   neighbours. With epochs (the default below η = 0.012, without gravity), time is
+//!   cut into epochs of about one cell width of flight; each particle's swept box is
+//!   filed once per epoch, one pass over the cells tests every pair that can meet
+//!   before the epoch ends, and a particle that changes course files its new box; a
+//!   particle that meets nobody costs no event at all. Both give the same collisions;
 //! - detection is Bannerman's Algorithm 1 (pairs) and 2 (walls under gravity): an
 //!   overlapping, approaching pair collides at once (a stabilising collision);
 //! - eMD*: E^φ rotates the pair and gives both the centre-of-mass velocity, the two
@@ -40,6 +47,7 @@ mod epoch;
 mod error;
 pub mod gas;
 pub mod queue;
+mod readout;
 mod reorder;
 pub mod rules;
 mod setup;

@@ -120,12 +120,14 @@ impl SweepGrid {
         let a = floor_to_int((lo - self.lo[k]) * self.inv_width[k]);
         let b = floor_to_int((hi - self.lo[k]) * self.inv_width[k]);
         if self.periodic[k] {
-            // Boxes start within a few periods of the grid.
+            // Boxes start within a period of the grid, unless given nonsense.
             let mut first = a;
-            while first < 0 {
-                first += d;
+            if !(-d..2 * d).contains(&first) {
+                first = first.rem_euclid(d);
             }
-            while first >= d {
+            if first < 0 {
+                first += d;
+            } else if first >= d {
                 first -= d;
             }
             Span {

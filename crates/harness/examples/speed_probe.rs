@@ -8,8 +8,9 @@
 //!
 //! SECONDS > 0 runs for that many wall seconds; SECONDS < 0 runs for −SECONDS pair
 //! collisions (a fixed amount of work, e.g. under `valgrind --tool=callgrind`).
-//! `CELL_WIDTH=m` overrides the automatic cell width, `RESORT=events` the re-sorting
-//! interval (0: never).
+//! `BROAD=auto|crossings|epochs` chooses the broad phase (default auto, as `emdstar`
+//! does), `CELL_WIDTH=m` the cell width of crossings (default automatic),
+//! `RESORT=events` the re-sorting interval (0: never).
 
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
@@ -48,8 +49,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let width = env_number("CELL_WIDTH")?.unwrap_or(0.0);
     let setup = Setup::from_system(&system);
     let mut e: Engine = match std::env::var("BROAD").as_deref() {
+        Ok("crossings") => Engine::with_cell_width(setup, physics, width)?,
         Ok("epochs") => Engine::with_broad_phase(setup, physics, BroadPhase::Epochs)?,
-        _ => Engine::with_cell_width(setup, physics, width)?,
+        Ok("auto") | Err(_) => Engine::with_broad_phase(setup, physics, BroadPhase::Auto)?,
+        Ok(other) => return Err(format!("BROAD = {other:?}: use auto, crossings or epochs").into()),
     };
     if let Some(r) = env_number("RESORT")? {
         e.set_resort_interval(r as u64);

@@ -1,0 +1,80 @@
+//! Reading the engine's state: positions, velocities, energy and momentum, by original
+//! particle number (slots are re-sorted in space).
+
+use crate::engine::{Engine, dot};
+use crate::queue::EventQueue;
+
+impl<Q: EventQueue> Engine<Q> {
+    /// Brings every particle to the current time (for output and measurements).
+    pub fn sync(&mut self) {
+        let now = self.time;
+        for i in 0..self.len() {
+            self.advance(i, now);
+        }
+    }
+
+    /// Positions at the current time (call [`Engine::sync`] first).
+    pub fn positions(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.slot[i].kin.pos)
+    }
+
+    /// `f(slot)` for every particle, listed by original particle number.
+    pub(crate) fn in_original_order<T: Copy + Default>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
+        let mut out = vec![T::default(); self.len()];
+        for (i, &id) in self.id.iter().enumerate() {
+            out[id as usize] = f(i);
+        }
+        out
+    }
+
+    /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
+    /// eMD* transient show their centre-of-mass velocity.
+    pub fn velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.slot[i].kin.vel)
+    }
+
+    /// Velocity of slot `i` now, counting a pending E^v as done (what the particle will
+    /// have once its collision is over; use for energy and momentum balances).
+    pub(crate) fn settled_velocity(&self, i: usize) -> [f64; 3] {
+        if self.slot[i].ev.pending_time.is_finite() {
+            let early = self.slot[i].ev.pending_time - self.time;
+            let v = self.pending_vel[i];
+            std::array::from_fn(|k| v[k] - self.gravity[k] * early)
+        } else {
+            self.state_at(i, self.time).1
+        }
+    }
+
+    /// Velocities with pending E^v velocities applied, by original particle number.
+    pub fn settled_velocities(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|i| self.settled_velocity(i))
+    }
+
+    /// Kinetic energy Σ ½ m v² with pending E^v velocities applied.
+    pub fn kinetic_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.mass[i] * dot(self.settled_velocity(i), self.settled_velocity(i)))
+            .sum()
+    }
+
+    /// Momentum Σ m v with pending E^v velocities applied.
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for i in 0..self.len() {
+            let v = self.settled_velocity(i);
+            for k in 0..3 {
+                p[k] += self.mass[i] * v[k];
+            }
+        }
+        p
+    }
+
+    /// Radii and masses, in particle order.
+    pub fn radii(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.slot[i].kin.radius)
+    }
+
+    pub fn masses(&self) -> Vec<f64> {
+        self.in_original_order(|i| self.mass[i])
+    }
+}
