@@ -3,9 +3,9 @@
 //! filed once per epoch under every cell its swept box (the bounding box of the sphere
 //! over the rest of the epoch) touches. Two particles can only meet within the epoch
 //! if their boxes share a cell, so one pass over the cells finds every candidate pair
-//! (the swept-volume broad phase of continuous collision detection, e.g. Ericson,
-//! *Real-Time Collision Detection*, Sec. 7.1 and 9.5). A particle whose trajectory
-//! changes in mid-epoch files its new box in per-cell overflow lists.
+//! (a swept-volume broad phase, as in continuous collision detection, on a uniform
+//! grid). A particle whose trajectory changes in mid-epoch files its new box in
+//! per-cell overflow lists.
 //!
 //! In a dilute gas this replaces about three crossing events per unit of flight by a
 //! share of one sequential rebuild per epoch, with no queue operation for particles
@@ -33,8 +33,8 @@ pub(crate) struct Span {
 pub(crate) type Spans = [Span; 3];
 
 /// A particle as filed at the rebuild: its state at the epoch's start, the end of its
-/// box, the box's cells and its eMD* transient partner. Copied into every cell it
-/// touches, so that the pair pass reads each cell's particles from one run of memory.
+/// box, the box's cells and its eMD* transient partner. (Cells hold particle numbers:
+/// copying these records into every cell cost more than it saved.)
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Filed {
     pub pos: [f64; 3],
@@ -143,9 +143,9 @@ impl SweepGrid {
         }
     }
 
-    /// Calls `f(cell index, cell coordinates)` for every cell of `s`.
+    /// Calls `f(cell index)` for every cell of `s`.
     #[inline]
-    fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize, [u32; 3])) {
+    fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize)) {
         let d = self.dims;
         let wrap = |k: usize, c: u32| if c >= d[k] { c - d[k] } else { c };
         for z in 0..s[2].count {
@@ -155,7 +155,7 @@ impl SweepGrid {
                 let row = (cz * d[1] + cy) * d[0];
                 for x in 0..s[0].count {
                     let cx = wrap(0, s[0].first + x);
-                    f((row + cx) as usize, [cx, cy, cz]);
+                    f((row + cx) as usize);
                 }
             }
         }
@@ -167,7 +167,7 @@ impl SweepGrid {
         let mut start = std::mem::take(&mut self.start);
         start.iter_mut().for_each(|s| *s = 0);
         for b in &self.boxes {
-            self.for_cells(&b.spans, |c, _| start[c + 1] += 1);
+            self.for_cells(&b.spans, |c| start[c + 1] += 1);
         }
         for c in 1..start.len() {
             start[c] += start[c - 1];
@@ -178,7 +178,7 @@ impl SweepGrid {
         next.clear();
         next.extend_from_slice(&start);
         for (i, b) in self.boxes.iter().enumerate() {
-            self.for_cells(&b.spans, |c, _| {
+            self.for_cells(&b.spans, |c| {
                 filed[next[c] as usize] = i as u32;
                 next[c] += 1;
             });
@@ -246,7 +246,7 @@ impl SweepGrid {
         let mut cells = std::mem::take(&mut self.visited);
         cells.clear();
         let mut seen = std::mem::take(&mut self.seen);
-        self.for_cells(s, |c, _| {
+        self.for_cells(s, |c| {
             let mut visit = |j: u32| {
                 if seen[j as usize] != q {
                     seen[j as usize] = q;
@@ -275,7 +275,7 @@ impl SweepGrid {
     /// Whether `f(j)` holds for any particle filed in a cell of `s` (without filing).
     pub fn any_in(&self, s: &Spans, mut f: impl FnMut(usize) -> bool) -> bool {
         let mut found = false;
-        self.for_cells(s, |c, _| {
+        self.for_cells(s, |c| {
             if found {
                 return;
             }
@@ -334,7 +334,7 @@ mod tests {
                 ..Filed::default()
             };
             let mut mine = Vec::new();
-            g.for_cells(&s, |c, _| mine.push(c));
+            g.for_cells(&s, |c| mine.push(c));
             cells.push(mine);
         }
         g.file_all();
