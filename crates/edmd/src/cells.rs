@@ -21,6 +21,19 @@ pub fn auto_cell_width(max_contact: f64, volume: f64, n: usize) -> f64 {
     max_contact.max(0.55 * spacing)
 }
 
+/// Cells per axis of a grid over `size` with cells at least `min_width` wide: at least
+/// one, at most 1024 (Morton keys and spans use 10 bits per axis).
+pub fn cells_per_axis(size: [f64; 3], min_width: f64) -> [usize; 3] {
+    std::array::from_fn(|k| {
+        let cells = (size[k] / min_width).floor();
+        if cells.is_finite() && cells >= 1.0 {
+            (cells as usize).min(1 << 10)
+        } else {
+            1
+        }
+    })
+}
+
 /// The grid and its particle lists.
 #[derive(Debug, Clone)]
 pub struct CellGrid {
@@ -97,14 +110,7 @@ impl CellGrid {
         min_width: f64,
         n: usize,
     ) -> Self {
-        let dims: [usize; 3] = std::array::from_fn(|k| {
-            let cells = (size[k] / min_width).floor();
-            if cells.is_finite() && cells >= 1.0 {
-                (cells as usize).min(1 << 10)
-            } else {
-                1
-            }
-        });
+        let dims = cells_per_axis(size, min_width);
         let width = std::array::from_fn(|k| size[k] / dims[k] as f64);
         let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];
         let offset = |d: [isize; 3]| d[0] * stride[0] + d[1] * stride[1] + d[2] * stride[2];

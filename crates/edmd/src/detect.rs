@@ -146,16 +146,13 @@ pub fn time_to_face(d: f64, v: f64, g: f64, dir: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     #[test]
     fn the_flat_pair_test_equals_the_branching_one() {
-        let mut seed = 7u64;
-        let mut rand = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let mut rand = || rng.random::<f64>() * 2.0 - 1.0;
         let mut cases: Vec<([f64; 3], [f64; 3], f64)> = (0..20_000)
             .map(|_| {
                 let r = [rand() * 3.0, rand() * 3.0, rand() * 3.0];

@@ -11,7 +11,7 @@
 //! share of one sequential rebuild per epoch, with no queue operation for particles
 //! that meet nobody.
 
-use crate::cells::NONE;
+use crate::cells::{NONE, cells_per_axis};
 
 /// ⌊x⌋ as an integer, saturating far outside (no libm call; boxes beyond the grid
 /// are clamped or wrapped by the caller).
@@ -78,14 +78,7 @@ impl SweepGrid {
         min_width: f64,
         n: usize,
     ) -> Self {
-        let dims: [u32; 3] = std::array::from_fn(|k| {
-            let cells = (size[k] / min_width).floor();
-            if cells.is_finite() && cells >= 1.0 {
-                cells.min(1024.0) as u32
-            } else {
-                1
-            }
-        });
+        let dims = cells_per_axis(size, min_width).map(|d| d as u32);
         let cells = dims.iter().map(|&d| d as usize).product::<usize>();
         Self {
             lo,
@@ -295,6 +288,8 @@ impl SweepGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     fn grid() -> SweepGrid {
         SweepGrid::new([0.0; 3], [10.0, 10.0, 10.0], [true, true, false], 1.0, 4)
@@ -316,13 +311,8 @@ mod tests {
     fn every_pair_of_touching_boxes_is_reported_exactly_once() {
         // Brute force over random boxes: the pairs whose cell sets intersect.
         let mut g = SweepGrid::new([0.0; 3], [6.0, 6.0, 6.0], [true, false, true], 1.0, 40);
-        let mut seed = 12345u64;
-        let mut rand = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(12345);
+        let mut rand = || rng.random::<f64>();
         let mut cells: Vec<Vec<usize>> = Vec::new();
         for i in 0..40 {
             let lo: [f64; 3] = std::array::from_fn(|_| rand() * 8.0 - 1.0);
