@@ -1,11 +1,13 @@
 //! `emdstar bench edmd`: collisions per second of the event-driven engine.
 
+use super::edmd_engine::BroadPhaseChoice;
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{
-    CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials, Physics, Setup, gas,
+    BroadPhase, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials, Physics,
+    Setup, gas,
 };
 use serde_json::{Value, json};
 use std::f64::consts::PI;
@@ -62,6 +64,10 @@ pub struct BenchEdmdArgs {
     /// MoR source of the eMD* gas.
     #[arg(long, value_enum, default_value_t = MorArg::Table)]
     pub mor: MorArg,
+    /// How the engine finds candidate pairs (run twice with different values to
+    /// compare them on this machine).
+    #[arg(long, value_enum, default_value_t = BroadPhaseChoice::Auto)]
+    pub broad_phase: BroadPhaseChoice,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -104,26 +110,50 @@ fn time_run<Q: EventQueue>(
             "exceptions_interference": s.exception_interference - before.exception_interference,
             "mor_fallbacks": s.mor_fallbacks - before.mor_fallbacks,
             "crossings": s.crossings - before.crossings,
+            "epochs": s.epochs - before.epochs,
             "stale": s.stale - before.stale,
             "velocity_events": s.velocity_events - before.velocity_events,
         }),
     ))
 }
 
-fn hard_spheres(
-    cells: usize,
-    eta: f64,
-    per_particle: f64,
+/// The engine's queue and broad phase.
+#[derive(Clone, Copy, Debug)]
+struct Build {
     queue: QueueArg,
-) -> Result<(f64, Value)> {
+    broad_phase: BroadPhase,
+}
+
+impl Build {
+    /// Builds the engine and times `collisions` after `warmup`.
+    fn time(
+        self,
+        setup: Setup,
+        physics: Physics,
+        warmup: u64,
+        collisions: u64,
+    ) -> Result<(f64, Value)> {
+        match self.queue {
+            QueueArg::Heap => time_run(
+                Engine::<IndexedHeap>::with_broad_phase(setup, physics, self.broad_phase)?,
+                warmup,
+                collisions,
+            ),
+            QueueArg::Calendar => time_run(
+                Engine::<CalendarQueue>::with_broad_phase(setup, physics, self.broad_phase)?,
+                warmup,
+                collisions,
+            ),
+        }
+    }
+}
+
+fn hard_spheres(cells: usize, eta: f64, per_particle: f64, build: Build) -> Result<(f64, Value)> {
     let setup = gas::fcc(cells, density(eta), 1.0, 1.0, 1.0, 1);
     let n = setup.position.len() as f64;
     let physics = Physics::HardSpheres { restitution: 1.0 };
     let count = (per_particle * n * 0.5) as u64;
-    match queue {
-        QueueArg::Heap => time_run(Engine::<IndexedHeap>::new(setup, physics)?, count, count),
-        QueueArg::Calendar => time_run(Engine::<CalendarQueue>::new(setup, physics)?, count, count),
-    }
+    build.time(setup, physics, count, count)
 }
 
 /// FCC cells per side of the eMD* gas (N = 4·14³ = 10 976) and its packing fraction.
@@ -138,7 +168,7 @@ fn emdstar_gas(
     cells: usize,
     per_particle: f64,
     mor: Box<dyn MorSource>,
-    queue: QueueArg,
+    build: Build,
 ) -> Result<(f64, Value)> {
     let sphere = Sphere::from_density(0.1, 1140.0)?;
     let eta = EMDSTAR_ETA;
@@ -158,18 +188,7 @@ fn emdstar_gas(
         interference: Interference::HitOnly,
     };
     let count = (per_particle * n * 0.5) as u64;
-    match queue {
-        QueueArg::Heap => time_run(
-            Engine::<IndexedHeap>::new(setup, physics)?,
-            count / 4,
-            count,
-        ),
-        QueueArg::Calendar => time_run(
-            Engine::<CalendarQueue>::new(setup, physics)?,
-            count / 4,
-            count,
-        ),
-    }
+    build.time(setup, physics, count / 4, count)
 }
 
 /// The best (highest rate) of `rounds` runs, with every round's rate under "rounds".
@@ -205,11 +224,15 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.rounds == 0 {
         bail!("--rounds must be at least 1");
     }
+    let build = Build {
+        queue: a.queue,
+        broad_phase: a.broad_phase.into(),
+    };
     let (hs_rate, hs) = if a.emdstar_only {
         (f64::NAN, Value::Null)
     } else {
         best_of(a.rounds, || {
-            hard_spheres(a.hs_cells, a.hs_eta, a.per_particle, a.queue)
+            hard_spheres(a.hs_cells, a.hs_eta, a.per_particle, build)
         })?
     };
     if !a.json && !a.emdstar_only {
@@ -229,7 +252,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     };
     if !a.hard_spheres_only {
         let (rate, v) = best_of(a.rounds, || {
-            emdstar_gas(EMDSTAR_CELLS, a.per_particle, mor_source()?, a.queue)
+            emdstar_gas(EMDSTAR_CELLS, a.per_particle, mor_source()?, build)
         })?;
         // The same gas as hard spheres (same N, η and FCC start; units do not matter):
         // what eMD*'s three events and MoR lookup cost over a plain collision.
@@ -237,7 +260,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
             (f64::NAN, Value::Null)
         } else {
             best_of(a.rounds, || {
-                hard_spheres(EMDSTAR_CELLS, EMDSTAR_ETA, a.per_particle, a.queue)
+                hard_spheres(EMDSTAR_CELLS, EMDSTAR_ETA, a.per_particle, build)
             })?
         };
         if !a.json {
@@ -272,7 +295,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         let mut emdstar_rows = vec![];
         for cells in SCALING_CELLS {
             let (rate, v) = best_of(a.rounds, || {
-                hard_spheres(cells, a.hs_eta, a.per_particle.min(10.0), a.queue)
+                hard_spheres(cells, a.hs_eta, a.per_particle.min(10.0), build)
             })?;
             let line = format!(
                 "  N = {:>8}: hard spheres (η = {}) {rate:.3e} collisions/s{}",
@@ -288,7 +311,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
                 continue;
             }
             let (star, w) = best_of(a.rounds, || {
-                emdstar_gas(cells, a.per_particle.min(10.0), mor_source()?, a.queue)
+                emdstar_gas(cells, a.per_particle.min(10.0), mor_source()?, build)
             })?;
             if !a.json {
                 println!(

@@ -65,18 +65,24 @@ pub struct EdmdArgs {
     pub broad_phase: BroadPhaseChoice,
 }
 
+impl From<BroadPhaseChoice> for BroadPhase {
+    fn from(choice: BroadPhaseChoice) -> Self {
+        match choice {
+            BroadPhaseChoice::Auto => BroadPhase::Auto,
+            BroadPhaseChoice::Crossings => BroadPhase::Crossings,
+            BroadPhaseChoice::Epochs => BroadPhase::Epochs,
+        }
+    }
+}
+
 /// The event engine for `system` with the options of `args`.
 fn build_engine(kind: EngineKind, system: &System, args: &EdmdArgs) -> Result<Engine> {
-    let broad_phase = match args.broad_phase {
-        BroadPhaseChoice::Auto => BroadPhase::Auto,
-        BroadPhaseChoice::Crossings => BroadPhase::Crossings,
-        BroadPhaseChoice::Epochs => BroadPhase::Epochs,
-    };
     let setup = Setup::from_system(system);
+    let physics = physics(kind, system, args)?;
     Ok(Engine::with_broad_phase(
         setup,
-        physics(kind, system, args)?,
-        broad_phase,
+        physics,
+        args.broad_phase.into(),
     )?)
 }
 
