@@ -174,3 +174,44 @@ fn edmd_bad_configs_get_clear_errors() {
     ]);
     assert!(err.contains("emdstar"), "{err}");
 }
+
+#[test]
+fn edmd_broad_phases_give_the_same_gas_and_refuse_what_they_cannot_do() {
+    let config = "tests/md/configs/gas_small.toml";
+    let run = |broad_phase: &str| {
+        let v = emdstar_json(&[
+            "pair",
+            config,
+            "--engine",
+            "emdstar",
+            "--mor",
+            "table-or-exact",
+            "--broad-phase",
+            broad_phase,
+            "--json",
+        ]);
+        (final_state(&v), v["stats"].clone())
+    };
+    let (crossings, sc) = run("crossings");
+    let (epochs, se) = run("epochs");
+    assert!(sc["collisions"].as_u64().unwrap() > 50, "{sc}");
+    assert_eq!(sc["collisions"], se["collisions"]);
+    assert!(
+        se["epochs"].as_u64().unwrap() > 0 && sc["epochs"] == 0,
+        "{se} {sc}"
+    );
+    let diff = largest_difference(&crossings, &epochs);
+    assert!(diff < 1e-9, "final states differ by {diff:e}");
+    let err = emdstar_error(&[
+        "pair",
+        "tests/md/configs/falling_on_floor.toml",
+        "--engine",
+        "emdstar",
+        "--broad-phase",
+        "epochs",
+    ]);
+    assert!(
+        err.contains("gravity") && err.contains("Crossings"),
+        "{err}"
+    );
+}

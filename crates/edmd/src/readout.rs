@@ -13,9 +13,10 @@ impl<Q: EventQueue> Engine<Q> {
         }
     }
 
-    /// Positions at the current time (call [`Engine::sync`] first).
+    /// Positions at the current time (call [`Engine::sync`] first), inside the box
+    /// along periodic axes (the broad phases wrap stored positions at different times).
     pub fn positions(&self) -> Vec<[f64; 3]> {
-        self.in_original_order(|i| self.slot[i].kin.pos)
+        self.in_original_order(|i| self.wrap(self.slot[i].kin.pos))
     }
 
     /// `f(slot)` for every particle, listed by original particle number.
