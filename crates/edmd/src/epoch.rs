@@ -12,10 +12,22 @@
 //! - a predicted pair collision lies before both horizons, where the minimum image at
 //!   the time of prediction is the only image in reach.
 
+use crate::cells::NONE;
 use crate::detect::{sphere_sphere, sphere_sphere_flat};
 use crate::engine::{Engine, dot, sub};
 use crate::queue::EventQueue;
-use crate::sweep::{Filed, Spans, SweepGrid};
+use crate::sweep::{Spans, SweepGrid};
+
+/// A particle's state at the start of an epoch and the end of its box: what a pair
+/// test reads, in one cache line.
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct Motion {
+    pos: [f64; 3],
+    radius: f64,
+    vel: [f64; 3],
+    horizon: f64,
+}
 
 /// The epoch broad phase's grid and state.
 #[derive(Debug, Clone)]
@@ -28,6 +40,9 @@ pub(crate) struct Epochs {
     width: f64,
     /// Largest flight along each periodic axis in one box (∞ along closed axes).
     reach: [f64; 3],
+    /// Each particle at the rebuild: its motion and its eMD* transient partner.
+    motion: Vec<Motion>,
+    partner: Vec<u32>,
     /// The rebuild's best pair per particle.
     best: Vec<(f64, u32)>,
     touched: Vec<u32>,
@@ -72,6 +87,8 @@ impl Epochs {
                     f64::INFINITY
                 }
             }),
+            motion: vec![Motion::default(); n],
+            partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
             touched: Vec::new(),
         }
@@ -148,15 +165,14 @@ impl<Q: EventQueue> Engine<Q> {
             // A particle in an eMD* transient changes course at its E^v.
             let stop = end.min(self.slot[i].ev.pending_time);
             let (spans, horizon) = ep.sweep(p, v, radius, t0, stop);
-            ep.grid.boxes[i] = Filed {
+            ep.grid.spans[i] = spans;
+            ep.motion[i] = Motion {
                 pos: p,
                 radius,
                 vel: v,
                 horizon,
-                spans,
-                id: i as u32,
-                partner: self.slot[i].ev.partner,
             };
+            ep.partner[i] = self.slot[i].ev.partner;
             ep.best[i] = (f64::INFINITY, 0);
             if horizon < end {
                 self.slot[i].ev.cross[0] = horizon;
@@ -164,12 +180,12 @@ impl<Q: EventQueue> Engine<Q> {
             }
         }
         ep.grid.file_all();
-        let best = &mut ep.best;
-        ep.grid.for_each_filed_pair(|a, b| {
-            let (i, j) = (a.id as usize, b.id as usize);
-            if a.partner == b.id && b.partner == a.id {
+        let (motion, partner, best) = (&ep.motion, &ep.partner, &mut ep.best);
+        ep.grid.for_each_filed_pair(|i, j| {
+            if partner[i] == j as u32 && partner[j] == i as u32 {
                 return;
             }
+            let (a, b) = (&motion[i], &motion[j]);
             let r = self.min_image(sub(a.pos, b.pos));
             let t = t0 + sphere_sphere_flat(r, sub(a.vel, b.vel), a.radius + b.radius);
             if t < a.horizon.min(b.horizon) {
@@ -218,7 +234,7 @@ impl<Q: EventQueue> Engine<Q> {
             f64::INFINITY
         };
         let end = ep.end;
-        let mut best = (self.slot[i].ev.coll_time, crate::cells::NONE);
+        let mut best = (self.slot[i].ev.coll_time, NONE);
         ep.grid.scan_and_file(i, &spans, |j| {
             if self.in_shared_transient(i, j) {
                 return;
@@ -231,7 +247,7 @@ impl<Q: EventQueue> Engine<Q> {
                 best = (now + dt, j as u32);
             }
         });
-        if best.1 != crate::cells::NONE {
+        if best.1 != NONE {
             let counter = self.slot[best.1 as usize].ev.counter;
             let ev = &mut self.slot[i].ev;
             ev.coll_time = best.0;

@@ -32,20 +32,6 @@ pub(crate) struct Span {
 /// The cells of one swept box.
 pub(crate) type Spans = [Span; 3];
 
-/// A particle as filed at the rebuild: its state at the epoch's start, the end of its
-/// box, the box's cells and its eMD* transient partner. (Cells hold particle numbers:
-/// copying these records into every cell cost more than it saved.)
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Filed {
-    pub pos: [f64; 3],
-    pub radius: f64,
-    pub vel: [f64; 3],
-    pub horizon: f64,
-    pub spans: Spans,
-    pub id: u32,
-    pub partner: u32,
-}
-
 /// The epoch grid: cells filed by swept box, rebuilt every epoch.
 #[derive(Debug, Clone)]
 pub(crate) struct SweepGrid {
@@ -56,8 +42,8 @@ pub(crate) struct SweepGrid {
     /// Entries of cell c: `filed[start[c]..start[c + 1]]` (filed at the rebuild).
     start: Vec<u32>,
     filed: Vec<u32>,
-    /// Each particle at the rebuild.
-    pub boxes: Vec<Filed>,
+    /// The cells of each particle's box at the rebuild.
+    pub spans: Vec<Spans>,
     /// Boxes filed in mid-epoch: list heads per cell, and (particle, next) nodes.
     extra_head: Vec<u32>,
     extra: Vec<[u32; 2]>,
@@ -87,7 +73,7 @@ impl SweepGrid {
             inv_width: std::array::from_fn(|k| f64::from(dims[k]) / size[k]),
             start: vec![0; cells + 1],
             filed: Vec::new(),
-            boxes: vec![Filed::default(); n],
+            spans: vec![[Span::default(); 3]; n],
             extra_head: vec![NONE; cells],
             extra: Vec::new(),
             seen: vec![0; n],
@@ -154,13 +140,13 @@ impl SweepGrid {
         }
     }
 
-    /// Files every particle under the cells of its box (`boxes`, set beforehand)
+    /// Files every particle under the cells of its box (`spans`, set beforehand)
     /// and empties the overflow lists.
     pub fn file_all(&mut self) {
         let mut start = std::mem::take(&mut self.start);
         start.iter_mut().for_each(|s| *s = 0);
-        for b in &self.boxes {
-            self.for_cells(&b.spans, |c| start[c + 1] += 1);
+        for s in &self.spans {
+            self.for_cells(s, |c| start[c + 1] += 1);
         }
         for c in 1..start.len() {
             start[c] += start[c - 1];
@@ -170,8 +156,8 @@ impl SweepGrid {
         let mut next = std::mem::take(&mut self.visited);
         next.clear();
         next.extend_from_slice(&start);
-        for (i, b) in self.boxes.iter().enumerate() {
-            self.for_cells(&b.spans, |c| {
+        for (i, s) in self.spans.iter().enumerate() {
+            self.for_cells(s, |c| {
                 filed[next[c] as usize] = i as u32;
                 next[c] += 1;
             });
@@ -183,44 +169,15 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Calls `f(a, b)` once for every pair filed together at the rebuild: in the first
-    /// cell (per axis) that both boxes share.
-    pub fn for_each_filed_pair(&self, mut f: impl FnMut(&Filed, &Filed)) {
-        let d = self.dims;
-        // The first shared cell along axis k: the start of one span inside the other
-        // (written as selects: which case holds is data, not a predictable branch).
-        let first_shared = |k: usize, a: Span, b: Span| {
-            let ahead = b.first.wrapping_sub(a.first);
-            let ahead = if b.first >= a.first {
-                ahead
-            } else {
-                ahead.wrapping_add(d[k])
-            };
-            if ahead < a.count { b.first } else { a.first }
-        };
-        let mut cell = 0;
-        for cz in 0..d[2] {
-            for cy in 0..d[1] {
-                for cx in 0..d[0] {
-                    let (s0, s1) = (self.start[cell] as usize, self.start[cell + 1] as usize);
-                    cell += 1;
-                    if s1 - s0 < 2 {
-                        continue;
-                    }
-                    let here = [cx, cy, cz];
-                    let run = &self.filed[s0..s1];
-                    for (m, &ia) in run.iter().enumerate() {
-                        let a = &self.boxes[ia as usize];
-                        for &ib in &run[m + 1..] {
-                            let b = &self.boxes[ib as usize];
-                            if (first_shared(0, a.spans[0], b.spans[0]) == here[0])
-                                & (first_shared(1, a.spans[1], b.spans[1]) == here[1])
-                                & (first_shared(2, a.spans[2], b.spans[2]) == here[2])
-                            {
-                                f(a, b);
-                            }
-                        }
-                    }
+    /// Calls `f(i, j)` for every pair filed in one cell at the rebuild: once per cell
+    /// the two boxes share. (Dropping the repeats by a first-shared-cell rule cost
+    /// more than testing them twice.)
+    pub fn for_each_filed_pair(&self, mut f: impl FnMut(usize, usize)) {
+        for cell in self.start.windows(2) {
+            let run = &self.filed[cell[0] as usize..cell[1] as usize];
+            for (m, &i) in run.iter().enumerate() {
+                for &j in &run[m + 1..] {
+                    f(i as usize, j as usize);
                 }
             }
         }
@@ -308,7 +265,7 @@ mod tests {
     }
 
     #[test]
-    fn every_pair_of_touching_boxes_is_reported_exactly_once() {
+    fn every_pair_of_touching_boxes_is_reported_once_per_shared_cell() {
         // Brute force over random boxes: the pairs whose cell sets intersect.
         let mut g = SweepGrid::new([0.0; 3], [6.0, 6.0, 6.0], [true, false, true], 1.0, 40);
         let mut rng = ChaCha8Rng::seed_from_u64(12345);
@@ -318,20 +275,14 @@ mod tests {
             let lo: [f64; 3] = std::array::from_fn(|_| rand() * 8.0 - 1.0);
             let hi: [f64; 3] = std::array::from_fn(|k| lo[k] + rand() * 3.0);
             let s = g.spans(lo, hi);
-            g.boxes[i] = Filed {
-                spans: s,
-                id: i as u32,
-                ..Filed::default()
-            };
+            g.spans[i] = s;
             let mut mine = Vec::new();
             g.for_cells(&s, |c| mine.push(c));
             cells.push(mine);
         }
         g.file_all();
         let mut reported = Vec::new();
-        g.for_each_filed_pair(|a, b| {
-            reported.push((a.id.min(b.id) as usize, a.id.max(b.id) as usize))
-        });
+        g.for_each_filed_pair(|i, j| reported.push((i.min(j), i.max(j))));
         let mut expected = Vec::new();
         for i in 0..40 {
             for j in i + 1..40 {
@@ -341,8 +292,13 @@ mod tests {
             }
         }
         let unique: std::collections::BTreeSet<_> = reported.iter().copied().collect();
-        assert_eq!(unique.len(), reported.len(), "a pair was reported twice");
         assert_eq!(unique.into_iter().collect::<Vec<_>>(), expected);
+        // Once per shared cell.
+        let shared: usize = expected
+            .iter()
+            .map(|&(i, j)| cells[i].iter().filter(|c| cells[j].contains(c)).count())
+            .sum();
+        assert_eq!(reported.len(), shared);
         // Mid-epoch scans see filed particles once and file the scanning one.
         let s = g.spans([0.0; 3], [6.0, 6.0, 6.0]);
         let mut seen = Vec::new();
