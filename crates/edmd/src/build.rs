@@ -13,6 +13,14 @@ fn invalid<T>(msg: String) -> Result<T> {
     Err(EngineError::Invalid(msg))
 }
 
+/// The volume of spheres with these radii.
+fn sphere_volume(radius: &[f64]) -> f64 {
+    radius
+        .iter()
+        .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
+        .sum()
+}
+
 /// Densest packing of equal spheres, π/√18 (Kepler, Hales 2005).
 const MAX_PACKING: f64 = 0.740_480_489_693_061;
 
@@ -104,11 +112,7 @@ fn region_of(s: &Setup, max_contact: f64) -> Result<Region> {
                 ));
             }
         }
-        let spheres: f64 = s
-            .radius
-            .iter()
-            .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-            .sum();
+        let spheres = sphere_volume(&s.radius);
         let volume = r.size.iter().product::<f64>();
         if spheres > MAX_PACKING * volume {
             return Err(EngineError::Packing {
@@ -162,13 +166,16 @@ impl<Q: EventQueue> Engine<Q> {
     }
 
     /// As [`Engine::new`] on cell crossings, with cells at least `min_width` wide
-    /// instead of the automatic choice (never narrower than the largest contact distance; wider cells mean fewer
-    /// crossings but more pair tests). `min_width` = 0 is the automatic choice.
+    /// instead of the automatic choice (never narrower than the largest contact
+    /// distance; wider cells mean fewer crossings but more pair tests). `min_width` = 0
+    /// is the automatic choice.
     pub fn with_cell_width(setup: Setup, physics: Physics, min_width: f64) -> Result<Self> {
         Self::build(setup, physics, min_width, BroadPhase::Crossings)
     }
 
-    /// As [`Engine::new`], with the broad phase chosen.
+    /// As [`Engine::new`], with the broad phase chosen (see [`BroadPhase`]). Errors as
+    /// [`Engine::new`], and for [`BroadPhase::Epochs`] under gravity or in a periodic
+    /// box too small for it.
     pub fn with_broad_phase(
         setup: Setup,
         physics: Physics,
@@ -226,12 +233,8 @@ impl<Q: EventQueue> Engine<Q> {
                             .into(),
                     );
                 }
-                let spheres: f64 = setup
-                    .radius
-                    .iter()
-                    .map(|r| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3))
-                    .sum();
-                let dilute = spheres < AUTO_EPOCHS_BELOW * region.size.iter().product::<f64>();
+                let volume = region.size.iter().product::<f64>();
+                let dilute = sphere_volume(&setup.radius) < AUTO_EPOCHS_BELOW * volume;
                 fit && (broad_phase == BroadPhase::Epochs || dilute)
             }
         };
