@@ -42,8 +42,8 @@ pub enum BroadPhaseChoice {
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell.
     Crossings,
-    /// Swept boxes filed once per epoch (no gravity; periodic boxes wider than four
-    /// contact distances plus a cell).
+    /// Swept boxes filed once per epoch (no gravity; along periodic axes a box at
+    /// least four times the largest contact distance plus a cell width).
     Epochs,
 }
 

@@ -228,8 +228,8 @@ impl<Q: EventQueue> Engine<Q> {
                 if broad_phase == BroadPhase::Epochs && !fit {
                     return invalid(
                         "the epoch broad phase needs no gravity and, along periodic axes, a \
-                         box wider than four times the largest contact distance plus a cell; \
-                         use BroadPhase::Crossings"
+                         box at least four times the largest contact distance plus a cell \
+                         width (a cell is 0.8 mean spacings); use BroadPhase::Crossings"
                             .into(),
                     );
                 }

@@ -89,7 +89,9 @@ pub(crate) struct EventRec {
     /// Earliest predicted collision, with a particle or (`n + w`) wall w.
     pub coll_time: f64,
     /// Next crossing of a face along each axis. The motion along one axis does not
-    /// depend on the others, so a crossing only renews the time of its own axis.
+    /// depend on the others, so a crossing only renews the time of its own axis. With
+    /// epochs, `cross[0]` is the horizon of a swept box that ends before the epoch
+    /// (+∞ otherwise), and reaching it renews the box.
     pub cross: [f64; 3],
     /// eMD*: time of the pending E^v event (+∞ if none).
     pub pending_time: f64,
@@ -264,9 +266,11 @@ impl<Q: EventQueue> Engine<Q> {
         (best, best_j, best_now)
     }
 
-    /// Keeps the collision found by [`Engine::earliest_in`] if there is one.
+    /// Keeps the collision found by [`Engine::earliest_in`] (or a broad phase's own
+    /// scan) if there is one: (time, partner or NONE, whether it is a stabilising
+    /// collision now).
     #[inline(always)]
-    fn keep_earliest(&mut self, i: usize, (time, j, now): (f64, u32, bool)) {
+    pub(crate) fn keep_earliest(&mut self, i: usize, (time, j, now): (f64, u32, bool)) {
         if j != NONE {
             self.slot[i].ev.coll_time = time;
             self.slot[i].ev.coll_partner = j;

@@ -45,7 +45,6 @@ pub(crate) struct Epochs {
     partner: Vec<u32>,
     /// The rebuild's best pair per particle.
     best: Vec<(f64, u32)>,
-    touched: Vec<u32>,
 }
 
 /// Cell width of the epoch grid in units of the mean spacing (V/N)^(1/3), and the
@@ -73,8 +72,7 @@ impl Epochs {
         max_contact: f64,
         n: usize,
     ) -> Self {
-        let spacing = (size.iter().product::<f64>() / n.max(1) as f64).cbrt();
-        let width = (EPOCH_CELL * spacing).max(max_contact);
+        let width = Self::cell_width(size, max_contact, n);
         Self {
             grid: SweepGrid::new(lo, size, periodic, width, n),
             end: 0.0,
@@ -90,15 +88,19 @@ impl Epochs {
             motion: vec![Motion::default(); n],
             partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
-            touched: Vec::new(),
         }
+    }
+
+    /// The grid's cell width: [`EPOCH_CELL`] mean spacings, at least one contact.
+    fn cell_width(size: [f64; 3], max_contact: f64, n: usize) -> f64 {
+        let spacing = (size.iter().product::<f64>() / n.max(1) as f64).cbrt();
+        (EPOCH_CELL * spacing).max(max_contact)
     }
 
     /// Whether a periodic box is wide enough for epochs: a quarter of it must exceed
     /// the largest contact distance by a cell width.
     pub fn fit(size: [f64; 3], periodic: [bool; 3], max_contact: f64, n: usize) -> bool {
-        let spacing = (size.iter().product::<f64>() / n.max(1) as f64).cbrt();
-        let width = (EPOCH_CELL * spacing).max(max_contact);
+        let width = Self::cell_width(size, max_contact, n);
         (0..3).all(|k| !periodic[k] || 0.25 * size[k] - max_contact >= width)
     }
 
@@ -152,7 +154,6 @@ impl<Q: EventQueue> Engine<Q> {
             f64::INFINITY
         };
         ep.end = end;
-        ep.touched.clear();
         for i in 0..n {
             let (mut p, v) = self.state_at(i, t0);
             let wrapped = self.wrap(p);
@@ -176,7 +177,6 @@ impl<Q: EventQueue> Engine<Q> {
             ep.best[i] = (f64::INFINITY, 0);
             if horizon < end {
                 self.slot[i].ev.cross[0] = horizon;
-                ep.touched.push(i as u32);
             }
         }
         ep.grid.file_all();
@@ -197,20 +197,16 @@ impl<Q: EventQueue> Engine<Q> {
                 }
             }
         });
+        // Only particles with a pair collision or an early horizon touch the queue.
         for i in 0..n {
             let (t, j) = ep.best[i];
-            if t < self.slot[i].ev.coll_time {
-                let counter = self.slot[j as usize].ev.counter;
-                let ev = &mut self.slot[i].ev;
-                ev.coll_time = t;
-                ev.coll_partner = j;
-                ev.coll_counter = counter;
-                ev.coll_now = t == t0;
-                ep.touched.push(i as u32);
+            let collides = t < self.slot[i].ev.coll_time;
+            if collides {
+                self.keep_earliest(i, (t, j, t == t0));
             }
-        }
-        for k in 0..ep.touched.len() {
-            self.schedule(ep.touched[k] as usize);
+            if collides || ep.motion[i].horizon < end {
+                self.schedule(i);
+            }
         }
         self.queue.set(n, end);
         self.epochs = Some(ep);
@@ -247,14 +243,7 @@ impl<Q: EventQueue> Engine<Q> {
                 best = (now + dt, j as u32);
             }
         });
-        if best.1 != NONE {
-            let counter = self.slot[best.1 as usize].ev.counter;
-            let ev = &mut self.slot[i].ev;
-            ev.coll_time = best.0;
-            ev.coll_partner = best.1;
-            ev.coll_counter = counter;
-            ev.coll_now = best.0 == now;
-        }
+        self.keep_earliest(i, (best.0, best.1, best.0 == now));
         self.epochs = Some(ep);
     }
 

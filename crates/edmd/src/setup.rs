@@ -21,8 +21,8 @@ pub enum BroadPhase {
     /// A cell grid with a crossing event whenever a particle changes cell (Alder &
     /// Wainwright 1959; Rapaport 1980).
     Crossings,
-    /// Swept boxes filed once per epoch (needs no gravity, and periodic axes wider
-    /// than four contact distances plus a cell).
+    /// Swept boxes filed once per epoch (needs no gravity, and along periodic axes a
+    /// box at least four times the largest contact distance plus a cell width).
     Epochs,
 }
 

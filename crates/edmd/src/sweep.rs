@@ -50,8 +50,8 @@ pub(crate) struct SweepGrid {
     /// Per particle: the query that last visited it (each candidate is visited once).
     seen: Vec<u32>,
     query: u32,
-    /// Cells of the running query (scratch).
-    visited: Vec<u32>,
+    /// Scratch: the fill positions of the rebuild, the cells of a query.
+    scratch: Vec<u32>,
 }
 
 impl SweepGrid {
@@ -78,7 +78,7 @@ impl SweepGrid {
             extra: Vec::new(),
             seen: vec![0; n],
             query: 0,
-            visited: Vec::new(),
+            scratch: Vec::new(),
         }
     }
 
@@ -153,7 +153,7 @@ impl SweepGrid {
         }
         let mut filed = std::mem::take(&mut self.filed);
         filed.resize(start[start.len() - 1] as usize, 0);
-        let mut next = std::mem::take(&mut self.visited);
+        let mut next = std::mem::take(&mut self.scratch);
         next.clear();
         next.extend_from_slice(&start);
         for (i, s) in self.spans.iter().enumerate() {
@@ -162,7 +162,7 @@ impl SweepGrid {
                 next[c] += 1;
             });
         }
-        self.visited = next;
+        self.scratch = next;
         self.filed = filed;
         self.start = start;
         self.extra_head.iter_mut().for_each(|h| *h = NONE);
@@ -193,7 +193,7 @@ impl SweepGrid {
         }
         let q = self.query;
         self.seen[i] = q;
-        let mut cells = std::mem::take(&mut self.visited);
+        let mut cells = std::mem::take(&mut self.scratch);
         cells.clear();
         let mut seen = std::mem::take(&mut self.seen);
         self.for_cells(s, |c| {
@@ -219,7 +219,7 @@ impl SweepGrid {
             self.extra.push([i as u32, self.extra_head[c as usize]]);
             self.extra_head[c as usize] = (self.extra.len() - 1) as u32;
         }
-        self.visited = cells;
+        self.scratch = cells;
     }
 
     /// Whether `f(j)` holds for any particle filed in a cell of `s` (without filing).

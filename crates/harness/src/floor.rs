@@ -2,8 +2,9 @@
 //! [`CellGrid`] and event queue, and every crossing does what the engine's crossing does
 //! (move on, change cell, test the new layer, predict the next crossing, file the
 //! particle) with no collisions, no eMD* transients and no statistics. In a dilute gas
-//! almost every event of eMD* is a crossing, so this bounds from below what any engine
-//! built on these structures can cost there.
+//! almost every event of an engine on crossings is a crossing, so this bounds from
+//! below what any engine built on these structures can cost there; eMD*'s epoch broad
+//! phase, the default in dilute gases, has no crossings and goes below it.
 //!
 //! The gas is that of [`crate::speed`] for the same packing fraction, size and seed
 //! (the same lattice start and Maxwell velocities, radius 0.1 m, rms speed 2 m/s, in a
