@@ -37,13 +37,14 @@ pub enum InterferenceChoice {
 /// How the event engine finds the pairs it tests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BroadPhaseChoice {
-    /// Epochs in dilute gases without gravity (packing fraction below 0.012), cell
-    /// crossings otherwise.
+    /// Epochs in dilute gases without gravity (packing fraction below 0.012) that are
+    /// periodic or held by walls along every axis, cell crossings otherwise.
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell.
     Crossings,
     /// Swept boxes filed once per epoch (no gravity; along periodic axes a box at
-    /// least four times the largest contact distance plus a cell width).
+    /// least four times the largest contact distance plus a cell width). A gas that
+    /// spreads into free space runs far slower on epochs than on crossings.
     Epochs,
 }
 

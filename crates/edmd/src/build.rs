@@ -95,6 +95,19 @@ fn normalised_walls(s: &Setup) -> Result<Vec<Wall>> {
     Ok(walls)
 }
 
+/// Whether walls normal to every closed axis hold the gas from both sides. A gas free
+/// to spread along an axis leaves the epoch grid for its border cells, which reach to
+/// infinity, and every epoch then tests all pairs piled there: an expanding cluster
+/// of 1728 spheres in free space ran 100 times slower on epochs than on crossings.
+fn confined(region: &Region, walls: &[Wall]) -> bool {
+    let bounded = |k: usize, sign: f64| {
+        walls
+            .iter()
+            .any(|w| (0..3).all(|m| w.normal[m] == if m == k { sign } else { 0.0 }))
+    };
+    (0..3).all(|k| region.periodic[k] || bounded(k, 1.0) && bounded(k, -1.0))
+}
+
 /// The region, or for free space the particles' bounding box (closed axes).
 fn region_of(s: &Setup, max_contact: f64) -> Result<Region> {
     if let Some(r) = s.region {
@@ -235,7 +248,7 @@ impl<Q: EventQueue> Engine<Q> {
                 }
                 let volume = region.size.iter().product::<f64>();
                 let dilute = sphere_volume(&setup.radius) < AUTO_EPOCHS_BELOW * volume;
-                fit && (broad_phase == BroadPhase::Epochs || dilute)
+                fit && (broad_phase == BroadPhase::Epochs || dilute && confined(&region, &walls))
             }
         };
         let epochs = use_epochs.then(|| {

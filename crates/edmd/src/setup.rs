@@ -15,14 +15,19 @@ pub struct Region {
 /// How the event engine finds the pairs to test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BroadPhase {
-    /// Epochs where they fit (see [`BroadPhase::Epochs`]), cell crossings otherwise.
+    /// Epochs where they fit (see [`BroadPhase::Epochs`]) in a gas below η = 0.012
+    /// that is periodic or held by axis-aligned walls from both sides along every
+    /// axis; cell crossings otherwise. (A gas spreading into free space leaves the
+    /// epoch grid for its unbounded border cells, where every epoch tests all pairs.)
     #[default]
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell (Alder &
     /// Wainwright 1959; Rapaport 1980).
     Crossings,
     /// Swept boxes filed once per epoch (needs no gravity, and along periodic axes a
-    /// box at least four times the largest contact distance plus a cell width).
+    /// box at least four times the largest contact distance plus a cell width). A gas
+    /// that spreads into free space piles into the grid's border cells and runs far
+    /// slower than on crossings.
     Epochs,
 }
 

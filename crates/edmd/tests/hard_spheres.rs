@@ -170,6 +170,39 @@ fn epochs_agree_with_crossings_between_walls() {
     );
 }
 
+/// The automatic choice takes epochs only where the gas cannot spread out of the grid:
+/// periodic axes, or closed axes held by walls from both sides.
+#[test]
+fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
+    let periodic = gas::fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
+    let region = periodic.region.unwrap();
+    let uses_epochs = |setup: &Setup| {
+        let e: Engine = Engine::new(setup.clone(), elastic()).unwrap();
+        e.stats().epochs > 0
+    };
+    assert!(uses_epochs(&periodic));
+    let free = Setup {
+        region: None,
+        ..periodic.clone()
+    };
+    assert!(!uses_epochs(&free), "free space");
+    let mut open_z = periodic.clone();
+    open_z.region = Some(Region {
+        periodic: [true, true, false],
+        ..region
+    });
+    assert!(!uses_epochs(&open_z), "closed z without walls");
+    let floor = |sign: f64, z: f64| Wall {
+        normal: [0.0, 0.0, sign],
+        point: [0.0, 0.0, z],
+    };
+    let z = (region.lo[2] - 0.5, region.lo[2] + region.size[2] + 0.5);
+    open_z.walls.push(floor(1.0, z.0));
+    assert!(!uses_epochs(&open_z), "a floor but no lid");
+    open_z.walls.push(floor(-1.0, z.1));
+    assert!(uses_epochs(&open_z), "floor and lid");
+}
+
 #[test]
 fn bad_input_gets_clear_errors() {
     let good = gas::fcc(2, 0.3, 1.0, 1.0, 1.0, 1);
