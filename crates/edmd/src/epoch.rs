@@ -183,12 +183,15 @@ impl<Q: EventQueue> Engine<Q> {
         }
         ep.grid.file_all();
         let (motion, partner, best) = (&ep.motion, &ep.partner, &mut ep.best);
-        ep.grid.for_each_filed_pair(|i, j| {
+        ep.grid.for_each_filed_pair(|i, j, image| {
             if partner[i] == j as u32 && partner[j] == i as u32 {
                 return;
             }
             let (a, b) = (&motion[i], &motion[j]);
-            let r = self.min_image(sub(a.pos, b.pos));
+            let mut r = sub(a.pos, b.pos);
+            if image {
+                r = self.min_image(r);
+            }
             let t = t0 + sphere_sphere_flat(r, sub(a.vel, b.vel), a.radius + b.radius);
             if t < a.horizon.min(b.horizon) {
                 if t < best[i].0 {

@@ -44,6 +44,8 @@ pub(crate) struct SweepGrid {
     filed: Vec<u32>,
     /// The cells of each particle's box at the rebuild.
     pub spans: Vec<Spans>,
+    /// Per cell: whether a box filed at the rebuild wraps around a periodic axis.
+    wrapped: Vec<bool>,
     /// Boxes filed in mid-epoch: list heads per cell, and (particle, next) nodes.
     extra_head: Vec<u32>,
     extra: Vec<[u32; 2]>,
@@ -74,6 +76,7 @@ impl SweepGrid {
             start: vec![0; cells + 1],
             filed: Vec::new(),
             spans: vec![[Span::default(); 3]; n],
+            wrapped: vec![false; cells],
             extra_head: vec![NONE; cells],
             extra: Vec::new(),
             seen: vec![0; n],
@@ -122,6 +125,12 @@ impl SweepGrid {
         }
     }
 
+    /// Whether the cells of `s` wrap around a periodic axis.
+    #[inline(always)]
+    fn wraps(&self, s: &Spans) -> bool {
+        (0..3).any(|k| s[k].first + s[k].count > self.dims[k])
+    }
+
     /// Calls `f(cell index)` for every cell of `s`.
     #[inline]
     fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize)) {
@@ -145,9 +154,19 @@ impl SweepGrid {
     pub fn file_all(&mut self) {
         let mut start = std::mem::take(&mut self.start);
         start.iter_mut().for_each(|s| *s = 0);
+        let mut wrapped = std::mem::take(&mut self.wrapped);
+        wrapped.iter_mut().for_each(|w| *w = false);
         for s in &self.spans {
-            self.for_cells(s, |c| start[c + 1] += 1);
+            if self.wraps(s) {
+                self.for_cells(s, |c| {
+                    start[c + 1] += 1;
+                    wrapped[c] = true;
+                });
+            } else {
+                self.for_cells(s, |c| start[c + 1] += 1);
+            }
         }
+        self.wrapped = wrapped;
         for c in 1..start.len() {
             start[c] += start[c - 1];
         }
@@ -169,15 +188,18 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Calls `f(i, j)` for every pair filed in one cell at the rebuild: once per cell
-    /// the two boxes share. (Dropping the repeats by a first-shared-cell rule cost
-    /// more than testing them twice.)
-    pub fn for_each_filed_pair(&self, mut f: impl FnMut(usize, usize)) {
-        for cell in self.start.windows(2) {
+    /// Calls `f(i, j, image)` for every pair filed in one cell at the rebuild: once
+    /// per cell the two boxes share. (Dropping the repeats by a first-shared-cell
+    /// rule cost more than testing them twice.) `image` is false where no box filed
+    /// in the cell wraps around a periodic axis: both boxes then lie inside the
+    /// grid's one period, where no other image of either can reach them, so the
+    /// plain difference of the positions is the separation to test.
+    pub fn for_each_filed_pair(&self, mut f: impl FnMut(usize, usize, bool)) {
+        for (cell, &image) in self.start.windows(2).zip(&self.wrapped) {
             let run = &self.filed[cell[0] as usize..cell[1] as usize];
             for (m, &i) in run.iter().enumerate() {
                 for &j in &run[m + 1..] {
-                    f(i as usize, j as usize);
+                    f(i as usize, j as usize, image);
                 }
             }
         }
@@ -271,9 +293,16 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(12345);
         let mut rand = || rng.random::<f64>();
         let mut cells: Vec<Vec<usize>> = Vec::new();
+        // Boxes that start inside the period (as the engine's do) but leave it.
+        let mut leaves = Vec::new();
         for i in 0..40 {
             let lo: [f64; 3] = std::array::from_fn(|_| rand() * 8.0 - 1.0);
             let hi: [f64; 3] = std::array::from_fn(|k| lo[k] + rand() * 3.0);
+            leaves.push(
+                [0, 2]
+                    .iter()
+                    .any(|&k| lo[k] < 0.0 || (hi[k] >= 6.0 && lo[k] < 6.0)),
+            );
             let s = g.spans(lo, hi);
             g.spans[i] = s;
             let mut mine = Vec::new();
@@ -282,7 +311,14 @@ mod tests {
         }
         g.file_all();
         let mut reported = Vec::new();
-        g.for_each_filed_pair(|i, j| reported.push((i.min(j), i.max(j))));
+        g.for_each_filed_pair(|i, j, image| {
+            reported.push((i.min(j), i.max(j)));
+            assert!(
+                image || !leaves[i] && !leaves[j],
+                "{i} {j}: the image is needed"
+            );
+        });
+        assert!(leaves.iter().filter(|&&l| l).count() > 5);
         let mut expected = Vec::new();
         for i in 0..40 {
             for j in i + 1..40 {
