@@ -84,5 +84,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.epochs,
         wall * 1e9 / events as f64
     );
+    println!(
+        "over the whole run: {} E^v events, {} stale events, {} exceptions",
+        s.velocity_events,
+        s.stale,
+        s.exceptions()
+    );
     Ok(())
 }
