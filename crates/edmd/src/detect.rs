@@ -67,6 +67,19 @@ pub fn sphere_sphere_flat(r: [f64; 3], v: [f64; 3], sigma: f64) -> f64 {
     f64::from_bits((t.to_bits() & hit) | (f64::INFINITY.to_bits() & !hit))
 }
 
+/// Whether [`sphere_sphere`] is finite: approaching (r·v < 0) with a positive
+/// discriminant, Bannerman et al. 2014, Algorithm 1, lines 2-5, without a square
+/// root or division and as a single comparison, so that a loop over candidate pairs
+/// of which few approach has one branch, nearly always not taken.
+#[inline(always)]
+pub fn on_collision_course(r: [f64; 3], v: [f64; 3], sigma: f64) -> bool {
+    let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
+    let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+    let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    // b < 0 and b² − v²·(r² − σ²) > 0.
+    b.max(v2 * (r2 - sigma * sigma) - b * b) < 0.0
+}
+
 /// Sphere–wall collision time under a constant acceleration, Bannerman 2014,
 /// Algorithm 2 (parabolic free flight), in the wall's normal coordinate.
 ///
@@ -150,7 +163,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     #[test]
-    fn the_flat_pair_test_equals_the_branching_one() {
+    fn the_flat_pair_tests_equal_the_branching_one() {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
         let mut rand = || rng.random::<f64>() * 2.0 - 1.0;
         let mut cases: Vec<([f64; 3], [f64; 3], f64)> = (0..20_000)
@@ -172,6 +185,11 @@ mod tests {
         for (r, v, sigma) in cases {
             let (a, b) = (sphere_sphere(r, v, sigma), sphere_sphere_flat(r, v, sigma));
             assert_eq!(a, b, "r {r:?} v {v:?} σ {sigma}");
+            assert_eq!(
+                on_collision_course(r, v, sigma),
+                a.is_finite(),
+                "r {r:?} v {v:?}"
+            );
             hits += usize::from(a.is_finite());
         }
         assert!(hits > 1000, "only {hits} approaching pairs were tried");

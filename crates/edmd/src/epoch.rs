@@ -13,7 +13,7 @@
 //!   the time of prediction is the only image in reach.
 
 use crate::cells::NONE;
-use crate::detect::{sphere_sphere, sphere_sphere_flat};
+use crate::detect::{on_collision_course, sphere_sphere, sphere_sphere_flat};
 use crate::engine::{Engine, dot, sub};
 use crate::queue::EventQueue;
 use crate::sweep::{Spans, SweepGrid};
@@ -45,6 +45,8 @@ pub(crate) struct Epochs {
     partner: Vec<u32>,
     /// The rebuild's best pair per particle.
     best: Vec<(f64, u32)>,
+    /// The rebuild's candidate pairs.
+    pairs: Vec<[u32; 2]>,
 }
 
 /// Cell width of the epoch grid in units of the mean spacing (V/N)^(1/3), and the
@@ -90,6 +92,7 @@ impl Epochs {
             motion: vec![Motion::default(); n],
             partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
+            pairs: Vec::new(),
         }
     }
 
@@ -182,26 +185,17 @@ impl<Q: EventQueue> Engine<Q> {
             }
         }
         ep.grid.file_all();
-        let (motion, partner, best) = (&ep.motion, &ep.partner, &mut ep.best);
-        ep.grid.for_each_filed_pair(|i, j, image| {
-            if partner[i] == j as u32 && partner[j] == i as u32 {
-                return;
-            }
-            let (a, b) = (&motion[i], &motion[j]);
-            let mut r = sub(a.pos, b.pos);
-            if image {
-                r = self.min_image(r);
-            }
-            let t = t0 + sphere_sphere_flat(r, sub(a.vel, b.vel), a.radius + b.radius);
-            if t < a.horizon.min(b.horizon) {
-                if t < best[i].0 {
-                    best[i] = (t, j as u32);
-                }
-                if t < best[j].0 {
-                    best[j] = (t, i as u32);
-                }
+        let mut pairs = std::mem::take(&mut ep.pairs);
+        ep.grid.filed_pairs(&mut pairs);
+        let period: [f64; 3] = std::array::from_fn(|k| {
+            if self.grid.periodic[k] {
+                self.grid.size[k]
+            } else {
+                0.0
             }
         });
+        test_pairs(&pairs, &ep.motion, &ep.partner, &mut ep.best, t0, period);
+        ep.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
         for i in 0..n {
             let (t, j) = ep.best[i];
@@ -267,5 +261,47 @@ impl<Q: EventQueue> Engine<Q> {
         let x = self.wrap(x);
         let spans = ep.grid.spans(x.map(|c| c - margin), x.map(|c| c + margin));
         ep.grid.any_in(&spans, test)
+    }
+}
+
+/// Tests the rebuild's candidate pairs for a collision before both horizons and keeps
+/// each particle's earliest (Bannerman et al. 2014, Algorithm 1, as
+/// [`on_collision_course`] and then [`sphere_sphere_flat`]). The minimum image is
+/// taken without branches (`period` 0 along closed axes).
+fn test_pairs(
+    pairs: &[[u32; 2]],
+    motion: &[Motion],
+    partner: &[u32],
+    best: &mut [(f64, u32)],
+    t0: f64,
+    period: [f64; 3],
+) {
+    let half = period.map(|l| if l > 0.0 { 0.5 * l } else { f64::INFINITY });
+    for &[i, j] in pairs {
+        let (i, j) = (i as usize, j as usize);
+        if partner[i] == j as u32 && partner[j] == i as u32 {
+            continue;
+        }
+        let (a, b) = (&motion[i], &motion[j]);
+        let r: [f64; 3] = std::array::from_fn(|k| {
+            let d = a.pos[k] - b.pos[k];
+            let up = if d > half[k] { period[k] } else { 0.0 };
+            let down = if d < -half[k] { period[k] } else { 0.0 };
+            d - up + down
+        });
+        let v = sub(a.vel, b.vel);
+        let sigma = a.radius + b.radius;
+        if !on_collision_course(r, v, sigma) {
+            continue;
+        }
+        let t = t0 + sphere_sphere_flat(r, v, sigma);
+        if t < a.horizon.min(b.horizon) {
+            if t < best[i].0 {
+                best[i] = (t, j as u32);
+            }
+            if t < best[j].0 {
+                best[j] = (t, i as u32);
+            }
+        }
     }
 }

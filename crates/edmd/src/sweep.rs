@@ -29,6 +29,13 @@ pub(crate) struct Span {
     count: u32,
 }
 
+/// Runs up to this long are listed by [`SMALL_RUN_PAIRS`].
+const SMALL_RUN: usize = 4;
+
+/// The pairs among a run's first four entries, ordered so that those among the
+/// first k come first for every k.
+const SMALL_RUN_PAIRS: [[usize; 2]; 6] = [[0, 1], [0, 2], [1, 2], [0, 3], [1, 3], [2, 3]];
+
 /// The cells of one swept box.
 pub(crate) type Spans = [Span; 3];
 
@@ -44,8 +51,6 @@ pub(crate) struct SweepGrid {
     filed: Vec<u32>,
     /// The cells of each particle's box at the rebuild.
     pub spans: Vec<Spans>,
-    /// Per cell: whether a box filed at the rebuild wraps around a periodic axis.
-    wrapped: Vec<bool>,
     /// Boxes filed in mid-epoch: list heads per cell, and (particle, next) nodes.
     extra_head: Vec<u32>,
     extra: Vec<[u32; 2]>,
@@ -76,7 +81,6 @@ impl SweepGrid {
             start: vec![0; cells + 1],
             filed: Vec::new(),
             spans: vec![[Span::default(); 3]; n],
-            wrapped: vec![false; cells],
             extra_head: vec![NONE; cells],
             extra: Vec::new(),
             seen: vec![0; n],
@@ -125,12 +129,6 @@ impl SweepGrid {
         }
     }
 
-    /// Whether the cells of `s` wrap around a periodic axis.
-    #[inline(always)]
-    fn wraps(&self, s: &Spans) -> bool {
-        (0..3).any(|k| s[k].first + s[k].count > self.dims[k])
-    }
-
     /// Calls `f(cell index)` for every cell of `s`.
     #[inline]
     fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize)) {
@@ -154,24 +152,15 @@ impl SweepGrid {
     pub fn file_all(&mut self) {
         let mut start = std::mem::take(&mut self.start);
         start.iter_mut().for_each(|s| *s = 0);
-        let mut wrapped = std::mem::take(&mut self.wrapped);
-        wrapped.iter_mut().for_each(|w| *w = false);
         for s in &self.spans {
-            if self.wraps(s) {
-                self.for_cells(s, |c| {
-                    start[c + 1] += 1;
-                    wrapped[c] = true;
-                });
-            } else {
-                self.for_cells(s, |c| start[c + 1] += 1);
-            }
+            self.for_cells(s, |c| start[c + 1] += 1);
         }
-        self.wrapped = wrapped;
         for c in 1..start.len() {
             start[c] += start[c - 1];
         }
         let mut filed = std::mem::take(&mut self.filed);
-        filed.resize(start[start.len() - 1] as usize, 0);
+        // Padding: [`Self::filed_pairs`] reads the first SMALL_RUN entries of a run.
+        filed.resize(start[start.len() - 1] as usize + SMALL_RUN, 0);
         let mut next = std::mem::take(&mut self.scratch);
         next.clear();
         next.extend_from_slice(&start);
@@ -188,21 +177,43 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Calls `f(i, j, image)` for every pair filed in one cell at the rebuild: once
-    /// per cell the two boxes share. (Dropping the repeats by a first-shared-cell
-    /// rule cost more than testing them twice.) `image` is false where no box filed
-    /// in the cell wraps around a periodic axis: both boxes then lie inside the
-    /// grid's one period, where no other image of either can reach them, so the
-    /// plain difference of the positions is the separation to test.
-    pub fn for_each_filed_pair(&self, mut f: impl FnMut(usize, usize, bool)) {
-        for (cell, &image) in self.start.windows(2).zip(&self.wrapped) {
-            let run = &self.filed[cell[0] as usize..cell[1] as usize];
-            for (m, &i) in run.iter().enumerate() {
-                for &j in &run[m + 1..] {
-                    f(i as usize, j as usize, image);
+    /// Every pair filed in one cell at the rebuild, once per cell the two boxes
+    /// share, into `pairs` (cleared first). Runs of up to [`SMALL_RUN`] entries are
+    /// listed without branches: nested loops over runs of random length cost a
+    /// branch misprediction or two per cell, more than the pair tests themselves.
+    /// (Dropping the repeats by a first-shared-cell rule cost more than testing them
+    /// twice.)
+    pub fn filed_pairs(&self, pairs: &mut Vec<[u32; 2]>) {
+        let count = |k: usize| (k * k - k) / 2;
+        let total: usize = self
+            .start
+            .windows(2)
+            .map(|c| count((c[1] - c[0]) as usize))
+            .sum();
+        pairs.clear();
+        pairs.resize(total + SMALL_RUN_PAIRS.len(), [0; 2]);
+        let filed = &self.filed;
+        let mut w = 0;
+        for cell in self.start.windows(2) {
+            let (a, b) = (cell[0] as usize, cell[1] as usize);
+            let k = b - a;
+            if k <= SMALL_RUN {
+                let run = &filed[a..a + SMALL_RUN];
+                let out = &mut pairs[w..w + SMALL_RUN_PAIRS.len()];
+                for (o, &[p, q]) in out.iter_mut().zip(&SMALL_RUN_PAIRS) {
+                    *o = [run[p], run[q]];
+                }
+                w += count(k);
+            } else {
+                for m in a..b {
+                    for n in m + 1..b {
+                        pairs[w] = [filed[m], filed[n]];
+                        w += 1;
+                    }
                 }
             }
         }
+        pairs.truncate(total);
     }
 
     /// Calls `f(j)` once for every particle filed (at the rebuild or since) in a cell
@@ -293,16 +304,9 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(12345);
         let mut rand = || rng.random::<f64>();
         let mut cells: Vec<Vec<usize>> = Vec::new();
-        // Boxes that start inside the period (as the engine's do) but leave it.
-        let mut leaves = Vec::new();
         for i in 0..40 {
             let lo: [f64; 3] = std::array::from_fn(|_| rand() * 8.0 - 1.0);
             let hi: [f64; 3] = std::array::from_fn(|k| lo[k] + rand() * 3.0);
-            leaves.push(
-                [0, 2]
-                    .iter()
-                    .any(|&k| lo[k] < 0.0 || (hi[k] >= 6.0 && lo[k] < 6.0)),
-            );
             let s = g.spans(lo, hi);
             g.spans[i] = s;
             let mut mine = Vec::new();
@@ -310,15 +314,17 @@ mod tests {
             cells.push(mine);
         }
         g.file_all();
-        let mut reported = Vec::new();
-        g.for_each_filed_pair(|i, j, image| {
-            reported.push((i.min(j), i.max(j)));
-            assert!(
-                image || !leaves[i] && !leaves[j],
-                "{i} {j}: the image is needed"
-            );
-        });
-        assert!(leaves.iter().filter(|&&l| l).count() > 5);
+        let runs: Vec<u32> = g.start.windows(2).map(|c| c[1] - c[0]).collect();
+        assert!(runs.iter().any(|&k| k as usize > SMALL_RUN), "a long run");
+        for k in 2..=SMALL_RUN as u32 {
+            assert!(runs.contains(&k), "a run of {k}");
+        }
+        let mut pairs = Vec::new();
+        g.filed_pairs(&mut pairs);
+        let reported: Vec<_> = pairs
+            .iter()
+            .map(|&[i, j]| (i.min(j) as usize, i.max(j) as usize))
+            .collect();
         let mut expected = Vec::new();
         for i in 0..40 {
             for j in i + 1..40 {
