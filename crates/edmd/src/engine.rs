@@ -5,7 +5,7 @@
 
 use crate::calendar::CalendarQueue;
 use crate::cells::{CellGrid, NONE};
-use crate::detect::{sphere_sphere, sphere_wall};
+use crate::detect::{on_collision_course, sphere_sphere, sphere_wall};
 use crate::epoch::Epochs;
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
@@ -252,12 +252,15 @@ impl<Q: EventQueue> Engine<Q> {
                 let ju = j as usize;
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
-                    let r = sub(pi_rel, pj);
-                    let dt = sphere_sphere(r, sub(vi, vj), ri + self.slot[ju].kin.radius);
-                    if now + dt < best {
-                        best = now + dt;
-                        best_j = j;
-                        best_now = dt == 0.0;
+                    let (r, v) = (sub(pi_rel, pj), sub(vi, vj));
+                    let sigma = ri + self.slot[ju].kin.radius;
+                    if on_collision_course(r, v, sigma) {
+                        let dt = sphere_sphere(r, v, sigma);
+                        if now + dt < best {
+                            best = now + dt;
+                            best_j = j;
+                            best_now = dt == 0.0;
+                        }
                     }
                 }
                 j = self.grid.next(j);

@@ -236,7 +236,11 @@ impl<Q: EventQueue> Engine<Q> {
             }
             let (pj, vj) = self.state_at(j, now);
             let r = self.min_image(sub(p, pj));
-            let dt = sphere_sphere(r, sub(vi, vj), ri + self.slot[j].kin.radius);
+            let (v, sigma) = (sub(vi, vj), ri + self.slot[j].kin.radius);
+            if !on_collision_course(r, v, sigma) {
+                return;
+            }
+            let dt = sphere_sphere(r, v, sigma);
             let limit = horizon.min(end).min(self.slot[j].ev.cross[0]);
             if now + dt < limit && now + dt < best.0 {
                 best = (now + dt, j as u32);
