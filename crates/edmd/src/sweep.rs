@@ -59,6 +59,8 @@ pub(crate) struct SweepGrid {
     query: u32,
     /// Scratch: the fill positions of the rebuild, the cells of a query.
     scratch: Vec<u32>,
+    /// Scratch: each box's cells as a block, if it has one.
+    blocks: Vec<Option<[u32; 8]>>,
 }
 
 impl SweepGrid {
@@ -86,6 +88,7 @@ impl SweepGrid {
             seen: vec![0; n],
             query: 0,
             scratch: Vec::new(),
+            blocks: Vec::new(),
         }
     }
 
@@ -147,13 +150,56 @@ impl SweepGrid {
         }
     }
 
+    /// The cells of a box at most two cells long along every axis, as a 2 × 2 × 2
+    /// block whose missing cells are the trash cells `cells + slot`, computed
+    /// without branches (loops over one or two cells per axis mispredict); `None`
+    /// for a longer box.
+    #[inline(always)]
+    fn block(&self, s: &Spans) -> Option<[u32; 8]> {
+        if (s[0].count | s[1].count | s[2].count) > 2 {
+            return None;
+        }
+        let d = self.dims;
+        let trash = d[0] * d[1] * d[2];
+        let axis = |k: usize| {
+            let next = s[k].first + 1;
+            let next = if next >= d[k] { next - d[k] } else { next };
+            (s[k].first, next, s[k].count == 2)
+        };
+        let (x0, x1, two_x) = axis(0);
+        let (y0, y1, two_y) = axis(1);
+        let (z0, z1, two_z) = axis(2);
+        Some(std::array::from_fn(|slot| {
+            let (bx, by, bz) = (slot & 1 != 0, slot & 2 != 0, slot & 4 != 0);
+            let x = if bx { x1 } else { x0 };
+            let y = if by { y1 } else { y0 };
+            let z = if bz { z1 } else { z0 };
+            let real = (!bx | two_x) & (!by | two_y) & (!bz | two_z);
+            if real {
+                (z * d[1] + y) * d[0] + x
+            } else {
+                trash + slot as u32
+            }
+        }))
+    }
+
     /// Files every particle under the cells of its box (`spans`, set beforehand)
     /// and empties the overflow lists.
     pub fn file_all(&mut self) {
+        let cells = self.extra_head.len();
         let mut start = std::mem::take(&mut self.start);
-        start.iter_mut().for_each(|s| *s = 0);
+        start.clear();
+        // The grid's cells, then eight trash cells for the blocks' missing cells.
+        start.resize(cells + 9, 0);
+        let mut blocks = std::mem::take(&mut self.blocks);
+        blocks.clear();
         for s in &self.spans {
-            self.for_cells(s, |c| start[c + 1] += 1);
+            let block = self.block(s);
+            match block {
+                Some(b) => b.iter().for_each(|&c| start[c as usize + 1] += 1),
+                None => self.for_cells(s, |c| start[c + 1] += 1),
+            }
+            blocks.push(block);
         }
         for c in 1..start.len() {
             start[c] += start[c - 1];
@@ -164,12 +210,18 @@ impl SweepGrid {
         let mut next = std::mem::take(&mut self.scratch);
         next.clear();
         next.extend_from_slice(&start);
-        for (i, s) in self.spans.iter().enumerate() {
-            self.for_cells(s, |c| {
+        for (i, (s, block)) in self.spans.iter().zip(&blocks).enumerate() {
+            let mut file = |c: usize| {
                 filed[next[c] as usize] = i as u32;
                 next[c] += 1;
-            });
+            };
+            match block {
+                Some(b) => b.iter().for_each(|&c| file(c as usize)),
+                None => self.for_cells(s, file),
+            }
         }
+        start.truncate(cells + 1);
+        self.blocks = blocks;
         self.scratch = next;
         self.filed = filed;
         self.start = start;
