@@ -57,11 +57,11 @@ pub(crate) const EPOCH_CELL: f64 = 0.8;
 pub(crate) const EPOCH_FLIGHT: f64 = 1.0;
 
 /// [`crate::BroadPhase::Auto`] takes epochs below this packing fraction. Measured on
-/// the elastic Hertz gas (N = 2000, wall time per simulated second, epochs against
-/// crossings): 0.57 at η = 0.001, 0.77 at 0.004, 0.97 at 0.01, 2.4 at 0.1; rechecked
-/// at N = 2000 and 10⁴ around the switch: 0.83 and 0.80 at 0.008, 0.97 and 0.92 at
-/// 0.012, 1.14 and 1.12 at 0.02.
-pub(crate) const AUTO_EPOCHS_BELOW: f64 = 0.012;
+/// the elastic Hertz gas (wall time per simulated second, epochs against crossings,
+/// `speed_probe`): at N = 2000, 0.47 at η = 0.001, 0.91 at 0.012, 0.97 at 0.015,
+/// 1.08 at 0.02, 1.23 at 0.03, 1.58 at 0.05; at N = 10⁴, 0.44 at 0.001 and 0.94 at
+/// 0.015.
+pub(crate) const AUTO_EPOCHS_BELOW: f64 = 0.016;
 
 /// Relative margin on every swept box, far above the round-off of its corners.
 const BOX_MARGIN: f64 = 1e-9;
