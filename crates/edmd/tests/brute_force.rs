@@ -5,9 +5,11 @@
 use emdstar_edmd::{
     BroadPhase, CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas,
 };
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
-/// Elastic equal hard spheres of diameter 1 in the periodic cube of `setup`, run by
-/// brute force: the first `count` collisions as (i, j, time) with i < j.
+/// Elastic hard spheres (the radii and masses of `setup`) in its periodic cube, run
+/// by brute force: the first `count` collisions as (i, j, time) with i < j.
 fn brute_force(setup: &Setup, count: usize) -> Vec<(u32, u32, f64)> {
     let side = setup.region.expect("a periodic box").size[0];
     let mut x = setup.position.clone();
@@ -30,7 +32,8 @@ fn brute_force(setup: &Setup, count: usize) -> Vec<(u32, u32, f64)> {
                     let b: f64 = (0..3).map(|k| r[k] * u[k]).sum();
                     let r2: f64 = (0..3).map(|k| r[k] * r[k]).sum();
                     let u2: f64 = (0..3).map(|k| u[k] * u[k]).sum();
-                    let disc = b * b - u2 * (r2 - 1.0);
+                    let sigma = setup.radius[i] + setup.radius[j];
+                    let disc = b * b - u2 * (r2 - sigma * sigma);
                     if b < 0.0 && disc > 0.0 {
                         let t = (-b - disc.sqrt()) / u2;
                         if t < best.0 {
@@ -47,13 +50,14 @@ fn brute_force(setup: &Setup, count: usize) -> Vec<(u32, u32, f64)> {
             }
         }
         time += dt;
-        // Equal masses: exchange the normal components of the velocities.
+        // An elastic impulse along the line of centres.
         let r: [f64; 3] = std::array::from_fn(|k| x[i][k] - x[j][k] - s[k]);
         let r2: f64 = (0..3).map(|k| r[k] * r[k]).sum();
         let vn: f64 = (0..3).map(|k| r[k] * (v[i][k] - v[j][k])).sum::<f64>() / r2;
+        let (mi, mj) = (setup.mass[i], setup.mass[j]);
         for k in 0..3 {
-            v[i][k] -= vn * r[k];
-            v[j][k] += vn * r[k];
+            v[i][k] -= 2.0 * mj / (mi + mj) * vn * r[k];
+            v[j][k] += 2.0 * mi / (mi + mj) * vn * r[k];
         }
         out.push((i as u32, j as u32, time));
     }
@@ -135,4 +139,28 @@ fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
     assert!(auto.stats().epochs > 0);
     let dense: Engine = Engine::new(gas::fcc(3, 0.5, 1.0, 1.0, 1.0, 5), physics()).unwrap();
     assert_eq!(dense.stats().epochs, 0);
+}
+
+#[test]
+fn epochs_and_crossings_give_the_brute_force_sequence_of_a_polydisperse_gas() {
+    // Diameters 0.5-1.5 and masses as their cubes, at η ≈ 0.01: unequal swept boxes,
+    // contact distances and impulses in both broad phases.
+    let mut setup = gas::fcc(3, 0.01, 1.0, 1.0, 1.0, 23);
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    for i in 0..setup.position.len() {
+        let diameter = 0.5 + rng.random::<f64>();
+        setup.radius[i] = 0.5 * diameter;
+        setup.mass[i] = diameter.powi(3);
+    }
+    let count = 60;
+    let reference = brute_force(&setup, count);
+    let physics = || Physics::HardSpheres { restitution: 1.0 };
+    for broad_phase in [BroadPhase::Epochs, BroadPhase::Crossings] {
+        let e: Engine = Engine::with_broad_phase(setup.clone(), physics(), broad_phase).unwrap();
+        assert_same(
+            &reference,
+            &engine_collisions(e, count),
+            &format!("{broad_phase:?}"),
+        );
+    }
 }
