@@ -293,6 +293,7 @@ impl<Q: EventQueue> Engine<Q> {
             hertz: HertzRestitution::default(),
             stats: Stats::default(),
             zero_streak: 0,
+            probe: None,
         };
         for i in 0..n {
             let x = engine.wrap(engine.slot[i].kin.pos);

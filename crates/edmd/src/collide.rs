@@ -2,7 +2,7 @@
 //! (Müller & Pöschel 2013, Sec. VI B), with the exceptions of Sec. VI B 5.
 
 use crate::cells::NONE;
-use crate::engine::{Engine, dot, sub};
+use crate::engine::{Engine, Kin, dot, sub};
 use crate::error::Result;
 use crate::queue::EventQueue;
 use crate::rules::restitution_kick;
@@ -18,7 +18,54 @@ fn arr(v: &Vec3) -> [f64; 3] {
     [v.x, v.y, v.z]
 }
 
+/// eMD* exception (a) (Müller & Pöschel 2013, Sec. VI B 5) folded into the neighbour
+/// scans of the predictions that follow an E^φ: the parties sit at their rotated
+/// positions, and a scan that meets a third particle within contact of a party's new
+/// position and closer to it than to the old one marks the rotation blocked; the
+/// E^φ is then undone and the eMD rule applied. The scans visit every particle that
+/// could be within contact, so no scan of its own is needed.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RotationProbe {
+    pub parties: [u32; 2],
+    /// Each party's kinematics and cell before the rotation.
+    pub before: [(Kin, [u32; 3]); 2],
+    /// The eMD restitution to apply instead.
+    pub fallback: f64,
+    pub blocked: bool,
+}
+
 impl<Q: EventQueue> Engine<Q> {
+    /// Whether third particle `k`, at `xk` now and `r` = (new position of party
+    /// `slot` of `probe`) − `xk` (its image), blocks the rotation: within contact of
+    /// the new position and closer to it than to the old one.
+    #[inline]
+    pub(crate) fn blocks_rotation(
+        &self,
+        probe: &RotationProbe,
+        slot: usize,
+        k: usize,
+        r: [f64; 3],
+        xk: [f64; 3],
+    ) -> bool {
+        if probe.parties.contains(&(k as u32)) {
+            return false;
+        }
+        let contact = self.slot[probe.parties[slot] as usize].kin.radius + self.slot[k].kin.radius;
+        let d_new = dot(r, r);
+        d_new < contact * contact && {
+            let d_old = self.min_image(sub(probe.before[slot].0.pos, xk));
+            d_new < dot(d_old, d_old)
+        }
+    }
+
+    /// Which party of the running exception-(a) probe `i` is, if any.
+    #[inline]
+    pub(crate) fn probe_slot(&self, i: usize) -> Option<(RotationProbe, usize)> {
+        let probe = self.probe?;
+        let slot = probe.parties.iter().position(|&p| p as usize == i)?;
+        Some((probe, slot))
+    }
+
     /// Runs the pending E^v of `i` early because a third party hits it (exception b),
     /// and with [`Interference::BothPartners`] that of its partner too.
     fn interrupt_transient(&mut self, i: usize, interference: Interference) {
@@ -98,6 +145,29 @@ impl<Q: EventQueue> Engine<Q> {
         self.slot[j].ev.counter = self.slot[j].ev.counter.wrapping_add(1);
         self.predict(i);
         self.predict(j);
+        if let Some(probe) = self.probe.take()
+            && probe.blocked
+        {
+            // Exception (a): undo the rotation and apply the eMD rule instead.
+            self.stats.exception_rotation += 1;
+            for (slot, &p) in probe.parties.iter().enumerate() {
+                let p = p as usize;
+                let (kin, cell) = probe.before[slot];
+                self.slot[p].kin = kin;
+                self.slot[p].ev.pending_time = f64::INFINITY;
+                self.slot[p].ev.partner = NONE;
+                if self.epochs.is_none() {
+                    self.grid.relocate(p, cell);
+                }
+            }
+            let (di, dj) = restitution_kick(r, v, mi, mj, probe.fallback);
+            for k in 0..3 {
+                self.slot[i].kin.vel[k] += di[k];
+                self.slot[j].kin.vel[k] += dj[k];
+            }
+            self.predict(i);
+            self.predict(j);
+        }
         Ok(true)
     }
 
@@ -139,10 +209,18 @@ impl<Q: EventQueue> Engine<Q> {
             arr(&out.rotated_positions[0]),
             arr(&out.rotated_positions[1]),
         ];
-        if self.rotation_blocked(&[i, j], &new, None) {
+        if self.walls_block(&[i, j], &new, None) {
             self.stats.exception_rotation += 1;
             return Ok(Some(-m.eps_rdot));
         }
+        // Third particles are checked by the predictions that follow (see
+        // `RotationProbe`).
+        self.probe = Some(RotationProbe {
+            parties: [i as u32, j as u32],
+            before: [i, j].map(|p| (self.slot[p].kin, self.grid.coords[p])),
+            fallback: -m.eps_rdot,
+            blocked: false,
+        });
         let g = self.gravity;
         let end = self.time + out.duration;
         for (slot, &p) in [i, j].iter().enumerate() {
@@ -170,7 +248,8 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// Exception (a): would moving `parties` to `new` push any of them deeper into a
     /// third particle or into a wall other than `own_wall` (the wall being hit, whose
-    /// E^φ sets the distance to l·ε_r < l by design) than it is now?
+    /// E^φ sets the distance to l·ε_r < l by design) than it is now? (Wall
+    /// collisions; a pair collision checks third particles with a `RotationProbe`.)
     fn rotation_blocked(
         &self,
         parties: &[usize],

@@ -60,6 +60,8 @@ pub struct Engine<Q: EventQueue = CalendarQueue> {
     pub(crate) stats: Stats,
     /// Consecutive events at one instant (an inelastic collapse never ends).
     pub(crate) zero_streak: u64,
+    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions.
+    pub(crate) probe: Option<crate::collide::RotationProbe>,
 }
 
 /// A particle's kinematics (the line neighbour scans read) and own events in one
@@ -231,19 +233,22 @@ impl<Q: EventQueue> Engine<Q> {
 
     /// The earliest collision of `i` (at time `now`, already advanced) with the
     /// particles of `cells` (each with the shift of its periodic image) before `best`:
-    /// (time, partner or NONE, whether it is a stabilising collision now).
+    /// (time, partner or NONE, whether it is a stabilising collision now), and whether
+    /// a particle met blocks the rotation of a running exception-(a) probe.
     #[inline(always)]
     fn earliest_in(
         &self,
         i: usize,
         cells: impl Iterator<Item = (u32, [f64; 3])>,
         mut best: f64,
-    ) -> (f64, u32, bool) {
+    ) -> ((f64, u32, bool), bool) {
         let now = self.time;
         let (pi, vi) = (self.slot[i].kin.pos, self.slot[i].kin.vel);
         let ri = self.slot[i].kin.radius;
         let mut best_j = NONE;
         let mut best_now = false;
+        let probe = self.probe_slot(i);
+        let mut blocked = false;
         for (cell, shift) in cells {
             // Centre i relative to the image of the neighbour cell: r = x_i − (x_j + s).
             let pi_rel = sub(pi, shift);
@@ -253,6 +258,9 @@ impl<Q: EventQueue> Engine<Q> {
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
                     let (r, v) = (sub(pi_rel, pj), sub(vi, vj));
+                    if let Some((probe, slot)) = &probe {
+                        blocked |= self.blocks_rotation(probe, *slot, ju, r, pj);
+                    }
                     let sigma = ri + self.slot[ju].kin.radius;
                     if on_collision_course(r, v, sigma) {
                         let dt = sphere_sphere(r, v, sigma);
@@ -266,7 +274,7 @@ impl<Q: EventQueue> Engine<Q> {
                 j = self.grid.next(j);
             }
         }
-        (best, best_j, best_now)
+        ((best, best_j, best_now), blocked)
     }
 
     /// Keeps the collision found by [`Engine::earliest_in`] (or a broad phase's own
@@ -287,7 +295,7 @@ impl<Q: EventQueue> Engine<Q> {
     fn scan_neighbourhood(&mut self, i: usize) {
         let c = self.grid.coords[i];
         let best = self.slot[i].ev.coll_time;
-        let found = if let Some(base) = self.grid.interior(c) {
+        let (found, blocked) = if let Some(base) = self.grid.interior(c) {
             let cells = self.grid.interior_neighbours(base).map(|c| (c, [0.0; 3]));
             self.earliest_in(i, cells, best)
         } else {
@@ -295,6 +303,9 @@ impl<Q: EventQueue> Engine<Q> {
             self.earliest_in(i, set.iter(), best)
         };
         self.keep_earliest(i, found);
+        if blocked && let Some(probe) = &mut self.probe {
+            probe.blocked = true;
+        }
     }
 
     /// Tests `i`, which has just entered cell `c` moving in direction `dir` along
@@ -302,7 +313,7 @@ impl<Q: EventQueue> Engine<Q> {
     #[inline]
     fn scan_new_layer(&mut self, i: usize, c: [u32; 3], axis: usize, dir: i64) {
         let best = self.slot[i].ev.coll_time;
-        let found = if let Some(base) = self.grid.interior(c) {
+        let (found, _) = if let Some(base) = self.grid.interior(c) {
             let cells = self
                 .grid
                 .interior_layer(base, axis, dir)

@@ -230,12 +230,17 @@ impl<Q: EventQueue> Engine<Q> {
         };
         let end = ep.end;
         let mut best = (self.slot[i].ev.coll_time, NONE);
+        let probe = self.probe_slot(i);
+        let mut blocked = false;
         ep.grid.scan_and_file(i, &spans, |j| {
             if self.in_shared_transient(i, j) {
                 return;
             }
             let (pj, vj) = self.state_at(j, now);
             let r = self.min_image(sub(p, pj));
+            if let Some((probe, slot)) = &probe {
+                blocked |= self.blocks_rotation(probe, *slot, j, r, pj);
+            }
             let (v, sigma) = (sub(vi, vj), ri + self.slot[j].kin.radius);
             if !on_collision_course(r, v, sigma) {
                 return;
@@ -247,6 +252,9 @@ impl<Q: EventQueue> Engine<Q> {
             }
         });
         self.keep_earliest(i, (best.0, best.1, best.0 == now));
+        if blocked && let Some(probe) = &mut self.probe {
+            probe.blocked = true;
+        }
         self.epochs = Some(ep);
     }
 
