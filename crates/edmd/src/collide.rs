@@ -36,9 +36,9 @@ pub(crate) struct RotationProbe {
 
 impl<Q: EventQueue> Engine<Q> {
     /// Whether third particle `k`, at `xk` now and `r` = (new position of party
-    /// `slot` of `probe`) − `xk` (its image), blocks the rotation: within contact of
-    /// the new position and closer to it than to the old one.
-    #[inline]
+    /// `slot` of `probe`) − `xk` (its image), blocks the rotation: within `contact`
+    /// of the new position and closer to it than to the old one.
+    #[inline(always)]
     pub(crate) fn blocks_rotation(
         &self,
         probe: &RotationProbe,
@@ -46,13 +46,10 @@ impl<Q: EventQueue> Engine<Q> {
         k: usize,
         r: [f64; 3],
         xk: [f64; 3],
+        contact: f64,
     ) -> bool {
-        if probe.parties.contains(&(k as u32)) {
-            return false;
-        }
-        let contact = self.slot[probe.parties[slot] as usize].kin.radius + self.slot[k].kin.radius;
         let d_new = dot(r, r);
-        d_new < contact * contact && {
+        d_new < contact * contact && !probe.parties.contains(&(k as u32)) && {
             let d_old = self.min_image(sub(probe.before[slot].0.pos, xk));
             d_new < dot(d_old, d_old)
         }

@@ -258,10 +258,10 @@ impl<Q: EventQueue> Engine<Q> {
                 if ju != i && !self.in_shared_transient(i, ju) {
                     let (pj, vj) = self.state_at(ju, now);
                     let (r, v) = (sub(pi_rel, pj), sub(vi, vj));
-                    if let Some((probe, slot)) = &probe {
-                        blocked |= self.blocks_rotation(probe, *slot, ju, r, pj);
-                    }
                     let sigma = ri + self.slot[ju].kin.radius;
+                    if let Some((probe, slot)) = &probe {
+                        blocked |= self.blocks_rotation(probe, *slot, ju, r, pj, sigma);
+                    }
                     if on_collision_course(r, v, sigma) {
                         let dt = sphere_sphere(r, v, sigma);
                         if now + dt < best {

@@ -238,10 +238,10 @@ impl<Q: EventQueue> Engine<Q> {
             }
             let (pj, vj) = self.state_at(j, now);
             let r = self.min_image(sub(p, pj));
-            if let Some((probe, slot)) = &probe {
-                blocked |= self.blocks_rotation(probe, *slot, j, r, pj);
-            }
             let (v, sigma) = (sub(vi, vj), ri + self.slot[j].kin.radius);
+            if let Some((probe, slot)) = &probe {
+                blocked |= self.blocks_rotation(probe, *slot, j, r, pj, sigma);
+            }
             if !on_collision_course(r, v, sigma) {
                 return;
             }
