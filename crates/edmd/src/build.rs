@@ -237,7 +237,7 @@ impl<Q: EventQueue> Engine<Q> {
         let use_epochs = match broad_phase {
             BroadPhase::Crossings => false,
             BroadPhase::Epochs | BroadPhase::Auto => {
-                let fit = !has_gravity && Epochs::fit(region.size, region.periodic, max_contact, n);
+                let fit = !has_gravity && Epochs::fit(&region, max_contact, n);
                 if broad_phase == BroadPhase::Epochs && !fit {
                     return invalid(
                         "the epoch broad phase needs no gravity and, along periodic axes, a \
@@ -251,15 +251,7 @@ impl<Q: EventQueue> Engine<Q> {
                 fit && (broad_phase == BroadPhase::Epochs || dilute && confined(&region, &walls))
             }
         };
-        let epochs = use_epochs.then(|| {
-            Box::new(Epochs::new(
-                region.lo,
-                region.size,
-                region.periodic,
-                max_contact,
-                n,
-            ))
-        });
+        let epochs = use_epochs.then(|| Box::new(Epochs::new(&region, max_contact, n)));
         let mut engine = Self {
             slot: (0..n)
                 .map(|i| Slot {

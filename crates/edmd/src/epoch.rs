@@ -13,9 +13,10 @@
 //!   the time of prediction is the only image in reach.
 
 use crate::cells::NONE;
-use crate::detect::{on_collision_course, sphere_sphere, sphere_sphere_flat};
-use crate::engine::{Engine, dot, sub};
+use crate::detect::{on_collision_course, sphere_sphere};
+use crate::engine::{Engine, dot, min_image_in, sub};
 use crate::queue::EventQueue;
+use crate::setup::Region;
 use crate::sweep::{Spans, SweepGrid};
 
 /// A particle's state at the start of an epoch and the end of its box: what a pair
@@ -67,24 +68,18 @@ pub(crate) const AUTO_EPOCHS_BELOW: f64 = 0.016;
 const BOX_MARGIN: f64 = 1e-9;
 
 impl Epochs {
-    /// Epochs over the region `[lo, lo + size]` for `n` particles whose largest contact
-    /// distance is `max_contact`.
-    pub fn new(
-        lo: [f64; 3],
-        size: [f64; 3],
-        periodic: [bool; 3],
-        max_contact: f64,
-        n: usize,
-    ) -> Self {
-        let width = Self::cell_width(size, max_contact, n);
+    /// Epochs over `region` for `n` particles whose largest contact distance is
+    /// `max_contact`.
+    pub fn new(region: &Region, max_contact: f64, n: usize) -> Self {
+        let width = Self::cell_width(region.size, max_contact, n);
         Self {
-            grid: SweepGrid::new(lo, size, periodic, width, n),
+            grid: SweepGrid::new(region, width, n),
             end: 0.0,
             flight: EPOCH_FLIGHT,
             width,
             reach: std::array::from_fn(|k| {
-                if periodic[k] {
-                    0.25 * size[k] - max_contact
+                if region.periodic[k] {
+                    0.25 * region.size[k] - max_contact
                 } else {
                     f64::INFINITY
                 }
@@ -104,9 +99,9 @@ impl Epochs {
 
     /// Whether a periodic box is wide enough for epochs: a quarter of it must exceed
     /// the largest contact distance by a cell width.
-    pub fn fit(size: [f64; 3], periodic: [bool; 3], max_contact: f64, n: usize) -> bool {
-        let width = Self::cell_width(size, max_contact, n);
-        (0..3).all(|k| !periodic[k] || 0.25 * size[k] - max_contact >= width)
+    pub fn fit(region: &Region, max_contact: f64, n: usize) -> bool {
+        let width = Self::cell_width(region.size, max_contact, n);
+        (0..3).all(|k| !region.periodic[k] || 0.25 * region.size[k] - max_contact >= width)
     }
 
     /// The swept box of a sphere at `p` moving with `v` from `t0` to `end`, cut short
@@ -187,13 +182,7 @@ impl<Q: EventQueue> Engine<Q> {
         ep.grid.file_all();
         let mut pairs = std::mem::take(&mut ep.pairs);
         ep.grid.filed_pairs(&mut pairs);
-        let period: [f64; 3] = std::array::from_fn(|k| {
-            if self.grid.periodic[k] {
-                self.grid.size[k]
-            } else {
-                0.0
-            }
-        });
+        let period = self.period();
         test_pairs(&pairs, &ep.motion, &ep.partner, &mut ep.best, t0, period);
         ep.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
@@ -228,7 +217,6 @@ impl<Q: EventQueue> Engine<Q> {
         } else {
             f64::INFINITY
         };
-        let end = ep.end;
         let mut best = (self.slot[i].ev.coll_time, NONE);
         let probe = self.probe_slot(i);
         let mut blocked = false;
@@ -246,7 +234,7 @@ impl<Q: EventQueue> Engine<Q> {
                 return;
             }
             let dt = sphere_sphere(r, v, sigma);
-            let limit = horizon.min(end).min(self.slot[j].ev.cross[0]);
+            let limit = horizon.min(self.slot[j].ev.cross[0]);
             if now + dt < limit && now + dt < best.0 {
                 best = (now + dt, j as u32);
             }
@@ -277,9 +265,9 @@ impl<Q: EventQueue> Engine<Q> {
 }
 
 /// Tests the rebuild's candidate pairs for a collision before both horizons and keeps
-/// each particle's earliest (Bannerman et al. 2014, Algorithm 1, as
-/// [`on_collision_course`] and then [`sphere_sphere_flat`]). The minimum image is
-/// taken without branches (`period` 0 along closed axes).
+/// each particle's earliest (Bannerman et al. 2014, Algorithm 1: [`on_collision_course`]
+/// for the many pairs that miss, then [`sphere_sphere`]); `period` is 0 along closed
+/// axes.
 fn test_pairs(
     pairs: &[[u32; 2]],
     motion: &[Motion],
@@ -288,25 +276,19 @@ fn test_pairs(
     t0: f64,
     period: [f64; 3],
 ) {
-    let half = period.map(|l| if l > 0.0 { 0.5 * l } else { f64::INFINITY });
     for &[i, j] in pairs {
         let (i, j) = (i as usize, j as usize);
         if partner[i] == j as u32 && partner[j] == i as u32 {
             continue;
         }
         let (a, b) = (&motion[i], &motion[j]);
-        let r: [f64; 3] = std::array::from_fn(|k| {
-            let d = a.pos[k] - b.pos[k];
-            let up = if d > half[k] { period[k] } else { 0.0 };
-            let down = if d < -half[k] { period[k] } else { 0.0 };
-            d - up + down
-        });
+        let r = min_image_in(sub(a.pos, b.pos), period);
         let v = sub(a.vel, b.vel);
         let sigma = a.radius + b.radius;
         if !on_collision_course(r, v, sigma) {
             continue;
         }
-        let t = t0 + sphere_sphere_flat(r, v, sigma);
+        let t = t0 + sphere_sphere(r, v, sigma);
         if t < a.horizon.min(b.horizon) {
             if t < best[i].0 {
                 best[i] = (t, j as u32);

@@ -12,6 +12,7 @@
 //! that meet nobody.
 
 use crate::cells::{NONE, cells_per_axis};
+use crate::setup::Region;
 
 /// ⌊x⌋ as an integer, saturating far outside (no libm call; boxes beyond the grid
 /// are clamped or wrapped by the caller).
@@ -64,22 +65,16 @@ pub(crate) struct SweepGrid {
 }
 
 impl SweepGrid {
-    /// A grid over `[lo, lo + size]` with cells at least `min_width` wide, for `n`
-    /// particles. Along closed axes the border cells reach to ±∞.
-    pub fn new(
-        lo: [f64; 3],
-        size: [f64; 3],
-        periodic: [bool; 3],
-        min_width: f64,
-        n: usize,
-    ) -> Self {
-        let dims = cells_per_axis(size, min_width).map(|d| d as u32);
+    /// A grid over `region` with cells at least `min_width` wide, for `n` particles.
+    /// Along closed axes the border cells reach to ±∞.
+    pub fn new(region: &Region, min_width: f64, n: usize) -> Self {
+        let dims = cells_per_axis(region.size, min_width).map(|d| d as u32);
         let cells = dims.iter().map(|&d| d as usize).product::<usize>();
         Self {
-            lo,
-            periodic,
+            lo: region.lo,
+            periodic: region.periodic,
             dims,
-            inv_width: std::array::from_fn(|k| f64::from(dims[k]) / size[k]),
+            inv_width: std::array::from_fn(|k| f64::from(dims[k]) / region.size[k]),
             start: vec![0; cells + 1],
             filed: Vec::new(),
             spans: vec![[Span::default(); 3]; n],
@@ -334,7 +329,12 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn grid() -> SweepGrid {
-        SweepGrid::new([0.0; 3], [10.0, 10.0, 10.0], [true, true, false], 1.0, 4)
+        let region = Region {
+            lo: [0.0; 3],
+            size: [10.0; 3],
+            periodic: [true, true, false],
+        };
+        SweepGrid::new(&region, 1.0, 4)
     }
 
     #[test]
@@ -352,7 +352,12 @@ mod tests {
     #[test]
     fn every_pair_of_touching_boxes_is_reported_once_per_shared_cell() {
         // Brute force over random boxes: the pairs whose cell sets intersect.
-        let mut g = SweepGrid::new([0.0; 3], [6.0, 6.0, 6.0], [true, false, true], 1.0, 40);
+        let region = Region {
+            lo: [0.0; 3],
+            size: [6.0; 3],
+            periodic: [true, false, true],
+        };
+        let mut g = SweepGrid::new(&region, 1.0, 40);
         let mut rng = ChaCha8Rng::seed_from_u64(12345);
         let mut rand = || rng.random::<f64>();
         let mut cells: Vec<Vec<usize>> = Vec::new();
