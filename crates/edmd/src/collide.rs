@@ -48,9 +48,17 @@ impl<Q: EventQueue> Engine<Q> {
         xk: [f64; 3],
         contact: f64,
     ) -> bool {
+        self.pushes_deeper(r, probe.before[slot].0.pos, xk, contact)
+            && !probe.parties.contains(&(k as u32))
+    }
+
+    /// Whether a sphere moved from `old` to the point at `r` from `xk` (minimum image)
+    /// ends within `contact` of `xk` and closer than it was.
+    #[inline(always)]
+    fn pushes_deeper(&self, r: [f64; 3], old: [f64; 3], xk: [f64; 3], contact: f64) -> bool {
         let d_new = dot(r, r);
-        d_new < contact * contact && !probe.parties.contains(&(k as u32)) && {
-            let d_old = self.min_image(sub(probe.before[slot].0.pos, xk));
+        d_new < contact * contact && {
+            let d_old = self.min_image(sub(old, xk));
             d_new < dot(d_old, d_old)
         }
     }
@@ -243,94 +251,34 @@ impl<Q: EventQueue> Engine<Q> {
         }
     }
 
-    /// Exception (a): would moving `parties` to `new` push any of them deeper into a
-    /// third particle or into a wall other than `own_wall` (the wall being hit, whose
-    /// E^φ sets the distance to l·ε_r < l by design) than it is now? (Wall
-    /// collisions; a pair collision checks third particles with a `RotationProbe`.)
-    fn rotation_blocked(
-        &self,
-        parties: &[usize],
-        new: &[[f64; 3]],
-        own_wall: Option<usize>,
-    ) -> bool {
-        let now = self.time;
-        // Does third particle `k` end up closer than contact to one of the `movers`
-        // (party slots) and closer than before?
-        let blocked_by = |k: usize, movers: &[usize]| {
-            if parties.contains(&k) {
-                return false;
-            }
+    /// Exception (a) for a collision of `i` with wall `wall`: would moving `i` to `new`
+    /// push it deeper into a third particle, or into another wall, than it is now? (A
+    /// pair collision checks third particles with a [`RotationProbe`].)
+    fn wall_rotation_blocked(&self, i: usize, new: [f64; 3], wall: usize) -> bool {
+        let (now, old) = (self.time, self.slot[i].kin.pos);
+        let blocked_by = |k: usize| {
             let (xk, _) = self.state_at(k, now);
-            movers.iter().any(|&slot| {
-                let p = parties[slot];
-                let contact = self.slot[p].kin.radius + self.slot[k].kin.radius;
-                let d_new = self.min_image(sub(new[slot], xk));
-                let d_new = dot(d_new, d_new);
-                d_new < contact * contact && {
-                    let d_old = self.min_image(sub(self.slot[p].kin.pos, xk));
-                    d_new < dot(d_old, d_old)
+            let contact = self.slot[i].kin.radius + self.slot[k].kin.radius;
+            k != i && self.pushes_deeper(self.min_image(sub(new, xk)), old, xk, contact)
+        };
+        let third = if self.epochs.is_some() {
+            // Filed boxes hold each sphere now: a third sphere within contact of the
+            // new position is filed in a cell within the mover's radius of it.
+            self.any_near_in_epoch(new, self.slot[i].kin.radius, blocked_by)
+        } else {
+            let c = self.grid.coords_of(self.wrap(new));
+            self.grid.neighbourhood(c).as_slice().iter().any(|&cell| {
+                let mut k = self.grid.first(cell);
+                while k != NONE {
+                    if blocked_by(k as usize) {
+                        return true;
+                    }
+                    k = self.grid.next(k);
                 }
+                false
             })
         };
-        let blocks = |cell: u32, movers: &[usize]| {
-            let mut k = self.grid.first(cell);
-            while k != NONE {
-                if blocked_by(k as usize, movers) {
-                    return true;
-                }
-                k = self.grid.next(k);
-            }
-            false
-        };
-        // One or two parties (a wall or a pair collision).
-        debug_assert!(parties.len() <= 2 && new.len() == parties.len());
-        let n = parties.len().min(2);
-        if self.epochs.is_some() {
-            // Filed boxes hold each sphere now: a third sphere within contact of a
-            // new position is filed in a cell within the mover's radius of it.
-            for slot in 0..n {
-                let reach = self.slot[parties[slot]].kin.radius;
-                if self.any_near_in_epoch(new[slot], reach, |k| blocked_by(k, &[slot])) {
-                    return true;
-                }
-            }
-            return self.walls_block(parties, new, own_wall);
-        }
-        let mut cells = [[0u32; 3]; 2];
-        for slot in 0..n {
-            cells[slot] = self.grid.coords_of(self.wrap(new[slot]));
-        }
-        for slot in 0..n {
-            let c = cells[slot];
-            // Partners landing in the same cell share one scan of its neighbourhood.
-            if cells[..slot].contains(&c) {
-                continue;
-            }
-            let same = n == 2 && slot == 0 && cells[1] == c;
-            let movers: &[usize] = if same {
-                &[0, 1]
-            } else if slot == 0 {
-                &[0]
-            } else {
-                &[1]
-            };
-            let blocked = match self.grid.interior(c) {
-                Some(base) => self
-                    .grid
-                    .interior_neighbours(base)
-                    .any(|cell| blocks(cell, movers)),
-                None => self
-                    .grid
-                    .neighbourhood(c)
-                    .as_slice()
-                    .iter()
-                    .any(|&cell| blocks(cell, movers)),
-            };
-            if blocked {
-                return true;
-            }
-        }
-        self.walls_block(parties, new, own_wall)
+        third || self.walls_block(&[i], &[new], Some(wall))
     }
 
     /// Exception (a) for walls: would a party move deeper into a wall other than
@@ -409,12 +357,12 @@ impl<Q: EventQueue> Engine<Q> {
         };
         let out = resolve_wall(&body, &vec3(wall.normal), entry.props.l, &m, scaled.time);
         let rel = out.rotated_positions[0];
-        let new = [std::array::from_fn(|k| rel[k] + wall.point[k])];
-        if self.rotation_blocked(&[i], &new, Some(w)) {
+        let new = std::array::from_fn(|k| rel[k] + wall.point[k]);
+        if self.wall_rotation_blocked(i, new, w) {
             self.stats.exception_rotation += 1;
             return Ok(Some(-m.eps_rdot));
         }
-        self.place(i, new[0]);
+        self.place(i, new);
         self.slot[i].kin.vel = arr(&out.transient_velocity);
         // The wall carries the normal part of gravity during the contact (an elastic
         // sphere leaves it with its impact speed), so only the tangential part acts
