@@ -156,7 +156,8 @@ impl SweepGrid {
     /// for a longer box.
     #[inline(always)]
     fn block(&self, s: &Spans) -> Option<[u32; 8]> {
-        if (s[0].count | s[1].count | s[2].count) > 2 {
+        // Counts are at least 1, so `count - 1` is 0 or 1 only for one or two cells.
+        if ((s[0].count - 1) | (s[1].count - 1) | (s[2].count - 1)) > 1 {
             return None;
         }
         let d = self.dims;
@@ -369,6 +370,33 @@ mod tests {
         // A box longer than the period visits each cell once.
         let s = g.spans([0.5, 0.0, 0.0], [25.0, 0.5, 0.5]);
         assert_eq!(s[0].count, 10);
+    }
+
+    #[test]
+    fn boxes_up_to_two_cells_long_are_blocks_of_their_own_cells() {
+        let g = grid();
+        let trash = 10 * 10 * 10;
+        for counts in (0..27).map(|m| [1 + m % 3, 1 + m / 3 % 3, 1 + m / 9]) {
+            // Starting in the last cell, so periodic axes wrap.
+            let s: Spans = std::array::from_fn(|k| Span {
+                first: 9,
+                count: counts[k],
+            });
+            let block = g.block(&s);
+            assert_eq!(
+                block.is_some(),
+                counts.iter().all(|&c| c <= 2),
+                "{counts:?}"
+            );
+            if let Some(block) = block {
+                let mut real: Vec<u32> = block.into_iter().filter(|&c| c < trash).collect();
+                let mut expected = Vec::new();
+                g.for_cells(&s, |c| expected.push(c as u32));
+                real.sort_unstable();
+                expected.sort_unstable();
+                assert_eq!(real, expected, "{counts:?}");
+            }
+        }
     }
 
     #[test]
