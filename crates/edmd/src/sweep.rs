@@ -22,6 +22,8 @@ use crate::setup::Region;
 fn floor_to_int(x: f64) -> i64 {
     const LIMIT: f64 = 1_073_741_824.0;
     const ROUND: f64 = 6_755_399_441_055_744.0;
+    // Not `clamp`, which keeps a NaN: this maps it to −2³⁰.
+    #[allow(clippy::manual_clamp)]
     let x = x.max(-LIMIT).min(LIMIT);
     let shifted = x + ROUND;
     let nearest = shifted - ROUND;
@@ -59,7 +61,7 @@ impl Filing {
     const SLOT_BITS: u32 = 3;
 
     #[inline(always)]
-    fn new(particle: usize, slot: usize) -> u32 {
+    fn pack(particle: usize, slot: usize) -> u32 {
         ((particle as u32) << Self::SLOT_BITS) | slot as u32
     }
 
@@ -243,7 +245,7 @@ impl SweepGrid {
         next.extend_from_slice(&start);
         for (i, (s, block)) in self.spans.iter().zip(&blocks).enumerate() {
             let mut file = |c: usize, slot: usize| {
-                filed[next[c] as usize] = Filing::new(i, slot);
+                filed[next[c] as usize] = Filing::pack(i, slot);
                 next[c] += 1;
             };
             match block {
@@ -400,6 +402,7 @@ mod tests {
         }
         assert_eq!(floor_to_int(f64::INFINITY), 1 << 30);
         assert_eq!(floor_to_int(f64::NEG_INFINITY), -(1 << 30));
+        assert_eq!(floor_to_int(f64::NAN), -(1 << 30));
     }
 
     #[test]
