@@ -37,12 +37,13 @@ pub(crate) struct Span {
     count: u32,
 }
 
-/// Runs up to this long are listed by [`SMALL_RUN_PAIRS`].
-const SMALL_RUN: usize = 4;
+/// Runs up to this long are listed by [`SMALL_RUN_PAIRS`] (measured at the goal's gas,
+/// about 2.4 filings per cell: 3 is 1 % faster than 4, and 5 is 4 % slower).
+const SMALL_RUN: usize = 3;
 
-/// The pairs among a run's first four entries, ordered so that those among the
+/// The pairs among a run's first three entries, ordered so that those among the
 /// first k come first for every k.
-const SMALL_RUN_PAIRS: [[usize; 2]; 6] = [[0, 1], [0, 2], [1, 2], [0, 3], [1, 3], [2, 3]];
+const SMALL_RUN_PAIRS: [[usize; 2]; 3] = [[0, 1], [0, 2], [1, 2]];
 
 /// [`SweepGrid::filed_pairs`] writes a small run's pairs into a chunk this long.
 const OUT_CHUNK: usize = 8;
