@@ -278,14 +278,12 @@ fn test_pairs(
 ) {
     for &[i, j] in pairs {
         let (i, j) = (i as usize, j as usize);
-        if partner[i] == j as u32 && partner[j] == i as u32 {
-            continue;
-        }
         let (a, b) = (&motion[i], &motion[j]);
         let r = min_image_in(sub(a.pos, b.pos), period);
         let v = sub(a.vel, b.vel);
         let sigma = a.radius + b.radius;
-        if !on_collision_course(r, v, sigma) {
+        // The rare pair on course, then whether it shares an eMD* transient.
+        if !on_collision_course(r, v, sigma) || partner[i] == j as u32 && partner[j] == i as u32 {
             continue;
         }
         let t = t0 + sphere_sphere(r, v, sigma);
