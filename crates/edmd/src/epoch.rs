@@ -181,9 +181,9 @@ impl<Q: EventQueue> Engine<Q> {
         }
         ep.grid.file_all();
         let mut pairs = std::mem::take(&mut ep.pairs);
-        ep.grid.filed_pairs(&mut pairs);
+        let listed = ep.grid.filed_pairs(&mut pairs);
         let period = self.period();
-        test_pairs(&pairs, &ep.motion, &ep.partner, &mut ep.best, t0, period);
+        test_pairs(listed, &ep.motion, &ep.partner, &mut ep.best, t0, period);
         ep.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
         for i in 0..n {

@@ -266,35 +266,32 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Every pair of particles whose boxes share a cell, into `pairs` (cleared
-    /// first): once if both boxes are blocks, and at most once per shared cell
+    /// Every pair of particles whose boxes share a cell, listed in `pairs`: once if both boxes are blocks, and at most once per shared cell
     /// otherwise. A pair is listed in a shared cell where no axis has it in the
     /// second cell of both boxes ([`Filing`]); such a cell always exists, because two
     /// boxes whose second cells along an axis coincide start in the same cell there.
     /// Runs of up to [`SMALL_RUN`] entries are listed without branches: nested loops
     /// over runs of random length cost a branch misprediction or two per cell, more
     /// than the pair tests themselves.
-    pub fn filed_pairs(&self, pairs: &mut Vec<[u32; 2]>) {
+    pub fn filed_pairs<'a>(&self, pairs: &'a mut Vec<[u32; 2]>) -> &'a [[u32; 2]] {
         let count = |k: usize| (k * k - k) / 2;
-        let bound: usize = self
-            .start
-            .windows(2)
-            .map(|c| count((c[1] - c[0]) as usize))
-            .sum();
-        pairs.clear();
-        pairs.resize(bound + OUT_CHUNK, [0; 2]);
         let first_shared = |a: u32, b: u32| Filing::slot(a) & Filing::slot(b) == 0;
         let filed = &self.filed;
+        // `pairs` only grows: its stale tail is scratch, never read.
         let mut w = 0;
         for cell in self.start.windows(2) {
             let (a, b) = (cell[0] as usize, cell[1] as usize);
             let k = b - a;
+            let room = w + OUT_CHUNK.max(count(k));
+            if pairs.len() < room {
+                pairs.resize(room.max(2 * pairs.len()), [0; 2]);
+            }
             if k <= SMALL_RUN {
                 // One bounds check per cell: candidates are written in place and
                 // kept by advancing the cursor.
                 let run: &[u32; SMALL_RUN] = filed[a..a + SMALL_RUN].try_into().expect("padded");
                 let out: &mut [[u32; 2]; OUT_CHUNK] =
-                    (&mut pairs[w..w + OUT_CHUNK]).try_into().expect("padded");
+                    (&mut pairs[w..w + OUT_CHUNK]).try_into().expect("room");
                 let mut kept = 0;
                 for (n, &[p, q]) in SMALL_RUN_PAIRS.iter().enumerate() {
                     let (e, f) = (run[p], run[q]);
@@ -311,7 +308,7 @@ impl SweepGrid {
                 }
             }
         }
-        pairs.truncate(w);
+        &pairs[..w]
     }
 
     /// Calls `f(j)` once for every particle filed (at the rebuild or since) in a cell
@@ -474,8 +471,8 @@ mod tests {
         for k in 2..=SMALL_RUN as u32 {
             assert!(runs.contains(&k), "a run of {k}");
         }
-        let mut pairs = Vec::new();
-        g.filed_pairs(&mut pairs);
+        let mut buffer = vec![[7, 7]; 3];
+        let pairs = g.filed_pairs(&mut buffer);
         let reported: Vec<_> = pairs
             .iter()
             .map(|&[i, j]| (i.min(j) as usize, i.max(j) as usize))
