@@ -266,13 +266,14 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Every pair of particles whose boxes share a cell, listed in `pairs`: once if both boxes are blocks, and at most once per shared cell
-    /// otherwise. A pair is listed in a shared cell where no axis has it in the
-    /// second cell of both boxes ([`Filing`]); such a cell always exists, because two
-    /// boxes whose second cells along an axis coincide start in the same cell there.
-    /// Runs of up to [`SMALL_RUN`] entries are listed without branches: nested loops
-    /// over runs of random length cost a branch misprediction or two per cell, more
-    /// than the pair tests themselves.
+    /// Every pair of particles whose boxes share a cell, listed in `pairs`: once if
+    /// both boxes are blocks, and at most once per shared cell otherwise. A pair is
+    /// listed in a shared cell where no axis has it in the second cell of both boxes
+    /// ([`Filing`]); such a cell always exists, because two boxes whose second cells
+    /// along an axis coincide start in the same cell there. Runs of up to
+    /// [`SMALL_RUN`] entries are listed without branches: nested loops over runs of
+    /// random length cost a branch misprediction or two per cell, more than the pair
+    /// tests themselves.
     pub fn filed_pairs<'a>(&self, pairs: &'a mut Vec<[u32; 2]>) -> &'a [[u32; 2]] {
         let count = |k: usize| (k * k - k) / 2;
         let first_shared = |a: u32, b: u32| Filing::slot(a) & Filing::slot(b) == 0;
