@@ -37,7 +37,7 @@ pub enum InterferenceChoice {
 /// How the event engine finds the pairs it tests.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BroadPhaseChoice {
-    /// Epochs in dilute gases without gravity (packing fraction below 0.016) that are
+    /// Epochs in dilute gases without gravity (packing fraction below 0.02) that are
     /// periodic or held by walls along every axis, cell crossings otherwise.
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell.
@@ -61,8 +61,8 @@ pub struct EdmdArgs {
     #[arg(long, value_enum, default_value_t = InterferenceChoice::Hit)]
     pub interference: InterferenceChoice,
     /// How candidate pairs are found (the same collisions either way; epochs are
-    /// about 2.2 times faster at packing fraction 0.001, crossings win above about
-    /// 0.017).
+    /// about 2.5 times faster at packing fraction 0.001, crossings win above about
+    /// 0.02).
     #[arg(long, value_enum, default_value_t = BroadPhaseChoice::Auto)]
     pub broad_phase: BroadPhaseChoice,
 }

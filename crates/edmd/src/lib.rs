@@ -20,7 +20,7 @@
 //! - candidate pairs come from one of two broad phases. With cell crossings, cells are
 //!   at least one contact distance wide, with explicit periodic image shifts per
 //!   neighbour cell, and each crossing tests only the layer of cells that became
-//!   neighbours. With epochs (the default below η = 0.016, without gravity, in a
+//!   neighbours. With epochs (the default below η = 0.02, without gravity, in a
 //!   gas periodic or held by walls along every axis), time is
 //!   cut into epochs of about one cell width of flight; each particle's swept box is
 //!   filed once per epoch, one pass over the cells tests every pair that can meet

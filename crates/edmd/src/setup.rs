@@ -15,7 +15,7 @@ pub struct Region {
 /// How the event engine finds the pairs to test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BroadPhase {
-    /// Epochs where they fit (see [`BroadPhase::Epochs`]) in a gas below η = 0.016
+    /// Epochs where they fit (see [`BroadPhase::Epochs`]) in a gas below η = 0.02
     /// that is periodic or held by axis-aligned walls from both sides along every
     /// axis; cell crossings otherwise. (A gas spreading into free space leaves the
     /// epoch grid for its unbounded border cells, where every epoch tests all pairs.)
