@@ -43,7 +43,8 @@ pub enum BroadPhaseChoice {
     /// A cell grid with a crossing event whenever a particle changes cell.
     Crossings,
     /// Swept boxes filed once per epoch (no gravity; along periodic axes a box at
-    /// least four times the largest contact distance plus a cell width). A gas that
+    /// least four times the sum of the largest contact distance and a cell width). A
+    /// gas that
     /// spreads into free space runs far slower on epochs than on crossings.
     Epochs,
 }

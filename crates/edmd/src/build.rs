@@ -2,7 +2,7 @@
 
 use crate::cells::{CellGrid, NONE, auto_cell_width};
 use crate::engine::{Engine, EventRec, Kin, Slot, dot, sub};
-use crate::epoch::{AUTO_EPOCHS_BELOW, Epochs};
+use crate::epoch::Epochs;
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -241,13 +241,13 @@ impl<Q: EventQueue> Engine<Q> {
                 if broad_phase == BroadPhase::Epochs && !fit {
                     return invalid(
                         "the epoch broad phase needs no gravity and, along periodic axes, a \
-                         box at least four times the largest contact distance plus a cell \
-                         width (a cell is 0.8 mean spacings); use BroadPhase::Crossings"
+                         box at least four times the sum of the largest contact distance and \
+                         a cell width (a cell is 0.8 mean spacings); use BroadPhase::Crossings"
                             .into(),
                     );
                 }
                 let volume = region.size.iter().product::<f64>();
-                let dilute = sphere_volume(&setup.radius) < AUTO_EPOCHS_BELOW * volume;
+                let dilute = sphere_volume(&setup.radius) < BroadPhase::AUTO_EPOCHS_BELOW * volume;
                 fit && (broad_phase == BroadPhase::Epochs || dilute && confined(&region, &walls))
             }
         };

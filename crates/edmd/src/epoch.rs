@@ -17,7 +17,7 @@ use crate::detect::{on_collision_course, sphere_sphere};
 use crate::engine::{Engine, dot, min_image_in, sub};
 use crate::queue::EventQueue;
 use crate::setup::Region;
-use crate::sweep::{Spans, SweepGrid};
+use crate::sweep::{Filing, Spans, SweepGrid};
 
 /// A particle's state at the start of an epoch and the end of its box: what a pair
 /// test reads, in one cache line.
@@ -57,12 +57,6 @@ pub(crate) struct Epochs {
 pub(crate) const EPOCH_CELL: f64 = 0.8;
 pub(crate) const EPOCH_FLIGHT: f64 = 1.0;
 
-/// [`crate::BroadPhase::Auto`] takes epochs below this packing fraction. Measured on
-/// the elastic Hertz gas (wall time per simulated second, epochs against crossings,
-/// `speed_probe`, two interleaved runs each): at N = 2000, 0.88 at η = 0.015, 0.97 at
-/// 0.02, 1.04 at 0.025, 1.14 at 0.03; at N = 10⁴, 1.00 at 0.02 and 1.13 at 0.025.
-pub(crate) const AUTO_EPOCHS_BELOW: f64 = 0.02;
-
 /// Relative margin on every swept box, far above the round-off of its corners.
 const BOX_MARGIN: f64 = 1e-9;
 
@@ -96,11 +90,12 @@ impl Epochs {
         (EPOCH_CELL * spacing).max(max_contact)
     }
 
-    /// Whether a periodic box is wide enough for epochs: a quarter of it must exceed
-    /// the largest contact distance by a cell width.
+    /// Whether epochs fit: a quarter of each periodic axis must exceed the largest
+    /// contact distance by a cell width, and the grid must be able to file `n`.
     pub fn fit(region: &Region, max_contact: f64, n: usize) -> bool {
         let width = Self::cell_width(region.size, max_contact, n);
-        (0..3).all(|k| !region.periodic[k] || 0.25 * region.size[k] - max_contact >= width)
+        n < Filing::MAX_PARTICLES
+            && (0..3).all(|k| !region.periodic[k] || 0.25 * region.size[k] - max_contact >= width)
     }
 
     /// The swept box of a sphere at `p` moving with `v` from `t0` to `end`, cut short

@@ -54,7 +54,10 @@ impl<Q: EventQueue> Engine<Q> {
     /// Kinetic energy Σ ½ m v² with pending E^v velocities applied.
     pub fn kinetic_energy(&self) -> f64 {
         (0..self.len())
-            .map(|i| 0.5 * self.mass[i] * dot(self.settled_velocity(i), self.settled_velocity(i)))
+            .map(|i| {
+                let v = self.settled_velocity(i);
+                0.5 * self.mass[i] * dot(v, v)
+            })
             .sum()
     }
 

@@ -45,8 +45,9 @@ const SMALL_RUN: usize = 3;
 /// first k come first for every k.
 const SMALL_RUN_PAIRS: [[usize; 2]; 3] = [[0, 1], [0, 2], [1, 2]];
 
-/// [`SweepGrid::filed_pairs`] writes a small run's pairs into a chunk this long.
-const OUT_CHUNK: usize = 8;
+/// [`SweepGrid::filed_pairs`] writes a small run's pairs into a chunk this long (a
+/// power of two, so that the cursor wraps by a mask).
+const OUT_CHUNK: usize = SMALL_RUN_PAIRS.len().next_power_of_two();
 
 /// The cells of one swept box.
 pub(crate) type Spans = [Span; 3];
@@ -56,10 +57,12 @@ pub(crate) type Spans = [Span; 3];
 /// the cells of a longer box). Two boxes share a cell with no bit set in both, and
 /// every other cell they share repeats the pair (see [`SweepGrid::filed_pairs`]).
 #[derive(Debug, Clone, Copy)]
-struct Filing;
+pub(crate) struct Filing;
 
 impl Filing {
     const SLOT_BITS: u32 = 3;
+    /// Particles a grid can file.
+    pub const MAX_PARTICLES: usize = 1 << (32 - Self::SLOT_BITS);
 
     #[inline(always)]
     fn pack(particle: usize, slot: usize) -> u32 {
