@@ -53,9 +53,10 @@ const OUT_CHUNK: usize = SMALL_RUN_PAIRS.len().next_power_of_two();
 pub(crate) type Spans = [Span; 3];
 
 /// A particle filed in a cell at the rebuild, with the cell's place in the particle's
-/// block: bit k set where the cell is the second of the box's two along axis k (0 for
-/// the cells of a longer box). Two boxes share a cell with no bit set in both, and
-/// every other cell they share repeats the pair (see [`SweepGrid::filed_pairs`]).
+/// box: bit k set unless the cell is the box's first along axis k. Along each axis the
+/// cells two boxes share start where one of the boxes starts, so the first shared cell
+/// has no bit set in both, and every other cell they share repeats the pair (see
+/// [`SweepGrid::filed_pairs`]).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Filing;
 
@@ -171,16 +172,25 @@ impl SweepGrid {
     /// Calls `f(cell index)` for every cell of `s`.
     #[inline]
     fn for_cells(&self, s: &Spans, mut f: impl FnMut(usize)) {
+        self.for_cells_in_place(s, |c, _| f(c));
+    }
+
+    /// Calls `f(cell index, place)` for every cell of `s`, where bit k of the place is
+    /// set unless the cell is the box's first along axis k (see [`Filing`]).
+    #[inline]
+    fn for_cells_in_place(&self, s: &Spans, mut f: impl FnMut(usize, usize)) {
         let d = self.dims;
         let wrap = |k: usize, c: u32| if c >= d[k] { c - d[k] } else { c };
         for z in 0..s[2].count {
             let cz = wrap(2, s[2].first + z);
+            let place_z = usize::from(z > 0) << 2;
             for y in 0..s[1].count {
                 let cy = wrap(1, s[1].first + y);
+                let place_yz = place_z | usize::from(y > 0) << 1;
                 let row = (cz * d[1] + cy) * d[0];
                 for x in 0..s[0].count {
                     let cx = wrap(0, s[0].first + x);
-                    f((row + cx) as usize);
+                    f((row + cx) as usize, place_yz | usize::from(x > 0));
                 }
             }
         }
@@ -257,7 +267,7 @@ impl SweepGrid {
                     .iter()
                     .enumerate()
                     .for_each(|(slot, &c)| file(c as usize, slot)),
-                None => self.for_cells(s, |c| file(c, 0)),
+                None => self.for_cells_in_place(s, file),
             }
         }
         start.truncate(cells + 1);
@@ -269,11 +279,11 @@ impl SweepGrid {
         self.extra.clear();
     }
 
-    /// Every pair of particles whose boxes share a cell, listed in `pairs`: once if
-    /// both boxes are blocks, and at most once per shared cell otherwise. A pair is
-    /// listed in a shared cell where no axis has it in the second cell of both boxes
-    /// ([`Filing`]); such a cell always exists, because two boxes whose second cells
-    /// along an axis coincide start in the same cell there. Runs of up to
+    /// Every pair of particles whose boxes share a cell, listed in `pairs`: in the
+    /// first cell they share along every axis ([`Filing`]), so once, unless along a
+    /// periodic axis the two boxes wrap round to meet in two separate runs of cells
+    /// (then once per run; never with the epochs' boxes, each under a quarter period
+    /// long). Runs of up to
     /// [`SMALL_RUN`] entries are listed without branches: nested loops over runs of
     /// random length cost a branch misprediction or two per cell, more than the pair
     /// tests themselves.
@@ -447,7 +457,7 @@ mod tests {
     }
 
     #[test]
-    fn every_pair_of_touching_boxes_is_reported_once_if_both_are_blocks() {
+    fn every_pair_of_touching_boxes_is_reported_once_per_run_of_shared_cells() {
         // Brute force over random boxes: the pairs whose cell sets intersect.
         let region = Region {
             lo: [0.0; 3],
@@ -463,6 +473,12 @@ mod tests {
             // Every other box under a cell long (a block), the rest up to three.
             let longest = if i % 2 == 0 { 0.99 } else { 3.0 };
             let hi: [f64; 3] = std::array::from_fn(|k| lo[k] + rand() * longest);
+            // The last two wrap round the periodic x axis to meet in cells 0 and 3.
+            let (lo, hi) = match i {
+                38 => ([0.5, 2.5, 2.5], [3.5, 2.6, 2.6]),
+                39 => ([3.5, 2.5, 2.5], [6.5, 2.6, 2.6]),
+                _ => (lo, hi),
+            };
             let s = g.spans(lo, hi);
             g.spans[i] = s;
             let mut mine = Vec::new();
@@ -491,18 +507,31 @@ mod tests {
         }
         let unique: std::collections::BTreeSet<_> = reported.iter().copied().collect();
         assert_eq!(unique.into_iter().collect::<Vec<_>>(), expected);
-        // Once if both boxes are blocks, else at most once per shared cell.
-        let mut block_pairs_in_several_cells = 0;
+        // Once per run of shared cells along each axis: once, unless two boxes wrap
+        // round a periodic axis to meet twice.
+        let coords = |s: &Span, k: usize| -> Vec<u32> {
+            (0..s.count).map(|o| (s.first + o) % g.dims[k]).collect()
+        };
+        let runs = |a: &Span, b: &Span, k: usize| {
+            let (a, b) = (coords(a, k), coords(b, k));
+            let shared = |c: u32| a.contains(&c) && b.contains(&c);
+            let d = g.dims[k];
+            let before = |c: u32| if c == 0 { g.periodic[k].then_some(d - 1) } else { Some(c - 1) };
+            (0..d).filter(|&c| shared(c) && !before(c).is_some_and(shared)).count().max(1)
+        };
+        let (mut long_in_several_cells, mut twice) = (0, 0);
         for &(i, j) in &expected {
             let times = reported.iter().filter(|&&p| p == (i, j)).count();
+            let (si, sj) = (g.spans[i], g.spans[j]);
+            let once_per: usize = (0..3).map(|k| runs(&si[k], &sj[k], k)).product();
+            assert_eq!(times, once_per, "{i}, {j}");
             let shared = cells[i].iter().filter(|c| cells[j].contains(c)).count();
-            assert!(times <= shared, "{i}, {j}: {times} times in {shared} cells");
-            if g.block(&g.spans[i]).is_some() && g.block(&g.spans[j]).is_some() {
-                assert_eq!(times, 1, "{i}, {j} in {shared} cells");
-                block_pairs_in_several_cells += usize::from(shared > 1);
-            }
+            let long = g.block(&si).is_none() || g.block(&sj).is_none();
+            long_in_several_cells += usize::from(long && shared > 1);
+            twice += usize::from(once_per > 1);
         }
-        assert!(block_pairs_in_several_cells > 0);
+        assert!(long_in_several_cells > 0);
+        assert_eq!(twice, 1, "boxes 38 and 39 meet twice round the periodic x axis");
         // Mid-epoch scans see filed particles once and file the scanning one.
         let s = g.spans([0.0; 3], [6.0, 6.0, 6.0]);
         let mut seen = Vec::new();
