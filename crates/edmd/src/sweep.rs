@@ -31,7 +31,7 @@ fn floor_to_int(x: f64) -> i64 {
 }
 
 /// A box's cells along one axis: the first (wrapped into the grid) and how many.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) struct Span {
     first: u32,
     count: u32,
@@ -312,7 +312,8 @@ impl SweepGrid {
                 // One bounds check per cell: candidates are written in place and
                 // kept by advancing the cursor.
                 let at = c * CELL_ROOM;
-                let run: &[u32; SMALL_RUN] = self.filed[at..at + SMALL_RUN].try_into().expect("room");
+                let run: &[u32; SMALL_RUN] =
+                    self.filed[at..at + SMALL_RUN].try_into().expect("room");
                 let out: &mut [[u32; 2]; OUT_CHUNK] =
                     (&mut pairs[w..w + OUT_CHUNK]).try_into().expect("room");
                 let mut kept = 0;
@@ -507,7 +508,10 @@ mod tests {
         }
         g.file_all();
         let runs = g.count[..g.extra_head.len()].to_vec();
-        assert!(runs.iter().any(|&k| k as usize > CELL_ROOM), "an overflowing cell");
+        assert!(
+            runs.iter().any(|&k| k as usize > CELL_ROOM),
+            "an overflowing cell"
+        );
         assert!(runs.iter().any(|&k| k as usize > SMALL_RUN), "a long run");
         for k in 2..=SMALL_RUN as u32 {
             assert!(runs.contains(&k), "a run of {k}");
@@ -537,8 +541,17 @@ mod tests {
             let (a, b) = (coords(a, k), coords(b, k));
             let shared = |c: u32| a.contains(&c) && b.contains(&c);
             let d = g.dims[k];
-            let before = |c: u32| if c == 0 { g.periodic[k].then_some(d - 1) } else { Some(c - 1) };
-            (0..d).filter(|&c| shared(c) && !before(c).is_some_and(shared)).count().max(1)
+            let before = |c: u32| {
+                if c == 0 {
+                    g.periodic[k].then_some(d - 1)
+                } else {
+                    Some(c - 1)
+                }
+            };
+            (0..d)
+                .filter(|&c| shared(c) && !before(c).is_some_and(shared))
+                .count()
+                .max(1)
         };
         let (mut long_in_several_cells, mut twice) = (0, 0);
         for &(i, j) in &expected {
@@ -552,7 +565,10 @@ mod tests {
             twice += usize::from(once_per > 1);
         }
         assert!(long_in_several_cells > 0);
-        assert_eq!(twice, 1, "boxes 38 and 39 meet twice round the periodic x axis");
+        assert_eq!(
+            twice, 1,
+            "boxes 38 and 39 meet twice round the periodic x axis"
+        );
         // Mid-epoch scans see filed particles once and file the scanning one.
         let s = g.spans([0.0; 3], [6.0, 6.0, 6.0]);
         let mut seen = Vec::new();
