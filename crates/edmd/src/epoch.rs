@@ -44,12 +44,8 @@ pub(crate) struct Epochs {
     /// Each particle at the rebuild: its motion and its eMD* transient partner.
     motion: Vec<Motion>,
     partner: Vec<u32>,
-    /// The rebuild's best pair per particle: (∞, 0) outside a rebuild, and the
-    /// particles it was found for.
+    /// The rebuild's best pair per particle.
     best: Vec<(f64, u32)>,
-    touched: Vec<u32>,
-    /// The particles whose box ends before the epoch does.
-    early: Vec<u32>,
     /// The rebuild's candidate pairs.
     pairs: Vec<[u32; 2]>,
 }
@@ -84,8 +80,6 @@ impl Epochs {
             motion: vec![Motion::default(); n],
             partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
-            touched: Vec::new(),
-            early: Vec::new(),
             pairs: Vec::new(),
         }
     }
@@ -189,28 +183,18 @@ impl<Q: EventQueue> Engine<Q> {
         let mut pairs = std::mem::take(&mut ep.pairs);
         let listed = ep.grid.filed_pairs(&mut pairs);
         let period = self.period();
-        ep.touched.clear();
-        test_pairs(
-            listed,
-            &ep.motion,
-            &ep.partner,
-            &mut ep.best,
-            &mut ep.touched,
-            t0,
-            period,
-        );
+        test_pairs(listed, &ep.motion, &ep.partner, &mut ep.best, t0, period);
         ep.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
-        for &i in &ep.touched {
-            let i = i as usize;
-            let (t, j) = std::mem::replace(&mut ep.best[i], (f64::INFINITY, 0));
-            if t < self.slot[i].ev.coll_time {
+        for i in 0..n {
+            let (t, j) = ep.best[i];
+            let collides = t < self.slot[i].ev.coll_time;
+            if collides {
                 self.keep_earliest(i, (t, j, t == t0));
+            }
+            if collides || ep.motion[i].horizon < end {
                 self.schedule(i);
             }
-        }
-        for &i in &ep.early {
-            self.schedule(i as usize);
         }
         self.queue.set(n, end);
         self.epochs = Some(ep);
@@ -220,7 +204,6 @@ impl<Q: EventQueue> Engine<Q> {
     /// until the epoch's end (`TAME`: the epoch is tame, see [`Epochs::uncut_sweep`]).
     fn sweep_all<const TAME: bool>(&mut self, ep: &mut Epochs, t0: f64) {
         let end = ep.end;
-        ep.early.clear();
         for i in 0..self.len() {
             let (mut p, v) = self.state_at(i, t0);
             let wrapped = self.wrap(p);
@@ -245,9 +228,9 @@ impl<Q: EventQueue> Engine<Q> {
                 horizon,
             };
             ep.partner[i] = self.slot[i].ev.partner;
+            ep.best[i] = (f64::INFINITY, 0);
             if horizon < end {
                 self.slot[i].ev.cross[0] = horizon;
-                ep.early.push(i as u32);
             }
         }
     }
@@ -317,15 +300,14 @@ impl<Q: EventQueue> Engine<Q> {
 }
 
 /// Tests the rebuild's candidate pairs for a collision before both horizons and keeps
-/// each particle's earliest in `best` (at ∞ before), listing the particles given one in
-/// `touched` (Bannerman et al. 2014, Algorithm 1: [`on_collision_course`] for the many
-/// pairs that miss, then [`sphere_sphere`]); `period` is 0 along closed axes.
+/// each particle's earliest (Bannerman et al. 2014, Algorithm 1: [`on_collision_course`]
+/// for the many pairs that miss, then [`sphere_sphere`]); `period` is 0 along closed
+/// axes.
 fn test_pairs(
     pairs: &[[u32; 2]],
     motion: &[Motion],
     partner: &[u32],
     best: &mut [(f64, u32)],
-    touched: &mut Vec<u32>,
     t0: f64,
     period: [f64; 3],
 ) {
@@ -341,21 +323,12 @@ fn test_pairs(
         }
         let t = t0 + sphere_sphere(r, v, sigma);
         if t < a.horizon.min(b.horizon) {
-            keep_best(best, touched, t, i, j);
-        }
-    }
-}
-
-/// [`test_pairs`]' rare collision: the earliest for `i` and `j` so far? Out of line, so
-/// that the loop over the many pairs that miss stays tight.
-#[inline(never)]
-fn keep_best(best: &mut [(f64, u32)], touched: &mut Vec<u32>, t: f64, i: usize, j: usize) {
-    for (p, q) in [(i, j), (j, i)] {
-        if t < best[p].0 {
-            if best[p].0 == f64::INFINITY {
-                touched.push(p as u32);
+            if t < best[i].0 {
+                best[i] = (t, j as u32);
             }
-            best[p] = (t, q as u32);
+            if t < best[j].0 {
+                best[j] = (t, i as u32);
+            }
         }
     }
 }
