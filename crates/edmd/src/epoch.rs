@@ -116,7 +116,7 @@ impl Epochs {
 
     /// [`Self::sweep`] in a tame epoch, where no box is cut: `end` is finite and no
     /// |v_k|·(end − t0) reaches too far (see [`Self::is_tame`]). The same cells, with
-    /// the horizon at `end`, for a third less work.
+    /// the horizon at `end`, without the cut tests.
     #[inline(always)]
     fn uncut_sweep(&self, p: [f64; 3], v: [f64; 3], radius: f64, t0: f64, end: f64) -> Spans {
         let span = end - t0;
