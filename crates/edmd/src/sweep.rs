@@ -50,9 +50,7 @@ const SMALL_RUN_PAIRS: [[usize; 2]; 3] = [[0, 1], [0, 2], [1, 2]];
 /// four was 7 % slower.
 const CELL_ROOM: usize = 8;
 
-/// A cell's room in the rebuild's array, in one aligned half cache line (without the
-/// alignment, the quick validate's speed stage, run after the other stages, was 7 %
-/// slower in 2 runs of 5).
+/// A cell's room in the rebuild's array, in one aligned half cache line.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(32))]
 struct Room([u32; CELL_ROOM]);
