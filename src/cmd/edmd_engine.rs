@@ -44,8 +44,7 @@ pub enum BroadPhaseChoice {
     Crossings,
     /// Swept boxes filed once per epoch (no gravity; along periodic axes a box at
     /// least four times the sum of the largest contact distance and a cell width). A
-    /// gas that
-    /// spreads into free space runs far slower on epochs than on crossings.
+    /// gas that spreads into free space runs far slower on epochs than on crossings.
     Epochs,
 }
 
@@ -62,7 +61,7 @@ pub struct EdmdArgs {
     #[arg(long, value_enum, default_value_t = InterferenceChoice::Hit)]
     pub interference: InterferenceChoice,
     /// How candidate pairs are found (the same collisions either way; epochs are
-    /// about 2.5 times faster at packing fraction 0.001, crossings win above about
+    /// about 2.8 times faster at packing fraction 0.001, crossings win above about
     /// 0.02).
     #[arg(long, value_enum, default_value_t = BroadPhaseChoice::Auto)]
     pub broad_phase: BroadPhaseChoice,

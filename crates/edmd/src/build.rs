@@ -315,23 +315,18 @@ impl<Q: EventQueue> Engine<Q> {
         for i in 0..self.len() {
             let cells = self.grid.neighbourhood(self.grid.coords[i]);
             for &cell in cells.as_slice() {
-                let mut j = self.grid.first(cell);
-                while j != NONE {
-                    let ju = j as usize;
-                    if ju > i {
-                        let r = self.min_image(sub(self.slot[i].kin.pos, self.slot[ju].kin.pos));
-                        let distance = dot(r, r).sqrt();
-                        let contact = self.slot[i].kin.radius + self.slot[ju].kin.radius;
-                        if distance < contact {
-                            return Err(EngineError::Overlap {
-                                i,
-                                j: ju,
-                                distance,
-                                contact,
-                            });
-                        }
+                for j in self.grid.particles(cell).filter(|&j| j > i) {
+                    let r = self.min_image(sub(self.slot[i].kin.pos, self.slot[j].kin.pos));
+                    let distance = dot(r, r).sqrt();
+                    let contact = self.slot[i].kin.radius + self.slot[j].kin.radius;
+                    if distance < contact {
+                        return Err(EngineError::Overlap {
+                            i,
+                            j,
+                            distance,
+                            contact,
+                        });
                     }
-                    j = self.grid.next(j);
                 }
             }
         }

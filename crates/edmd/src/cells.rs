@@ -246,6 +246,13 @@ impl CellGrid {
         self.next[i as usize]
     }
 
+    /// The particles of a cell, in list order.
+    pub fn particles(&self, cell: u32) -> impl Iterator<Item = usize> + '_ {
+        let first = Some(self.first(cell)).filter(|&i| i != NONE);
+        std::iter::successors(first, |&i| Some(self.next(i)).filter(|&j| j != NONE))
+            .map(|i| i as usize)
+    }
+
     /// Neighbour coordinates along axis `k` of coordinate `c` at the offsets
     /// `offsets` (each −1, 0 or 1), with their image shifts, dropping those beyond a
     /// closed axis.
@@ -492,8 +499,14 @@ mod tests {
             members.push(j);
             j = g.next(j);
         }
+        let listed: Vec<u32> = g.particles(cell).map(|i| i as u32).collect();
+        assert_eq!(listed, members, "the iterator follows the list");
         members.sort();
         assert_eq!(members, vec![0, 1, 3]);
+        let moved = g.neighbourhood([0, 0, 0]).as_slice()[13];
+        assert_eq!(g.particles(moved).collect::<Vec<_>>(), vec![2]);
+        let empty = g.neighbourhood([4, 4, 4]).as_slice()[13];
+        assert_eq!(g.particles(empty).count(), 0);
     }
 
     #[test]

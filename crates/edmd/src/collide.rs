@@ -267,16 +267,11 @@ impl<Q: EventQueue> Engine<Q> {
             self.any_near_in_epoch(new, self.slot[i].kin.radius, blocked_by)
         } else {
             let c = self.grid.coords_of(self.wrap(new));
-            self.grid.neighbourhood(c).as_slice().iter().any(|&cell| {
-                let mut k = self.grid.first(cell);
-                while k != NONE {
-                    if blocked_by(k as usize) {
-                        return true;
-                    }
-                    k = self.grid.next(k);
-                }
-                false
-            })
+            let cells = self.grid.neighbourhood(c);
+            cells
+                .as_slice()
+                .iter()
+                .any(|&cell| self.grid.particles(cell).any(blocked_by))
         };
         third || self.walls_block(&[i], &[new], Some(wall))
     }

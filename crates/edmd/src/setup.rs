@@ -17,8 +17,9 @@ pub struct Region {
 pub enum BroadPhase {
     /// Epochs where they fit (see [`BroadPhase::Epochs`]) in a gas below the packing
     /// fraction [`BroadPhase::AUTO_EPOCHS_BELOW`] that is periodic or held by
-    /// axis-aligned walls from both sides along every axis; cell crossings otherwise. (A gas spreading into free space leaves the
-    /// epoch grid for its unbounded border cells, where every epoch tests all pairs.)
+    /// axis-aligned walls from both sides along every axis; cell crossings otherwise.
+    /// (A gas spreading into free space leaves the epoch grid for its unbounded border
+    /// cells, where every epoch tests all pairs.)
     #[default]
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell (Alder &

@@ -5,7 +5,7 @@
 //! if their boxes share a cell, so one pass over the cells finds every candidate pair
 //! (a swept-volume broad phase, as in continuous collision detection, on a uniform
 //! grid). A particle whose trajectory changes in mid-epoch files its new box in
-//! per-cell overflow lists.
+//! per-cell mid-epoch lists.
 //!
 //! In a dilute gas this replaces about three crossing events per unit of flight by a
 //! share of one sequential rebuild per epoch, with no queue operation for particles
@@ -242,7 +242,7 @@ impl SweepGrid {
     }
 
     /// Files every particle under the cells of its box (`spans`, set beforehand)
-    /// and empties the overflow lists. One pass: each cell has room for
+    /// and empties the mid-epoch lists. One pass: each cell has room for
     /// [`CELL_ROOM`] entries, which saves counting them first.
     pub fn file_all(&mut self) {
         let cells = self.extra_head.len();
