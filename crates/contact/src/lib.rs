@@ -8,6 +8,8 @@
 //!   central-impact helpers of Schwager & Pöschel 2007;
 //! - [`Sphere`] and [`PairProperties`]: l, m_eff and R_eff;
 //! - [`Impact`]: the normal and tangential speed at contact;
+//! - [`Mor`]: the matrix of restitution of one collision, as the solver and the tables
+//!   return it;
 //! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
 //! - [`ParameterBox`] and [`RectBounds`]: the rectangularised coordinates (a, b, c) in
 //!   both directions, with the paper's Tab. I and Tab. II as presets.
@@ -26,6 +28,7 @@
 mod error;
 mod impact;
 mod law;
+mod mor;
 mod pair;
 mod rect;
 mod scaled;
@@ -36,6 +39,7 @@ pub use law::{
     CentralImpact, ForceLaw, LinearDashpot, Model, PairLaw, ViscoelasticHertz,
     hertz_elastic_scaled_duration,
 };
+pub use mor::Mor;
 pub use pair::{PairProperties, Sphere};
 pub use rect::{HertzBox, LinearBox, ParameterBox, Range, RectBounds, RectCoords};
 pub use scaled::{ScaledImpact, ScaledParams, l_tilde_exponent, scale};

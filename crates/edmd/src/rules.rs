@@ -104,16 +104,7 @@ impl MorSource for TableMorSource {
             )));
         }
         match table.lookup_scaled(p) {
-            Ok(m) => Ok((
-                Mor {
-                    eps_r: m.eps_r,
-                    one_minus_eps_r: m.one_minus_eps_r,
-                    eps_rdot: m.eps_rdot,
-                    eps_phi: m.eps_phi,
-                    eps_t: m.eps_t,
-                },
-                false,
-            )),
+            Ok(m) => Ok((m, false)),
             Err(e @ (TableError::OutOfBox { .. } | TableError::NotTabulated(_))) => {
                 if self.exact_fallback {
                     Ok((solve(model, p)?, true))

@@ -11,4 +11,5 @@ mod dop853;
 pub mod rule;
 mod solver;
 
-pub use solver::{Mor, SolveError, SolveStats, SolverOptions, solve, solve_with};
+pub use emdstar_contact::Mor;
+pub use solver::{SolveError, SolveStats, SolverOptions, solve, solve_with};

@@ -36,23 +36,8 @@
 //! pass through each other (small l̃).
 
 use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
-use emdstar_contact::{Model, ScaledParams};
+use emdstar_contact::{Model, Mor, ScaledParams};
 use std::fmt;
-
-/// The independent components of the matrix of restitution, Eq. (23).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Mor {
-    /// ε_r = r̃(τ̃)/l̃, Eq. (16).
-    pub eps_r: f64,
-    /// 1 − ε_r = ξ̃(τ̃)/l̃, computed from the overlap without cancellation.
-    pub one_minus_eps_r: f64,
-    /// ε_ṙ = r̃'(τ̃)/r̃'(0), Eq. (21); negative, ε_n = −ε_ṙ.
-    pub eps_rdot: f64,
-    /// ε_φ = φ̃(τ̃), Eq. (17), in radians (Φ = 1).
-    pub eps_phi: f64,
-    /// ε_t = τ̃, Eq. (20).
-    pub eps_t: f64,
-}
 
 /// Tolerances and limits of the integration.
 ///

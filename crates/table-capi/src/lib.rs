@@ -12,7 +12,7 @@ use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, ScaledParams, Sphere,
     ViscoelasticHertz,
 };
-use emdstar_table::{Table, TableError, TableMor};
+use emdstar_table::{Mor, Table, TableError};
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -173,7 +173,7 @@ pub extern "C" fn emdstar_table_last_error() -> *const c_char {
 fn write_out(
     table: *const EmdstarTable,
     out: *mut EmdstarMor,
-    f: impl FnOnce(&Table) -> Result<(TableMor, f64), (EmdstarStatus, String)>,
+    f: impl FnOnce(&Table) -> Result<(Mor, f64), (EmdstarStatus, String)>,
 ) -> EmdstarStatus {
     guarded(|| {
         if table.is_null() || out.is_null() {
@@ -219,7 +219,7 @@ fn physical(
     law: Result<ForceLaw, emdstar_contact::ContactError>,
     spheres: [f64; 4],
     speeds: [f64; 2],
-) -> Result<(TableMor, f64), (EmdstarStatus, String)> {
+) -> Result<(Mor, f64), (EmdstarStatus, String)> {
     let [r1, m1, r2, m2] = spheres;
     let pair = PairProperties::spheres(
         &Sphere::new(r1, m1).map_err(input_err)?,

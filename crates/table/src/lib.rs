@@ -71,7 +71,10 @@ mod defaults;
 
 #[cfg(feature = "embedded-defaults")]
 pub use defaults::{default_table, default_table_bytes};
+pub use emdstar_contact::Mor;
 pub use error::TableError;
 pub use format::{FORMAT_VERSION, QUANTITIES, TableInfo, fnv1a64};
 pub use interp::{Axis, MAX_ORDER, NQ, Stretch};
-pub use table::{PhysicalLookup, Source, Table, TableMor, TableParts, WithFallback, grid_axes};
+pub use table::{
+    PhysicalLookup, Source, Table, TableParts, WithFallback, grid_axes, mor_from_logs, mor_to_logs,
+};

@@ -4,52 +4,35 @@ use crate::TableInfo;
 use crate::error::TableError;
 use crate::interp::{Axis, NQ, Stencil, Stretch, interp3};
 use emdstar_contact::{
-    Impact, Model, PairLaw, PairProperties, RectBounds, RectCoords, ScaledParams, scale,
+    Impact, Model, Mor, PairLaw, PairProperties, RectBounds, RectCoords, ScaledParams, scale,
 };
 
-/// The matrix of restitution from a table (same fields as `emdstar_mor::Mor`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TableMor {
-    /// ε_r = r̃(τ̃)/l̃, Eq. (16).
-    pub eps_r: f64,
-    /// 1 − ε_r, interpolated directly (no cancellation).
-    pub one_minus_eps_r: f64,
-    /// ε_ṙ = r̃'(τ̃)/r̃'(0) < 0, Eq. (21).
-    pub eps_rdot: f64,
-    /// ε_φ = φ̃(τ̃), Eq. (17), radians.
-    pub eps_phi: f64,
-    /// ε_t = τ̃, Eq. (20).
-    pub eps_t: f64,
+/// The MoR from the four stored (log) quantities ln(1−ε_r), ln(−ε_ṙ), ln ε_φ, ln ε_t.
+pub fn mor_from_logs(q: [f64; NQ]) -> Mor {
+    let one_minus_eps_r = q[0].exp();
+    Mor {
+        eps_r: 1.0 - one_minus_eps_r,
+        one_minus_eps_r,
+        eps_rdot: -q[1].exp(),
+        eps_phi: q[2].exp(),
+        eps_t: q[3].exp(),
+    }
 }
 
-impl TableMor {
-    /// The MoR from the four stored (log) quantities.
-    pub fn from_logs(q: [f64; NQ]) -> Self {
-        let one_minus_eps_r = q[0].exp();
-        Self {
-            eps_r: 1.0 - one_minus_eps_r,
-            one_minus_eps_r,
-            eps_rdot: -q[1].exp(),
-            eps_phi: q[2].exp(),
-            eps_t: q[3].exp(),
-        }
-    }
-
-    /// The four stored (log) quantities.
-    pub fn to_logs(&self) -> [f64; NQ] {
-        [
-            self.one_minus_eps_r.ln(),
-            (-self.eps_rdot).ln(),
-            self.eps_phi.ln(),
-            self.eps_t.ln(),
-        ]
-    }
+/// The four stored (log) quantities of a MoR (the inverse of [`mor_from_logs`]).
+pub fn mor_to_logs(m: &Mor) -> [f64; NQ] {
+    [
+        m.one_minus_eps_r.ln(),
+        (-m.eps_rdot).ln(),
+        m.eps_phi.ln(),
+        m.eps_t.ln(),
+    ]
 }
 
 /// A lookup from physical parameters: the MoR and the scales that undo the scaling.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PhysicalLookup {
-    pub mor: TableMor,
+    pub mor: Mor,
     /// T, s: the collision lasts τ = ε_t·T.
     pub time: f64,
     /// X, m.
@@ -280,7 +263,7 @@ impl Table {
 
     /// MoR at scaled parameters (l̃ > 0, c_φ ≥ 0, c_dis ≥ 0).
     #[inline]
-    pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<TableMor, TableError> {
+    pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<Mor, TableError> {
         let valid = p.l_tilde > 0.0 && p.c_phi >= 0.0 && p.c_dis >= 0.0;
         if !(valid && p.l_tilde.is_finite() && p.c_phi.is_finite() && p.c_dis.is_finite()) {
             return Err(TableError::Input(format!(
@@ -291,8 +274,8 @@ impl Table {
     }
 
     /// MoR at rectangular coordinates; a = −∞ (central) and c = −∞ (elastic) allowed.
-    pub fn lookup_rect(&self, x: &RectCoords) -> Result<TableMor, TableError> {
-        self.logs_at(x).map(TableMor::from_logs)
+    pub fn lookup_rect(&self, x: &RectCoords) -> Result<Mor, TableError> {
+        self.logs_at(x).map(mor_from_logs)
     }
 
     /// The four stored (log) quantities at rectangular coordinates.
@@ -421,7 +404,7 @@ pub struct WithFallback<'t, F> {
 
 impl<'t, F> WithFallback<'t, F>
 where
-    F: Fn(Model, &ScaledParams) -> Result<TableMor, String>,
+    F: Fn(Model, &ScaledParams) -> Result<Mor, String>,
 {
     pub fn new(table: &'t Table, solve: F) -> Self {
         Self {
@@ -432,7 +415,7 @@ where
     }
 
     /// Table lookup, or the exact solve when the point lies outside the box.
-    pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<(TableMor, Source), TableError> {
+    pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<(Mor, Source), TableError> {
         match self.table.lookup_scaled(p) {
             Ok(m) => Ok((m, Source::Table)),
             Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) => {

@@ -5,7 +5,7 @@ use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, PairLaw, PairProperties, RectCoords, ScaledParams, Sphere,
     ViscoelasticHertz, scale,
 };
-use emdstar_table::{Table, TableError, TableMor};
+use emdstar_table::{Mor, Table, TableError};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -55,7 +55,7 @@ pub struct CheckReport {
 /// Bins per axis of [`CheckReport::by_axis`].
 pub const BINS: usize = 8;
 
-fn relative_errors(t: &TableMor, e: &TableMor) -> [f64; 4] {
+fn relative_errors(t: &Mor, e: &Mor) -> [f64; 4] {
     let rel = |a: f64, b: f64| if a == b { 0.0 } else { ((a - b) / b).abs() };
     [
         rel(t.one_minus_eps_r, e.one_minus_eps_r),

@@ -9,24 +9,16 @@
 use crate::spec::Spec;
 use emdstar_contact::{Model, RectCoords, ScaledParams};
 use emdstar_table::npz::{Array, Data, read_npz, write_npz};
-use emdstar_table::{NQ, Table, TableInfo, TableMor, TableParts};
+use emdstar_table::{Mor, NQ, Table, TableInfo, TableParts, mor_to_logs};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 /// An exact MoR solver, `emdstar_mor::solve` in production.
-pub type Solver = dyn Fn(Model, &ScaledParams) -> Result<TableMor, String> + Sync;
+pub type Solver = dyn Fn(Model, &ScaledParams) -> Result<Mor, String> + Sync;
 
 /// The production solver: `emdstar_mor::solve` with its default tolerances.
-pub fn exact_solver(model: Model, p: &ScaledParams) -> Result<TableMor, String> {
-    emdstar_mor::solve(model, p)
-        .map(|m| TableMor {
-            eps_r: m.eps_r,
-            one_minus_eps_r: m.one_minus_eps_r,
-            eps_rdot: m.eps_rdot,
-            eps_phi: m.eps_phi,
-            eps_t: m.eps_t,
-        })
-        .map_err(|e| e.to_string())
+pub fn exact_solver(model: Model, p: &ScaledParams) -> Result<Mor, String> {
+    emdstar_mor::solve(model, p).map_err(|e| e.to_string())
 }
 
 /// The generator's name and version, stored in every table.
@@ -80,7 +72,7 @@ pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], S
             ));
         }
     };
-    let mut q = m.to_logs();
+    let mut q = mor_to_logs(&m);
     if elastic {
         // (1−ε_r)/u → c_dis/(u·l̃) as c_dis → 0 (the collision ends at ξ̃ = c_dis·ṙ̃ with
         // ṙ̃ → 1); ε_ṙ = −1 exactly (energy conservation).
@@ -126,7 +118,7 @@ fn central_extension_holds(
             c_dis: if elastic { 0.0 } else { at.c_dis },
             ..at
         };
-        let mut q = solve(spec.model, &p).ok()?.to_logs();
+        let mut q = mor_to_logs(&solve(spec.model, &p).ok()?);
         if elastic {
             // The same forms as the elastic slice (see `node_values`).
             q[0] = at.c_dis.ln() - c - at.l_tilde.ln();
