@@ -1,9 +1,9 @@
 //! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
 
-use crate::forces::{Contacts, PairForce, WALL};
-use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
+use crate::forces::{Contacts, ForceModel, PairForce, WALL, add_force};
+use crate::neighbour::NeighbourList;
 use crate::options::{MdError, MdOptions, prepare_system};
-use emdstar_contact::PairLaw;
+use crate::verlet::{kick, kick_drift, max_nan};
 use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
 
@@ -33,12 +33,6 @@ pub struct Md {
     /// Largest speed after the last sweep.
     v_max: f64,
     rebuilds: u64,
-}
-
-/// max(a, b) that lets a NaN through (so that a blow-up is noticed).
-#[inline(always)]
-fn max_nan(a: f64, b: f64) -> f64 {
-    if b > a || b.is_nan() { b } else { a }
 }
 
 fn p_max_speed(p: &Particles) -> f64 {
@@ -84,6 +78,7 @@ impl Md {
                     i,
                     p.position[i],
                     p.velocity[i],
+                    ctx.list.of(i).iter().copied(),
                     &p.position,
                     &p.velocity,
                     buf,
@@ -214,34 +209,34 @@ impl Md {
     }
 
     /// v += a_contact·kick for the particles in contact; returns their largest |v|².
-    fn kick_contacts(&mut self, kick: f64) -> f64 {
-        let v = &mut self.system.particles.velocity;
-        let mut v2_max: f64 = 0.0;
-        for &i in &self.touched {
-            let (i, a) = (i as usize, self.contact_acc[i as usize]);
-            let w = [
-                v[i][0] + a[0] * kick,
-                v[i][1] + a[1] * kick,
-                v[i][2] + a[2] * kick,
-            ];
-            v[i] = w;
-            v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        }
-        v2_max
+    fn kick_contacts(&mut self, by: f64) -> f64 {
+        kick(
+            &mut self.system.particles.velocity,
+            &self.contact_acc,
+            &self.touched,
+            by,
+        )
     }
 
-    /// The force context of the current step.
-    fn contacts(&self, h: f64) -> Contacts<'_> {
-        Contacts {
-            contact_acc: &self.contact_acc,
+    /// What the forces depend on besides the motion.
+    fn model(&self) -> ForceModel<'_> {
+        ForceModel {
             radius: &self.system.particles.radius,
             species: &self.system.particles.species,
-            list: &self.list,
             interactions: &self.interactions,
             walls: &self.system.domain.walls,
             gravity: self.system.domain.gravity,
-            h,
             contact_end: self.opts.contact_end,
+        }
+    }
+
+    /// The force kernel of the current step.
+    fn contacts(&self, h: f64) -> Contacts<'_> {
+        Contacts {
+            model: self.model(),
+            list: &self.list,
+            contact_acc: &self.contact_acc,
+            h,
         }
     }
 
@@ -261,13 +256,7 @@ impl Md {
         for (c, buf) in buffers.iter_mut().enumerate() {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let (v, x) = (velocity[i], position[i]);
-                let w = if kick {
-                    [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
-                } else {
-                    v
-                };
-                let y = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                let (y, w) = kick_drift(position[i], velocity[i], gk, dt, kick);
                 if kick {
                     velocity[i] = w;
                 }
@@ -278,7 +267,8 @@ impl Md {
                     v2_max = w2;
                 }
                 if walls || start[i] != start[i + 1] {
-                    ctx.particle(i, y, w, &position, &velocity, buf);
+                    let entries = ctx.list.of(i).iter().copied();
+                    ctx.particle(i, y, w, entries, &position, &velocity, buf);
                 }
             }
         }
@@ -301,12 +291,8 @@ impl Md {
                 let mut v2_max: f64 = 0.0;
                 for (x, v) in x.iter_mut().zip(v.iter_mut()) {
                     // Copies: re-reading just-stored components stalls the CPU.
-                    let w = if kick {
-                        [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
-                    } else {
-                        *v
-                    };
-                    *x = [x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt];
+                    let w;
+                    (*x, w) = kick_drift(*x, *v, gk, dt, kick);
                     if kick {
                         *v = w;
                     }
@@ -330,7 +316,8 @@ impl Md {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                 if walls || start[i] != start[i + 1] {
-                    ctx.particle(i, position[i], velocity[i], position, velocity, buf);
+                    let (x, v, entries) = (position[i], velocity[i], ctx.list.of(i).iter());
+                    ctx.particle(i, x, v, entries.copied(), position, velocity, buf);
                 }
             }
         });
@@ -347,18 +334,9 @@ impl Md {
         self.touched.clear();
         for buf in &self.buffers {
             for pf in buf {
-                let i = pf.i as usize;
-                let mi = self.inv_mass[i];
-                for k in 0..3 {
-                    self.contact_acc[i][k] += pf.f[k] * mi;
-                }
+                add_force(pf, &self.inv_mass, &mut self.contact_acc);
                 self.touched.push(pf.i);
                 if pf.j != WALL {
-                    let j = pf.j as usize;
-                    let mj = self.inv_mass[j];
-                    for k in 0..3 {
-                        self.contact_acc[j][k] -= pf.f[k] * mj;
-                    }
                     self.touched.push(pf.j);
                 }
             }
@@ -379,19 +357,12 @@ impl Md {
             |_| false,
         )?;
         let p = &mut self.system.particles;
-        let order = self
-            .list
-            .sort_order(
-                &p.position,
-                self.system.domain.sim_box.as_ref(),
-                min_cell,
-                PER_CELL,
-            )
-            .map_err(|e| MdError::BoxTooSmall {
-                axis: ["x", "y", "z"][e.axis],
-                length: e.length,
-                cell: e.cell,
-            })?;
+        let order = self.list.sort_order(
+            &p.position,
+            self.system.domain.sim_box.as_ref(),
+            min_cell,
+            PER_CELL,
+        )?;
         p.permute(&order);
         permute(&mut self.inv_mass, &order);
         permute(&mut self.contact_acc, &order);
@@ -401,7 +372,7 @@ impl Md {
                 self.touched.push(i as u32);
             }
         }
-        self.list.build(&p.position, &p.radius, self.skin);
+        self.list.build_half(&p.position, &p.radius, self.skin);
         self.drift_bound = 0.0;
         self.rebuilds += 1;
         Ok(())
@@ -412,29 +383,14 @@ impl Md {
     /// (Hertz, Müller & Pöschel 2013, Eq. 51), plus −Σ m g·x.
     pub fn thermo(&self) -> Thermo {
         let p = &self.system.particles;
+        let model = self.model();
         let mut potential = 0.0;
         let mut contacts = 0;
         for i in 0..p.len() {
             let xi = p.position[i];
-            for &entry in self.list.of(i) {
-                let j = (entry & INDEX_MASK) as usize;
-                let s = self.list.shifts[(entry >> INDEX_BITS) as usize];
-                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-                let overlap =
-                    p.radius[i] + p.radius[j] - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                if overlap > 0.0 {
-                    contacts += 1;
-                    let law = &self.interactions.pair(p.species[i], p.species[j]).law;
-                    potential += elastic_energy(law, overlap);
-                }
-            }
-            for w in &self.system.domain.walls {
-                let overlap = p.radius[i] - w.distance(xi);
-                if overlap > 0.0 {
-                    contacts += 1;
-                    potential += elastic_energy(&self.interactions.wall(p.species[i]).law, overlap);
-                }
-            }
+            let sums = (&mut contacts, &mut potential);
+            let entries = self.list.of(i).iter().copied();
+            model.add_elastic(i, xi, entries, &self.list, &p.position, sums);
             let g = self.system.domain.gravity;
             potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
         }
@@ -447,14 +403,6 @@ impl Md {
             momentum: p.momentum(),
             contacts,
         }
-    }
-}
-
-/// Elastic energy stored at overlap ξ: ½kξ² or (2/5)ρ_el ξ^{5/2}.
-fn elastic_energy(law: &PairLaw, overlap: f64) -> f64 {
-    match *law {
-        PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
-        PairLaw::Hertz { rho_el, .. } => 0.4 * rho_el * overlap * overlap * overlap.sqrt(),
     }
 }
 

@@ -1,12 +1,12 @@
-//! Contact forces: the per-pair and per-wall kernels and the sweep over a chunk.
+//! Contact forces: the per-pair and per-wall kernels, the sweep over one particle's
+//! partners, where the forces go, and the elastic energy of a contact.
 
-use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
+use crate::neighbour::NeighbourList;
 use crate::options::ContactEnd;
 use emdstar_contact::PairLaw;
 use emdstar_system::{Interactions, Wall};
 
-/// A contact force found by a sweep, applied afterwards: +f on `i`, −f on `j` (unless
-/// `j` is [`WALL`]).
+/// A contact force found by a sweep: +f on `i`, −f on `j` (unless `j` is [`WALL`]).
 #[derive(Debug, Clone, Copy)]
 pub struct PairForce {
     pub i: u32,
@@ -16,6 +16,49 @@ pub struct PairForce {
 
 /// The `j` of a [`PairForce`] that acts between particle `i` and a wall.
 pub const WALL: u32 = u32::MAX;
+
+/// Where a sweep puts the forces it finds.
+pub trait ForceSink {
+    fn push(&mut self, force: PairForce);
+}
+
+/// Records the forces, to be applied later in a fixed order (MD's parallel sweep).
+impl ForceSink for Vec<PairForce> {
+    #[inline(always)]
+    fn push(&mut self, force: PairForce) {
+        Vec::push(self, force);
+    }
+}
+
+/// Adds every force at once to the accelerations `acc` (with [`add_force`]).
+pub struct AddForces<'a> {
+    pub acc: &'a mut [[f64; 3]],
+    pub inv_mass: &'a [f64],
+}
+
+impl ForceSink for AddForces<'_> {
+    #[inline(always)]
+    fn push(&mut self, force: PairForce) {
+        add_force(&force, self.inv_mass, self.acc);
+    }
+}
+
+/// acc_i += f/m_i and, for a pair, acc_j −= f/m_j.
+#[inline(always)]
+pub fn add_force(pf: &PairForce, inv_mass: &[f64], acc: &mut [[f64; 3]]) {
+    let i = pf.i as usize;
+    let mi = inv_mass[i];
+    for k in 0..3 {
+        acc[i][k] += pf.f[k] * mi;
+    }
+    if pf.j != WALL {
+        let j = pf.j as usize;
+        let mj = inv_mass[j];
+        for k in 0..3 {
+            acc[j][k] -= pf.f[k] * mj;
+        }
+    }
+}
 
 /// The normal force of a law at overlap ξ > 0 and rate ξ̇ under a contact-end rule.
 #[inline(always)]
@@ -59,47 +102,103 @@ pub fn touch_correction(law: &PairLaw, overlap_prev: f64, overlap: f64, rate: f6
     jump * (0.5 - theta)
 }
 
-/// Everything the force kernels read besides positions and velocities.
-pub struct Contacts<'a> {
-    /// Contact accelerations of the previous step (zero for particles without contacts).
-    pub contact_acc: &'a [[f64; 3]],
+/// Elastic energy stored at overlap ξ, ∫F_el dξ: ½kξ² (linear) or (2/5)ρ_el ξ^{5/2}
+/// (Hertz; Müller & Pöschel 2013, Eqs. 40 and 51).
+pub fn elastic_energy(law: &PairLaw, overlap: f64) -> f64 {
+    match *law {
+        PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
+        PairLaw::Hertz { rho_el, .. } => 0.4 * rho_el * overlap * overlap * overlap.sqrt(),
+    }
+}
+
+/// What the contact forces depend on besides the particles' motion: sizes, species,
+/// laws, walls, gravity and the contact-end rule.
+#[derive(Clone, Copy)]
+pub struct ForceModel<'a> {
     pub radius: &'a [f64],
     pub species: &'a [u32],
-    pub list: &'a NeighbourList,
     pub interactions: &'a Interactions,
     pub walls: &'a [Wall],
     pub gravity: [f64; 3],
-    /// The stored velocities lag by half a step; the velocity at the force's time is
-    /// predicted as v + h·a_old with h = dt/2 (see the crate docs).
-    pub h: f64,
     pub contact_end: ContactEnd,
 }
 
+impl ForceModel<'_> {
+    /// Adds the contacts of particle `i` at `xi` with the walls and with the partners
+    /// `entries` of `list` (positions `position`) to `contacts`, and their elastic
+    /// energies ([`elastic_energy`]) to `potential`, pairs first, in list order.
+    pub fn add_elastic(
+        &self,
+        i: usize,
+        xi: [f64; 3],
+        entries: impl IntoIterator<Item = u32>,
+        list: &NeighbourList,
+        position: &[[f64; 3]],
+        (contacts, potential): (&mut usize, &mut f64),
+    ) {
+        let (radius, species) = (self.radius, self.species);
+        for entry in entries {
+            let (j, s) = list.split(entry);
+            let d: [f64; 3] = std::array::from_fn(|k| xi[k] - position[j][k] - s[k]);
+            let overlap = radius[i] + radius[j] - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            if overlap > 0.0 {
+                *contacts += 1;
+                let law = &self.interactions.pair(species[i], species[j]).law;
+                *potential += elastic_energy(law, overlap);
+            }
+        }
+        for w in self.walls {
+            let overlap = radius[i] - w.distance(xi);
+            if overlap > 0.0 {
+                *contacts += 1;
+                *potential += elastic_energy(&self.interactions.wall(species[i]).law, overlap);
+            }
+        }
+    }
+}
+
+/// The force kernel of one velocity-Verlet step: the model, the list whose entries the
+/// sweep is given, and the accelerations the velocity predictor needs.
+pub struct Contacts<'a> {
+    pub model: ForceModel<'a>,
+    pub list: &'a NeighbourList,
+    /// Contact accelerations of the previous step (zero for particles without contacts).
+    pub contact_acc: &'a [[f64; 3]],
+    /// The stored velocities lag by half a step; the velocity at the force's time is
+    /// predicted as v + h·a_old with h = dt/2 (see the crate docs). With h = 0 the
+    /// velocities are used as they are (the forces at t = 0, or of particles that
+    /// start to be integrated).
+    pub h: f64,
+}
+
 impl Contacts<'_> {
-    /// Pushes the wall forces of particle `i` and the forces of the pairs listed under
-    /// it, in list order. Reads `position[j]`, `velocity[j]` of listed j < i only, and
-    /// `xi`, `vi` for particle i itself, so a sweep may drift particle i just before.
+    /// Pushes the wall forces of particle `i` and the forces of the pairs with the
+    /// partners `entries` (of the list), in that order. Reads `position[j]`,
+    /// `velocity[j]` of those partners only, and `xi`, `vi` for particle i itself, so a
+    /// sweep may drift particle i just before.
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     pub fn particle(
         &self,
         i: usize,
         xi: [f64; 3],
         vi: [f64; 3],
+        entries: impl IntoIterator<Item = u32>,
         position: &[[f64; 3]],
         velocity: &[[f64; 3]],
-        out: &mut Vec<PairForce>,
+        out: &mut impl ForceSink,
     ) {
-        let ri = self.radius[i];
-        for w in self.walls {
+        let model = &self.model;
+        let ri = model.radius[i];
+        for w in model.walls {
             let overlap = ri - w.distance(xi);
             if overlap > 0.0 {
                 self.wall(i, w, overlap, vi, out);
             }
         }
         let list = self.list;
-        for &entry in &list.entries[list.start[i] as usize..list.start[i + 1] as usize] {
-            let j = (entry & INDEX_MASK) as usize;
-            let s = &list.shifts[(entry >> INDEX_BITS) as usize];
+        for entry in entries {
+            let (j, s) = list.split(entry);
             let xj = position[j];
             let d = [
                 xi[0] - xj[0] - s[0],
@@ -107,7 +206,7 @@ impl Contacts<'_> {
                 xi[2] - xj[2] - s[2],
             ];
             let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let l = ri + self.radius[j];
+            let l = ri + model.radius[j];
             if r2 < l * l {
                 self.pair(i, j, d, r2.sqrt(), l, vi, velocity[j], out);
             }
@@ -116,14 +215,15 @@ impl Contacts<'_> {
 
     /// The force of a wall on particle i at overlap ξ > 0.
     #[inline(never)]
-    fn wall(&self, i: usize, w: &Wall, overlap: f64, vi: [f64; 3], out: &mut Vec<PairForce>) {
+    fn wall(&self, i: usize, w: &Wall, overlap: f64, vi: [f64; 3], out: &mut impl ForceSink) {
         let dt = 2.0 * self.h;
         let overlap_prev =
             overlap + dt * (w.normal[0] * vi[0] + w.normal[1] * vi[1] + w.normal[2] * vi[2]);
         let v = self.predict(i, vi);
         let rate = -(w.normal[0] * v[0] + w.normal[1] * v[1] + w.normal[2] * v[2]);
-        let law = &self.interactions.wall(self.species[i]).law;
-        let f = normal_force(law, overlap, rate, self.contact_end)
+        let model = &self.model;
+        let law = &model.interactions.wall(model.species[i]).law;
+        let f = normal_force(law, overlap, rate, model.contact_end)
             + touch_correction(law, overlap_prev, overlap, rate);
         if f != 0.0 {
             let n = w.normal;
@@ -147,7 +247,7 @@ impl Contacts<'_> {
         l: f64,
         vi: [f64; 3],
         vj: [f64; 3],
-        out: &mut Vec<PairForce>,
+        out: &mut impl ForceSink,
     ) {
         let n = [d[0] / r, d[1] / r, d[2] / r];
         // The separation one step ago: the drift was x += dt·v exactly.
@@ -158,8 +258,12 @@ impl Contacts<'_> {
         let (vi, vj) = (self.predict(i, vi), self.predict(j, vj));
         // ξ̇ = −ṙ = −n·(v_i − v_j).
         let rate = -(n[0] * (vi[0] - vj[0]) + n[1] * (vi[1] - vj[1]) + n[2] * (vi[2] - vj[2]));
-        let law = &self.interactions.pair(self.species[i], self.species[j]).law;
-        let f = normal_force(law, l - r, rate, self.contact_end)
+        let model = &self.model;
+        let law = &model
+            .interactions
+            .pair(model.species[i], model.species[j])
+            .law;
+        let f = normal_force(law, l - r, rate, model.contact_end)
             + touch_correction(law, overlap_prev, l - r, rate);
         if f != 0.0 {
             out.push(PairForce {
@@ -173,7 +277,7 @@ impl Contacts<'_> {
     /// v + h·a with a = gravity + the contact acceleration of the previous step.
     #[inline(always)]
     fn predict(&self, i: usize, v: [f64; 3]) -> [f64; 3] {
-        let (a, g, h) = (self.contact_acc[i], self.gravity, self.h);
+        let (a, g, h) = (self.contact_acc[i], self.model.gravity, self.h);
         [
             v[0] + h * (g[0] + a[0]),
             v[1] + h * (g[1] + a[1]),

@@ -48,10 +48,16 @@ mod engine;
 mod forces;
 mod neighbour;
 mod options;
+mod verlet;
 
 pub use engine::{Md, check_and_wrap};
-pub use forces::{touch_correction, unclipped_force};
+pub use forces::{
+    AddForces, Contacts, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
+    normal_force, touch_correction, unclipped_force,
+};
+pub use neighbour::{INDEX_BITS, INDEX_MASK, Layout, NeighbourList};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
     prepare_system, shortest_contact_time,
 };
+pub use verlet::{Motion, StepBounds, kick, kick_drift, step_subset};

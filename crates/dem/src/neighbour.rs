@@ -1,5 +1,7 @@
-//! Half Verlet lists built from a cell grid, with periodic image codes.
+//! Verlet neighbour lists built from a cell grid, with periodic image codes, in the two
+//! layouts the engines need: half (MD) and full with an upper part (the hybrid).
 
+use crate::options::MdError;
 use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
@@ -7,37 +9,80 @@ pub const INDEX_BITS: u32 = 27;
 /// Mask of the index bits.
 pub const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 
-/// A half neighbour list: every pair closer than R_i + R_j + skin appears once, under
-/// its higher index (so that a single sweep in index order meets each pair after both
-/// particles), as `j | code << INDEX_BITS`; the neighbour's image sits at
-/// x_j + `shifts[code]`.
+/// Which pairs a list holds under which particle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Layout {
+    /// Every pair once, under its higher index, so that a single sweep in index order
+    /// meets each pair after both particles. Needs particles sorted by cell.
+    #[default]
+    Half,
+    /// Every pair under both particles, the neighbours of higher index first (the
+    /// upper part, [`NeighbourList::upper`]), for particles in any order.
+    Full,
+}
+
+/// A Verlet list: every pair closer than R_i + R_j + skin, as entries
+/// `j | code << INDEX_BITS`, where the neighbour's image sits at x_j + `shift(code)`
+/// ([`NeighbourList::split`]). Under each particle the neighbours come in the order of
+/// the cells of [`CellGrid::for_each_neighbour`] (full stencil), by index within a
+/// cell.
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
-    pub start: Vec<u32>,
-    pub entries: Vec<u32>,
-    pub shifts: [[f64; 3]; 27],
+    layout: Layout,
+    /// The entries of particle i are `entries[start[i]..start[i + 1]]`.
+    pub(crate) start: Vec<u32>,
+    /// Full layout: the upper part of particle i ends at `upper_end[i]`.
+    upper_end: Vec<u32>,
+    pub(crate) entries: Vec<u32>,
+    /// Scratch of a full build: the neighbours of lower index of one particle.
+    lower: Vec<u32>,
+    pub(crate) shifts: [[f64; 3]; 27],
+    /// The link cells of the last build, binned with the positions it was given (for
+    /// the half layout: with the sorted order, so cell c holds `start..end` of
+    /// `cell_start`).
     pub grid: CellGrid,
 }
 
-/// Why a neighbour list cannot be built.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BoxTooSmall {
-    pub axis: usize,
-    pub length: f64,
-    pub cell: f64,
+/// A non-empty cell next to the one being scanned: its particles
+/// `cell_items[first..end]` appear at x + `shift`; `code` is the image code, already
+/// shifted into place for an entry.
+#[derive(Debug, Clone, Copy, Default)]
+struct Near {
+    first: usize,
+    end: usize,
+    shift: [f64; 3],
+    code: u32,
+}
+
+/// Whether the image of x_j at `shift` lies within `cut` of x_i.
+#[inline(always)]
+fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
+    let d = [
+        xi[0] - xj[0] - shift[0],
+        xi[1] - xj[1] - shift[1],
+        xi[2] - xj[2] - shift[2],
+    ];
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut
 }
 
 impl NeighbourList {
-    /// Lays a grid over the box (or the particles' bounding box in free space) with
-    /// cells at least `min_cell` wide and about `target_per_cell` particles each, and
-    /// returns the particle order that sorts them by cell.
-    pub fn sort_order(
+    /// The layout of the last build.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
+    /// Lays the grid over the box (or the particles' bounding box in free space) with
+    /// cells at least `min_cell` wide and, if `per_cell` > 0, about `per_cell`
+    /// particles each, bins `positions` and sets the image shifts. Errors if a periodic
+    /// axis holds fewer than 3 cells of `min_cell` (a pair could then meet through two
+    /// images).
+    fn lay_grid(
         &mut self,
         positions: &[[f64; 3]],
         sim_box: Option<&SimBox>,
         min_cell: f64,
-        target_per_cell: f64,
-    ) -> Result<Vec<u32>, BoxTooSmall> {
+        per_cell: f64,
+    ) -> Result<(), MdError> {
         let (lo, extent, periodic) = match sim_box {
             Some(b) => (b.lo, b.size, b.periodic),
             None => {
@@ -45,22 +90,25 @@ impl NeighbourList {
                 (lo, extent, [false; 3])
             }
         };
-        let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
-        let cell = min_cell.max((target_per_cell * volume / positions.len().max(1) as f64).cbrt());
-        let mut grid = CellGrid::new(lo, extent, periodic, cell);
+        let mut grid = if per_cell > 0.0 {
+            let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
+            let cell = min_cell.max((per_cell * volume / positions.len().max(1) as f64).cbrt());
+            CellGrid::new(lo, extent, periodic, cell)
+        } else {
+            CellGrid::new(lo, extent, periodic, min_cell)
+        };
         if let Some(b) = sim_box {
-            // With fewer than 3 cells a pair could meet through two images.
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
             for k in 0..3 {
                 if periodic[k] && grid_min.dims[k] < 3 {
-                    return Err(BoxTooSmall {
-                        axis: k,
+                    return Err(MdError::BoxTooSmall {
+                        axis: ["x", "y", "z"][k],
                         length: b.size[k],
                         cell: min_cell,
                     });
                 }
                 if periodic[k] && grid.dims[k] < 3 {
-                    grid = CellGrid::new(lo, extent, periodic, min_cell);
+                    grid = grid_min.clone();
                 }
             }
             self.shifts = std::array::from_fn(|code| {
@@ -71,61 +119,89 @@ impl NeighbourList {
             self.shifts = [[0.0; 3]; 27];
         }
         grid.bin(positions);
-        let order = grid.cell_items.clone();
         self.grid = grid;
+        Ok(())
+    }
+
+    /// The non-empty cells next to cell `c` (itself included), in the order of
+    /// [`CellGrid::for_each_neighbour`].
+    #[inline]
+    fn near(&self, c: [usize; 3]) -> ([Near; 27], usize) {
+        let grid = &self.grid;
+        let mut cells = [Near::default(); 27];
+        let mut n = 0;
+        grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+            let code =
+                (shift[0] + 1) as usize + 3 * (shift[1] + 1) as usize + 9 * (shift[2] + 1) as usize;
+            let (first, end) = (
+                grid.cell_start[other] as usize,
+                grid.cell_start[other + 1] as usize,
+            );
+            if first < end {
+                cells[n] = Near {
+                    first,
+                    end,
+                    shift: self.shifts[code],
+                    code: (code as u32) << INDEX_BITS,
+                };
+                n += 1;
+            }
+        });
+        (cells, n)
+    }
+
+    /// Lays a grid as [`Self::build_full`] does, with cells of about `per_cell`
+    /// particles (never narrower than `min_cell`), and returns the particle order that
+    /// sorts the particles by cell. Permute the particles with it, then call
+    /// [`Self::build_half`].
+    pub fn sort_order(
+        &mut self,
+        positions: &[[f64; 3]],
+        sim_box: Option<&SimBox>,
+        min_cell: f64,
+        per_cell: f64,
+    ) -> Result<Vec<u32>, MdError> {
+        self.lay_grid(positions, sim_box, min_cell, per_cell)?;
+        let order = self.grid.cell_items.clone();
+        // After the caller's permutation, cell c holds particles cell_start[c]..
+        for (k, item) in self.grid.cell_items.iter_mut().enumerate() {
+            *item = k as u32;
+        }
         Ok(order)
     }
 
-    /// Builds the list for particles already sorted by [`Self::sort_order`] (so that
-    /// cell c holds the contiguous range `cell_start[c]..cell_start[c+1]`).
-    pub fn build(&mut self, positions: &[[f64; 3]], radius: &[f64], skin: f64) {
-        let grid = &self.grid;
+    /// Builds the half layout with cut-off R_i + R_j + `skin` for particles sorted by
+    /// [`Self::sort_order`] (`positions` in that order).
+    pub fn build_half(&mut self, positions: &[[f64; 3]], radius: &[f64], skin: f64) {
+        self.layout = Layout::Half;
         self.start.clear();
         self.entries.clear();
+        self.upper_end.clear();
         self.start.push(0);
-        for c_index in 0..grid.len() {
+        let dims = self.grid.dims;
+        for c_index in 0..self.grid.len() {
             let (a, b) = (
-                grid.cell_start[c_index] as usize,
-                grid.cell_start[c_index + 1] as usize,
+                self.grid.cell_start[c_index] as usize,
+                self.grid.cell_start[c_index + 1] as usize,
             );
             if a == b {
                 continue;
             }
             let c = [
-                c_index % grid.dims[0],
-                (c_index / grid.dims[0]) % grid.dims[1],
-                c_index / (grid.dims[0] * grid.dims[1]),
+                c_index % dims[0],
+                (c_index / dims[0]) % dims[1],
+                c_index / (dims[0] * dims[1]),
             ];
             // The full stencil, keeping j < i: a half stencil would list some pairs
             // that meet through a periodic wrap under their lower index.
-            let mut cells = [(0usize, 0usize, [0.0; 3], 0u32); 27];
-            let mut n_cells = 0;
-            grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
-                let code = (shift[0] + 1) as usize
-                    + 3 * (shift[1] + 1) as usize
-                    + 9 * (shift[2] + 1) as usize;
-                let (oa, ob) = (
-                    grid.cell_start[other] as usize,
-                    grid.cell_start[other + 1] as usize,
-                );
-                if oa < ob {
-                    cells[n_cells] = (oa, ob, self.shifts[code], (code as u32) << INDEX_BITS);
-                    n_cells += 1;
-                }
-            });
+            let (cells, n_cells) = self.near(c);
             for i in a..b {
-                let xi = positions[i];
-                let ri = radius[i] + skin;
-                for &(oa, ob, s, code) in &cells[..n_cells] {
-                    for j in oa..ob.min(i) {
-                        let d = [
-                            xi[0] - positions[j][0] - s[0],
-                            xi[1] - positions[j][1] - s[1],
-                            xi[2] - positions[j][2] - s[2],
-                        ];
-                        let cut = ri + radius[j];
-                        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                            self.entries.push(j as u32 | code);
+                let (xi, ri) = (positions[i], radius[i] + skin);
+                for near in &cells[..n_cells] {
+                    // Sorted: the particles of a cell are a range of indices.
+                    for j in near.first..near.end.min(i) {
+                        if within(xi, positions[j], near.shift, ri + radius[j]) {
+                            self.entries.push(j as u32 | near.code);
                         }
                     }
                 }
@@ -134,9 +210,222 @@ impl NeighbourList {
         }
     }
 
-    /// The entries of particle i.
+    /// Bins `positions` (already wrapped into the box, in any order) into cells at
+    /// least `min_cell` wide and builds the full layout with cut-off R_i + R_j +
+    /// `skin`. Errors as [`Self::sort_order`].
+    pub fn build_full(
+        &mut self,
+        positions: &[[f64; 3]],
+        radius: &[f64],
+        sim_box: Option<&SimBox>,
+        min_cell: f64,
+        skin: f64,
+    ) -> Result<(), MdError> {
+        self.lay_grid(positions, sim_box, min_cell, 0.0)?;
+        self.layout = Layout::Full;
+        self.start.clear();
+        self.entries.clear();
+        self.upper_end.clear();
+        self.start.push(0);
+        // In particle order: dilute grids have far more cells than particles.
+        let mut last_cell = usize::MAX;
+        let mut cells = ([Near::default(); 27], 0);
+        for (i, &xi) in positions.iter().enumerate() {
+            let c = self.grid.coords(xi);
+            let index = self.grid.index(c);
+            if index != last_cell {
+                cells = self.near(c);
+                last_cell = index;
+            }
+            let ri = radius[i] + skin;
+            self.lower.clear();
+            for near in &cells.0[..cells.1] {
+                for &j in &self.grid.cell_items[near.first..near.end] {
+                    let j = j as usize;
+                    if j != i && within(xi, positions[j], near.shift, ri + radius[j]) {
+                        let entry = j as u32 | near.code;
+                        if j > i {
+                            self.entries.push(entry);
+                        } else {
+                            self.lower.push(entry);
+                        }
+                    }
+                }
+            }
+            self.upper_end.push(self.entries.len() as u32);
+            self.entries.extend_from_slice(&self.lower);
+            self.start.push(self.entries.len() as u32);
+        }
+        Ok(())
+    }
+
+    /// The entries of particle i: its neighbours of lower index (half layout) or all
+    /// its neighbours, those of higher index first (full layout).
     #[inline]
     pub fn of(&self, i: usize) -> &[u32] {
         &self.entries[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    /// The entries of particle i with a higher index (none in the half layout).
+    #[inline]
+    pub fn upper(&self, i: usize) -> &[u32] {
+        let a = self.start[i] as usize;
+        let b = match self.layout {
+            Layout::Half => a,
+            Layout::Full => self.upper_end[i] as usize,
+        };
+        &self.entries[a..b]
+    }
+
+    /// The entries of particle i such that every pair is listed under one of its two
+    /// particles only: [`Self::of`] in the half layout, [`Self::upper`] in the full.
+    #[inline]
+    pub fn once(&self, i: usize) -> &[u32] {
+        match self.layout {
+            Layout::Half => self.of(i),
+            Layout::Full => self.upper(i),
+        }
+    }
+
+    /// Splits an entry into the neighbour and its image shift.
+    #[inline(always)]
+    pub fn split(&self, entry: u32) -> (usize, [f64; 3]) {
+        (
+            (entry & INDEX_MASK) as usize,
+            self.shifts[(entry >> INDEX_BITS) as usize],
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every pair (j < i) closer than the cut-off through any of the 27 images, by
+    /// brute force.
+    fn brute_force(x: &[[f64; 3]], r: &[f64], b: &SimBox, skin: f64) -> Vec<(usize, usize)> {
+        let mut pairs = Vec::new();
+        for i in 0..x.len() {
+            for j in 0..i {
+                let close = (0..27).any(|code| {
+                    let s: [f64; 3] = std::array::from_fn(|k| {
+                        let step = [code % 3, (code / 3) % 3, code / 9][k] as f64 - 1.0;
+                        if b.periodic[k] { step * b.size[k] } else { 0.0 }
+                    });
+                    within(x[i], x[j], s, r[i] + r[j] + skin)
+                });
+                if close {
+                    pairs.push((j, i));
+                }
+            }
+        }
+        pairs
+    }
+
+    fn cloud(n: usize, size: f64, seed: u64) -> Vec<[f64; 3]> {
+        let mut s = seed;
+        let mut uniform = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|_| [size * uniform(), size * uniform(), size * uniform()])
+            .collect()
+    }
+
+    #[test]
+    fn both_layouts_hold_exactly_the_close_pairs_of_a_brute_force_search() {
+        for periodic in [[true; 3], [false; 3], [true, false, true]] {
+            let b = SimBox {
+                lo: [0.0; 3],
+                size: [4.0; 3],
+                periodic,
+            };
+            let x = cloud(400, 4.0, 7);
+            let r: Vec<f64> = (0..x.len()).map(|i| 0.1 + 0.02 * (i % 3) as f64).collect();
+            let skin = 0.1;
+            let min_cell = 2.0 * 0.14 + skin;
+            let mut want = brute_force(&x, &r, &b, skin);
+            want.sort_unstable();
+            assert!(want.len() > 100, "{}", want.len());
+
+            let mut full = NeighbourList::default();
+            full.build_full(&x, &r, Some(&b), min_cell, skin).unwrap();
+            let mut got = Vec::new();
+            for i in 0..x.len() {
+                for &e in full.upper(i) {
+                    let (j, _) = full.split(e);
+                    assert!(j > i);
+                    assert!(full.of(j).iter().any(|&f| full.split(f).0 == i));
+                    got.push((i, j));
+                }
+                assert_eq!(full.once(i), full.upper(i));
+                assert!(
+                    full.of(i)[full.upper(i).len()..]
+                        .iter()
+                        .all(|&e| full.split(e).0 < i)
+                );
+            }
+            got.sort_unstable();
+            assert_eq!(got, want, "full, periodic {periodic:?}");
+
+            let mut half = NeighbourList::default();
+            let order = half.sort_order(&x, Some(&b), min_cell, 2.0).unwrap();
+            let xs: Vec<[f64; 3]> = order.iter().map(|&k| x[k as usize]).collect();
+            let rs: Vec<f64> = order.iter().map(|&k| r[k as usize]).collect();
+            half.build_half(&xs, &rs, skin);
+            let mut got = Vec::new();
+            for i in 0..xs.len() {
+                assert!(half.upper(i).is_empty());
+                for &e in half.once(i) {
+                    let (j, _) = half.split(e);
+                    assert!(j < i);
+                    let (a, b) = (order[i] as usize, order[j] as usize);
+                    got.push((a.min(b), a.max(b)));
+                }
+            }
+            got.sort_unstable();
+            assert_eq!(got, want, "half, periodic {periodic:?}");
+        }
+    }
+
+    #[test]
+    fn the_full_list_holds_every_close_pair_twice_across_periodic_faces() {
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [3.0, 3.0, 3.0],
+            periodic: [true; 3],
+        };
+        let x = [[0.05, 1.5, 1.5], [2.95, 1.5, 1.5], [1.5, 1.5, 1.5]];
+        let mut list = NeighbourList::default();
+        list.build_full(&x, &[0.1; 3], Some(&b), 1.0, 0.05).unwrap();
+        assert_eq!(list.of(0).len(), 1);
+        assert_eq!(list.of(1).len(), 1);
+        assert!(list.of(2).is_empty());
+        let (j, s) = list.split(list.of(0)[0]);
+        assert_eq!(j, 1);
+        assert_eq!(s, [-3.0, 0.0, 0.0]);
+        let (i, s) = list.split(list.of(1)[0]);
+        assert_eq!(i, 0);
+        assert_eq!(s, [3.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn a_periodic_axis_of_fewer_than_three_cells_is_refused() {
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [2.5, 3.0, 3.0],
+            periodic: [true; 3],
+        };
+        let mut list = NeighbourList::default();
+        let err = list
+            .build_full(&[[1.0; 3]], &[0.1], Some(&b), 1.0, 0.05)
+            .unwrap_err();
+        assert!(
+            matches!(err, MdError::BoxTooSmall { axis: "x", .. }),
+            "{err}"
+        );
     }
 }

@@ -1,9 +1,9 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::EdRec;
-use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
+use crate::list::{DenseScratch, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
-use emdstar_dem::{MdError, check_and_wrap, prepare_system};
+use emdstar_dem::{MdError, NeighbourList, check_and_wrap, prepare_system};
 use emdstar_edmd::cells::LinkedCells;
 use emdstar_edmd::rules::MorSource;
 use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
@@ -27,7 +27,8 @@ pub struct Hybrid {
     pub(crate) ed: Vec<EdRec>,
     /// Each ED particle's earliest event (+∞ for the others).
     pub(crate) heap: CalendarQueue,
-    pub(crate) list: FullList,
+    /// The full layout (every pair under both particles).
+    pub(crate) list: NeighbourList,
     /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
     /// list path.
     pub(crate) grid: Option<LinkedCells>,
@@ -109,7 +110,7 @@ impl Hybrid {
             mor,
             ed: vec![EdRec::default(); n],
             heap: CalendarQueue::new(n),
-            list: FullList::default(),
+            list: NeighbourList::default(),
             grid: None,
             positions_now: Vec::new(),
             radius_now: Vec::new(),
@@ -270,7 +271,7 @@ impl Hybrid {
             self.skin
         };
         let p = &self.system.particles;
-        self.list.build(
+        self.list.build_full(
             &p.position,
             &p.radius,
             self.system.domain.sim_box.as_ref(),
@@ -292,7 +293,7 @@ impl Hybrid {
             self.enter_cells();
         } else if self.list_skin != built {
             let p = &self.system.particles;
-            self.list.build(
+            self.list.build_full(
                 &p.position,
                 &p.radius,
                 self.system.domain.sim_box.as_ref(),

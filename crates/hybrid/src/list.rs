@@ -1,74 +1,8 @@
-//! The link cells and the full Verlet list of the hybrid engine, and the local volume
-//! fraction that decides the modes.
+//! The local volume fraction that decides the modes, on the link cells of the
+//! neighbour list (emdstar-dem's [`emdstar_dem::NeighbourList`], full layout) or on a
+//! grid of its own.
 
-use crate::options::HybridError;
-use emdstar_dem::MdError;
 use emdstar_system::{CellGrid, SimBox, bounding_box};
-
-/// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
-pub(crate) const INDEX_BITS: u32 = 27;
-pub(crate) const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
-
-/// A full neighbour list (every pair closer than R_i + R_j + skin appears under both
-/// particles) as `j | code << INDEX_BITS`; the neighbour's image sits at
-/// x_j + `shifts[code]`.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct FullList {
-    /// `entries[range[i].0..range[i].2]` are the neighbours of particle i, those with a
-    /// higher index first (up to `range[i].1`), for the pair loop of the TD forces.
-    pub range: Vec<(u32, u32, u32)>,
-    pub entries: Vec<u32>,
-    /// Scratch for the neighbours with a lower index during a build.
-    lower: Vec<u32>,
-    pub shifts: [[f64; 3]; 27],
-    /// The binned link cells of the last build.
-    pub grid: CellGrid,
-}
-
-/// The cells next to cell `c` (itself included) that hold particles, with the image
-/// code of each (the neighbour's particles appear at x + shift, code = Σ 3^k (s_k + 1)).
-/// Periodic axes need at least 3 cells (checked by [`FullList::build`]).
-#[inline]
-fn neighbour_cells(grid: &CellGrid, c: [usize; 3]) -> ([(u32, u32); 27], usize) {
-    let mut out = [(0u32, 0u32); 27];
-    let mut n = 0;
-    let mut axis: [[(usize, usize); 3]; 3] = [[(0, 0); 3]; 3];
-    let mut count = [0usize; 3];
-    for k in 0..3 {
-        let d = grid.dims[k];
-        for step in [-1i64, 0, 1] {
-            let x = c[k] as i64 + step;
-            let (x, shift) = if x < 0 {
-                (d as i64 - 1, 0)
-            } else if x >= d as i64 {
-                (0, 2)
-            } else {
-                (x, 1)
-            };
-            let wrapped = shift != 1;
-            if wrapped && !(grid.periodic[k] && d >= 3) {
-                continue;
-            }
-            if !wrapped && step != 0 && d == 1 {
-                continue;
-            }
-            axis[k][count[k]] = (x as usize, shift);
-            count[k] += 1;
-        }
-    }
-    for &(z, sz) in &axis[2][..count[2]] {
-        for &(y, sy) in &axis[1][..count[1]] {
-            for &(x, sx) in &axis[0][..count[0]] {
-                let index = grid.index([x, y, z]);
-                if grid.cell_start[index] != grid.cell_start[index + 1] {
-                    out[n] = (index as u32, (sx + 3 * sy + 9 * sz) as u32);
-                    n += 1;
-                }
-            }
-        }
-    }
-    (out, n)
-}
 
 /// The region a grid must cover: the box, or the particles' bounding box.
 pub(crate) fn region(
@@ -81,106 +15,6 @@ pub(crate) fn region(
             let (lo, extent) = bounding_box(positions);
             (lo, extent, [false; 3])
         }
-    }
-}
-
-impl FullList {
-    /// Bins `positions` (already wrapped into the box) into cells at least `min_cell`
-    /// wide and builds the list with cut-off R_i + R_j + `skin`.
-    pub fn build(
-        &mut self,
-        positions: &[[f64; 3]],
-        radius: &[f64],
-        sim_box: Option<&SimBox>,
-        min_cell: f64,
-        skin: f64,
-    ) -> Result<(), HybridError> {
-        let (lo, extent, periodic) = region(positions, sim_box);
-        let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
-        if let Some(b) = sim_box {
-            for k in 0..3 {
-                // With fewer than 3 cells a pair could meet through two images.
-                if periodic[k] && grid_min.dims[k] < 3 {
-                    return Err(MdError::BoxTooSmall {
-                        axis: ["x", "y", "z"][k],
-                        length: b.size[k],
-                        cell: min_cell,
-                    }
-                    .into());
-                }
-            }
-            self.shifts = std::array::from_fn(|code| {
-                let s = [code % 3, (code / 3) % 3, code / 9];
-                std::array::from_fn(|k| (s[k] as f64 - 1.0) * b.size[k])
-            });
-        } else {
-            self.shifts = [[0.0; 3]; 27];
-        }
-        let mut grid = grid_min;
-        grid.bin(positions);
-        self.range.clear();
-        self.entries.clear();
-        // In particle order: dilute grids have far more cells than particles.
-        let mut last_cell = usize::MAX;
-        let mut cells = ([(0u32, 0u32); 27], 0);
-        for (i, &xi) in positions.iter().enumerate() {
-            let c = grid.coords(xi);
-            let index = grid.index(c);
-            if index != last_cell {
-                cells = neighbour_cells(&grid, c);
-                last_cell = index;
-            }
-            let ri = radius[i] + skin;
-            let begin = self.entries.len() as u32;
-            self.lower.clear();
-            for &(other, code) in &cells.0[..cells.1] {
-                let s = self.shifts[code as usize];
-                for &j in grid.items(other as usize) {
-                    let j = j as usize;
-                    if j == i {
-                        continue;
-                    }
-                    let d: [f64; 3] = std::array::from_fn(|k| xi[k] - positions[j][k] - s[k]);
-                    let cut = ri + radius[j];
-                    if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
-                        let entry = j as u32 | code << INDEX_BITS;
-                        if j > i {
-                            self.entries.push(entry);
-                        } else {
-                            self.lower.push(entry);
-                        }
-                    }
-                }
-            }
-            let upper = self.entries.len() as u32;
-            self.entries.extend_from_slice(&self.lower);
-            self.range.push((begin, upper, self.entries.len() as u32));
-        }
-        self.grid = grid;
-        Ok(())
-    }
-
-    /// The entries of particle i.
-    #[inline]
-    pub fn of(&self, i: usize) -> &[u32] {
-        let (a, _, b) = self.range[i];
-        &self.entries[a as usize..b as usize]
-    }
-
-    /// The entries of particle i with a higher index: every pair once.
-    #[inline]
-    pub fn upper(&self, i: usize) -> &[u32] {
-        let (a, b, _) = self.range[i];
-        &self.entries[a as usize..b as usize]
-    }
-
-    /// Splits an entry into the neighbour and its image shift.
-    #[inline]
-    pub fn split(&self, entry: u32) -> (usize, [f64; 3]) {
-        (
-            (entry & INDEX_MASK) as usize,
-            self.shifts[(entry >> INDEX_BITS) as usize],
-        )
     }
 }
 
@@ -236,8 +70,11 @@ pub(crate) fn volume_fractions_on(
                         }
                     })
                     .product();
-                let (occupied, n) = neighbour_cells(grid, c);
-                let v: f64 = occupied[..n].iter().map(|&(o, _)| solid[o as usize]).sum();
+                let (near, n) = around(grid, c);
+                let occupied = near[..n]
+                    .iter()
+                    .filter(|&&o| grid.cell_start[o] != grid.cell_start[o + 1]);
+                let v: f64 = occupied.map(|&o| solid[o]).sum();
                 phi_cell[index] = v / (cells as f64 * cell_volume);
             }
             phi_cell[index]
@@ -378,24 +215,6 @@ mod tests {
         assert!((phi[0] - 0.2 / 3.0).abs() < 1e-12, "{phi:?}");
         assert!((phi[1] - 0.1).abs() < 1e-12);
         assert!((phi[2] - 0.2 / 3.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn the_full_list_holds_every_close_pair_twice_across_periodic_faces() {
-        let b = SimBox {
-            lo: [0.0; 3],
-            size: [3.0, 3.0, 3.0],
-            periodic: [true; 3],
-        };
-        let x = [[0.05, 1.5, 1.5], [2.95, 1.5, 1.5], [1.5, 1.5, 1.5]];
-        let mut list = FullList::default();
-        list.build(&x, &[0.1; 3], Some(&b), 1.0, 0.05).unwrap();
-        assert_eq!(list.of(0).len(), 1);
-        assert_eq!(list.of(1).len(), 1);
-        assert!(list.of(2).is_empty());
-        let (j, s) = list.split(list.of(0)[0]);
-        assert_eq!(j, 1);
-        assert_eq!(s, [-3.0, 0.0, 0.0]);
     }
 
     #[test]

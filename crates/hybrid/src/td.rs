@@ -1,10 +1,11 @@
-//! The time-driven part: velocity Verlet for the TD particles, the guard that keeps
-//! ED particles out of contact with TD particles, and the forces of fresh TD particles.
+//! The time-driven part: the TD particles' steps and the forces of fresh TD particles
+//! (both by emdstar-dem's Verlet step and force kernel), and the guard that keeps ED
+//! particles out of contact with TD particles.
 
-use crate::engine::{Hybrid, norm};
+use crate::engine::Hybrid;
 use crate::options::Mode;
-use emdstar_contact::PairLaw;
-use emdstar_dem::touch_correction;
+use emdstar_contact::vec3::{norm, norm2};
+use emdstar_dem::{AddForces, ContactEnd, Contacts, ForceModel, INDEX_MASK, Motion, step_subset};
 
 impl Hybrid {
     /// Refreshes the sorted list of TD particles after switches.
@@ -18,112 +19,48 @@ impl Hybrid {
         }
     }
 
-    /// The normal force of `law` at overlap ξ > 0 and rate ξ̇ (clipped, F ≥ 0), plus
-    /// the touch correction of emdstar-dem for a contact that started within the step
-    /// (`overlap_prev` < 0; see `emdstar_dem::touch_correction`).
-    #[inline]
-    fn force(law: &PairLaw, overlap_prev: f64, overlap: f64, rate: f64) -> f64 {
-        law.normal_force(overlap, rate) + touch_correction(law, overlap_prev, overlap, rate)
-    }
-
-    /// One velocity-Verlet step of the TD particles, as emdstar-dem does it:
-    /// v(t+dt/2) = v + (dt/2)·a(t); x += dt·v(t+dt/2); forces at the new positions with
-    /// the predicted velocity v* = v(t+dt/2) + (dt/2)·a(t); v(t+dt) = v(t+dt/2) +
-    /// (dt/2)·a(t+dt). Pairs with an ED particle have no force (there are no mixed
-    /// contacts, see the crate docs).
+    /// One velocity-Verlet step of the TD particles: [`emdstar_dem::step_subset`] on
+    /// them, with the pairs of the upper list (each once) whose partner is TD too (there
+    /// are no mixed contacts, see the crate docs).
     #[inline(never)]
     pub(crate) fn td_step(&mut self) {
         self.refresh_td();
-        let dt = self.opts.dt;
-        let h = 0.5 * dt;
-        let g = self.system.domain.gravity;
+        let mode = &self.mode;
         let p = &mut self.system.particles;
-        let mut v2_max: f64 = 0.0;
-        for &i in &self.td {
-            let i = i as usize;
-            let a = self.contact_acc[i];
-            let v = p.velocity[i];
-            let w: [f64; 3] = std::array::from_fn(|k| v[k] + h * (g[k] + a[k]));
-            let x = p.position[i];
-            p.position[i] = std::array::from_fn(|k| x[k] + dt * w[k]);
-            p.velocity[i] = w;
-            v2_max = v2_max.max(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        }
-        let predict = |i: usize, v: [f64; 3]| -> [f64; 3] {
-            let a = self.contact_acc[i];
-            std::array::from_fn(|k| v[k] + h * (g[k] + a[k]))
+        let model = ForceModel {
+            radius: &p.radius,
+            species: &p.species,
+            interactions: self.materials.interactions(),
+            walls: &self.system.domain.walls,
+            gravity: self.system.domain.gravity,
+            contact_end: ContactEnd::ForceZero,
         };
-        let new_acc = &mut self.new_acc;
-        for &i in &self.td {
-            let i = i as usize;
-            let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-            for w in &self.system.domain.walls {
-                let overlap = ri - w.distance(xi);
-                if overlap > 0.0 {
-                    let n = w.normal;
-                    let overlap_prev = overlap + dt * (n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
-                    let v = predict(i, vi);
-                    let rate = -(n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
-                    let law = &self.materials.wall(p.species[i]).interaction.law;
-                    let f = Self::force(law, overlap_prev, overlap, rate) * self.inv_mass[i];
-                    for k in 0..3 {
-                        new_acc[i][k] += f * n[k];
-                    }
-                }
-            }
-            for &entry in self.list.upper(i) {
-                let (j, s) = self.list.split(entry);
-                if self.mode[j] != Mode::Time {
-                    continue;
-                }
-                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-                let l = ri + p.radius[j];
-                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                if r2 >= l * l {
-                    continue;
-                }
-                let r = r2.sqrt();
-                let n = d.map(|c| c / r);
-                let vj = p.velocity[j];
-                let d_prev: [f64; 3] = std::array::from_fn(|k| d[k] - dt * (vi[k] - vj[k]));
-                let overlap_prev = l - norm(d_prev);
-                let (ui, uj) = (predict(i, vi), predict(j, vj));
-                let rate = -(0..3).map(|k| n[k] * (ui[k] - uj[k])).sum::<f64>();
-                let law = &self
-                    .materials
-                    .pair(p.species[i], p.species[j])
-                    .interaction
-                    .law;
-                let f = Self::force(law, overlap_prev, l - r, rate);
-                let (fi, fj) = (f * self.inv_mass[i], f * self.inv_mass[j]);
-                for k in 0..3 {
-                    new_acc[i][k] += fi * n[k];
-                    new_acc[j][k] -= fj * n[k];
-                }
-            }
-        }
-        let mut a2_max: f64 = 0.0;
-        for &i in &self.td {
-            let i = i as usize;
-            let a = new_acc[i];
-            new_acc[i] = [0.0; 3];
-            self.contact_acc[i] = a;
-            a2_max = a2_max.max(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-            let v = p.velocity[i];
-            let w: [f64; 3] = std::array::from_fn(|k| v[k] + h * (g[k] + a[k]));
-            p.velocity[i] = w;
-            v2_max = v2_max.max(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        }
-        self.v_max_td = v2_max.sqrt();
-        self.a_max_td = a2_max.sqrt();
+        let motion = Motion {
+            position: &mut p.position,
+            velocity: &mut p.velocity,
+            contact_acc: &mut self.contact_acc,
+            new_acc: &mut self.new_acc,
+            inv_mass: &self.inv_mass,
+        };
+        let time_driven = |j: usize| mode[j] == Mode::Time;
+        let bounds = step_subset(
+            &model,
+            &self.list,
+            motion,
+            &self.td,
+            time_driven,
+            self.opts.dt,
+        );
+        self.v_max_td = bounds.v_max;
+        self.a_max_td = bounds.a_max;
         self.steps += 1;
         self.stats.steps += 1;
         self.stats.td_particle_steps += self.td.len() as u64;
     }
 
-    /// Adds the contact forces of the particles switched to TD at this boundary (with
-    /// their velocities now, as MD's first step does) to their and their TD
-    /// partners' accelerations.
+    /// Adds the contact forces of the particles switched to TD at this boundary to
+    /// their and their TD partners' accelerations: the kernel of emdstar-dem with their
+    /// velocities now (h = 0), as MD's first step does.
     pub(crate) fn add_converted_forces(&mut self) {
         if self.converted.is_empty() {
             return;
@@ -135,52 +72,38 @@ impl Hybrid {
             fresh[i as usize] = self.mode[i as usize] == Mode::Time;
         }
         let p = &self.system.particles;
+        let kernel = Contacts {
+            model: ForceModel {
+                radius: &p.radius,
+                species: &p.species,
+                interactions: self.materials.interactions(),
+                walls: &self.system.domain.walls,
+                gravity: self.system.domain.gravity,
+                contact_end: ContactEnd::ForceZero,
+            },
+            list: &self.list,
+            // Not read with h = 0 (zero between steps).
+            contact_acc: &self.new_acc,
+            h: 0.0,
+        };
+        let mut sink = AddForces {
+            acc: &mut self.contact_acc,
+            inv_mass: &self.inv_mass,
+        };
         let mut a2_max = self.a_max_td * self.a_max_td;
         for &i in &converted {
             let i = i as usize;
             if !fresh[i] {
                 continue;
             }
-            let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-            for w in &self.system.domain.walls {
-                let overlap = ri - w.distance(xi);
-                if overlap > 0.0 {
-                    let n = w.normal;
-                    let rate = -(n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
-                    let law = &self.materials.wall(p.species[i]).interaction.law;
-                    let f = law.normal_force(overlap, rate) * self.inv_mass[i];
-                    for k in 0..3 {
-                        self.contact_acc[i][k] += f * n[k];
-                    }
-                }
-            }
-            for &entry in self.list.of(i) {
-                let (j, s) = self.list.split(entry);
-                if self.mode[j] != Mode::Time || (fresh[j] && j < i) {
-                    continue;
-                }
-                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-                let l = ri + p.radius[j];
-                let r = norm(d);
-                if r >= l {
-                    continue;
-                }
-                let n = d.map(|c| c / r);
-                let vj = p.velocity[j];
-                let rate = -(0..3).map(|k| n[k] * (vi[k] - vj[k])).sum::<f64>();
-                let law = &self
-                    .materials
-                    .pair(p.species[i], p.species[j])
-                    .interaction
-                    .law;
-                let f = law.normal_force(l - r, rate);
-                for k in 0..3 {
-                    self.contact_acc[i][k] += f * self.inv_mass[i] * n[k];
-                    self.contact_acc[j][k] -= f * self.inv_mass[j] * n[k];
-                }
-            }
-            let a = self.contact_acc[i];
-            a2_max = a2_max.max(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+            // A pair of fresh particles once, from its lower index.
+            let partners = self.list.of(i).iter().copied().filter(|&e| {
+                let j = (e & INDEX_MASK) as usize;
+                self.mode[j] == Mode::Time && !(fresh[j] && j < i)
+            });
+            let (xi, vi) = (p.position[i], p.velocity[i]);
+            kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, &mut sink);
+            a2_max = a2_max.max(norm2(sink.acc[i]));
             self.v_max_td = self.v_max_td.max(norm(vi));
         }
         self.a_max_td = a2_max.sqrt();

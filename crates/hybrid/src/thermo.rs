@@ -1,7 +1,8 @@
 //! Output of the hybrid engine: the particles now and the thermo quantities.
 
-use crate::engine::{Hybrid, norm};
+use crate::engine::Hybrid;
 use crate::options::Mode;
+use emdstar_dem::{ContactEnd, ForceModel, INDEX_MASK};
 use emdstar_system::{Particles, Thermo};
 
 impl Hybrid {
@@ -22,13 +23,21 @@ impl Hybrid {
     }
 
     /// Energies, temperature, momentum and contacts now (pending eMD* velocities
-    /// applied). The potential energy is the elastic energy of the TD contacts,
-    /// ½kξ² or (2/5)ρ_el ξ^{5/2} (Müller & Pöschel 2013, Eqs. 40 and 51), plus −Σ m g·x.
+    /// applied). The potential energy is the elastic energy of the TD contacts
+    /// ([`emdstar_dem::elastic_energy`]) plus −Σ m g·x.
     /// Removed particles are left out of the energies and the momentum (the granular
     /// temperature still counts them).
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.domain.gravity;
+        let model = ForceModel {
+            radius: &p.radius,
+            species: &p.species,
+            interactions: self.materials.interactions(),
+            walls: &self.system.domain.walls,
+            gravity: g,
+            contact_end: ContactEnd::ForceZero,
+        };
         let mut potential = 0.0;
         let mut contacts = 0;
         let mut kinetic = 0.0;
@@ -46,31 +55,15 @@ impl Hybrid {
             if self.mode[i] != Mode::Time {
                 continue;
             }
-            for &entry in self.list.of(i) {
-                let (j, s) = self.list.split(entry);
-                if j < i || self.mode[j] != Mode::Time {
-                    continue;
-                }
-                let d: [f64; 3] = std::array::from_fn(|k| xi[k] - p.position[j][k] - s[k]);
-                let overlap = p.radius[i] + p.radius[j] - norm(d);
-                if overlap > 0.0 {
-                    contacts += 1;
-                    let law = &self
-                        .materials
-                        .pair(p.species[i], p.species[j])
-                        .interaction
-                        .law;
-                    potential += elastic_energy(law, overlap);
-                }
-            }
-            for w in &self.system.domain.walls {
-                let overlap = p.radius[i] - w.distance(xi);
-                if overlap > 0.0 {
-                    contacts += 1;
-                    let law = &self.materials.wall(p.species[i]).interaction.law;
-                    potential += elastic_energy(law, overlap);
-                }
-            }
+            // Each TD pair once, with its walls.
+            let time_driven = self
+                .list
+                .upper(i)
+                .iter()
+                .copied()
+                .filter(|&e| self.mode[(e & INDEX_MASK) as usize] == Mode::Time);
+            let sums = (&mut contacts, &mut potential);
+            model.add_elastic(i, xi, time_driven, &self.list, &p.position, sums);
         }
         Thermo {
             t: self.time(),
@@ -80,16 +73,6 @@ impl Hybrid {
             granular_temperature: p.granular_temperature(),
             momentum,
             contacts,
-        }
-    }
-}
-
-/// Elastic energy stored at overlap ξ: ½kξ² or (2/5)ρ_el ξ^{5/2}.
-fn elastic_energy(law: &emdstar_contact::PairLaw, overlap: f64) -> f64 {
-    match *law {
-        emdstar_contact::PairLaw::Linear { stiffness, .. } => 0.5 * stiffness * overlap * overlap,
-        emdstar_contact::PairLaw::Hertz { rho_el, .. } => {
-            0.4 * rho_el * overlap * overlap * overlap.sqrt()
         }
     }
 }

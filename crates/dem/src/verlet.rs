@@ -1,0 +1,150 @@
+//! The kicks and drifts of velocity Verlet (see the crate docs), and one whole step of
+//! a subset of the particles.
+
+use crate::forces::{AddForces, Contacts, ForceModel};
+use crate::neighbour::{INDEX_MASK, NeighbourList};
+
+/// max(a, b) that lets a NaN through (so that a blow-up is noticed).
+#[inline(always)]
+pub(crate) fn max_nan(a: f64, b: f64) -> f64 {
+    if b > a || b.is_nan() { b } else { a }
+}
+
+/// v += a·`kick` for the particles `ids`; returns their largest |v|² (NaN passes).
+pub fn kick(velocity: &mut [[f64; 3]], acc: &[[f64; 3]], ids: &[u32], kick: f64) -> f64 {
+    let mut v2_max: f64 = 0.0;
+    for &i in ids {
+        let (i, a) = (i as usize, acc[i as usize]);
+        let v = velocity[i];
+        let w = [v[0] + a[0] * kick, v[1] + a[1] * kick, v[2] + a[2] * kick];
+        velocity[i] = w;
+        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    }
+    v2_max
+}
+
+/// The gravity kick and the drift of one particle: w = v + `gk` (w = v if `gravity` is
+/// false), y = x + w·dt. Returns (y, w).
+#[inline(always)]
+pub fn kick_drift(
+    x: [f64; 3],
+    v: [f64; 3],
+    gk: [f64; 3],
+    dt: f64,
+    gravity: bool,
+) -> ([f64; 3], [f64; 3]) {
+    let w = if gravity {
+        [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]]
+    } else {
+        v
+    };
+    ([x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt], w)
+}
+
+/// The state one step of a subset changes, indexed by particle.
+pub struct Motion<'a> {
+    pub position: &'a mut [[f64; 3]],
+    pub velocity: &'a mut [[f64; 3]],
+    /// Contact accelerations at the start of the step; replaced by those at its end
+    /// for the particles stepped.
+    pub contact_acc: &'a mut [[f64; 3]],
+    /// Scratch, all zero on entry and on return.
+    pub new_acc: &'a mut [[f64; 3]],
+    pub inv_mass: &'a [f64],
+}
+
+/// The largest speed and contact acceleration of the particles a step moved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepBounds {
+    /// max |v| over the half step and the end of the step.
+    pub v_max: f64,
+    /// max |a_contact| at the end of the step.
+    pub a_max: f64,
+}
+
+/// One velocity-Verlet step of dt for the particles `ids` (sorted, each once), with
+/// velocities synchronised with positions before and after: the half kick with a(t),
+/// the drift, the forces at the new positions (predictor and touch correction as MD's,
+/// see the crate docs), the half kick with a(t + dt): the operations of
+/// [`crate::Md::advance`] by one step, on the subset.
+///
+/// Pairs are taken from `list` once each ([`NeighbourList::once`]), and only with
+/// partners j for which `partner(j)` holds; both particles of such a pair must be in
+/// `ids` (other particles feel no force from them). Particles outside `ids` are not
+/// touched.
+pub fn step_subset(
+    model: &ForceModel<'_>,
+    list: &NeighbourList,
+    motion: Motion<'_>,
+    ids: &[u32],
+    partner: impl Fn(usize) -> bool,
+    dt: f64,
+) -> StepBounds {
+    let Motion {
+        position,
+        velocity,
+        contact_acc,
+        new_acc,
+        inv_mass,
+    } = motion;
+    let h = 0.5 * dt;
+    let g = model.gravity;
+    let gravity = g != [0.0; 3];
+    let gk = [g[0] * h, g[1] * h, g[2] * h];
+    kick(velocity, contact_acc, ids, h);
+    let mut v2_max: f64 = 0.0;
+    for &i in ids {
+        let i = i as usize;
+        let (y, w) = kick_drift(position[i], velocity[i], gk, dt, gravity);
+        position[i] = y;
+        velocity[i] = w;
+        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    }
+    let ctx = Contacts {
+        model: *model,
+        list,
+        contact_acc: &*contact_acc,
+        h,
+    };
+    let mut sink = AddForces {
+        acc: new_acc,
+        inv_mass,
+    };
+    for &i in ids {
+        let i = i as usize;
+        let partners = list
+            .once(i)
+            .iter()
+            .copied()
+            .filter(|&e| partner((e & INDEX_MASK) as usize));
+        ctx.particle(
+            i,
+            position[i],
+            velocity[i],
+            partners,
+            position,
+            velocity,
+            &mut sink,
+        );
+    }
+    let mut a2_max: f64 = 0.0;
+    for &i in ids {
+        let i = i as usize;
+        let a = new_acc[i];
+        new_acc[i] = [0.0; 3];
+        contact_acc[i] = a;
+        a2_max = max_nan(a2_max, a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    }
+    kick(velocity, contact_acc, ids, h);
+    for &i in ids {
+        let i = i as usize;
+        let v = velocity[i];
+        let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
+        velocity[i] = w;
+        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    }
+    StepBounds {
+        v_max: v2_max.sqrt(),
+        a_max: a2_max.sqrt(),
+    }
+}
