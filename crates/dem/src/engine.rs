@@ -1,9 +1,9 @@
 //! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
 
-use crate::forces::{Contacts, ForceModel, PairForce, WALL, add_force};
+use crate::forces::{ForceKernel, ForceModel, PairForce, WALL, add_force};
 use crate::neighbour::NeighbourList;
 use crate::options::{MdError, MdOptions, prepare_system};
-use crate::verlet::{kick, kick_drift, max_nan};
+use crate::verlet::{kick_contacts, kick_drift, max_nan};
 use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
 
@@ -69,16 +69,16 @@ impl Md {
         };
         md.rebuild()?;
         // Forces at t = 0 with the velocities themselves (h = 0).
-        let ctx = md.contacts(0.0);
+        let kernel = md.kernel(0.0);
         let p = &md.system.particles;
         let mut buffers = vec![Vec::new(); md.buffers.len()];
         for (c, buf) in buffers.iter_mut().enumerate() {
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                ctx.particle(
+                kernel.particle(
                     i,
                     p.position[i],
                     p.velocity[i],
-                    ctx.list.of(i).iter().copied(),
+                    kernel.list.of(i).iter().copied(),
                     &p.position,
                     &p.velocity,
                     buf,
@@ -208,9 +208,9 @@ impl Md {
         Ok(())
     }
 
-    /// v += a_contact·kick for the particles in contact; returns their largest |v|².
+    /// v += a_contact·`by` for the particles in contact; returns their largest |v|².
     fn kick_contacts(&mut self, by: f64) -> f64 {
-        kick(
+        kick_contacts(
             &mut self.system.particles.velocity,
             &self.contact_acc,
             &self.touched,
@@ -220,19 +220,19 @@ impl Md {
 
     /// What the forces depend on besides the motion.
     fn model(&self) -> ForceModel<'_> {
-        ForceModel {
-            radius: &self.system.particles.radius,
-            species: &self.system.particles.species,
-            interactions: &self.interactions,
-            walls: &self.system.domain.walls,
-            gravity: self.system.domain.gravity,
-            contact_end: self.opts.contact_end,
-        }
+        let p = &self.system.particles;
+        ForceModel::new(
+            &p.radius,
+            &p.species,
+            &self.interactions,
+            &self.system.domain,
+            self.opts.contact_end,
+        )
     }
 
     /// The force kernel of the current step.
-    fn contacts(&self, h: f64) -> Contacts<'_> {
-        Contacts {
+    fn kernel(&self, h: f64) -> ForceKernel<'_> {
+        ForceKernel {
             model: self.model(),
             list: &self.list,
             contact_acc: &self.contact_acc,
@@ -246,18 +246,18 @@ impl Md {
         let mut position = std::mem::take(&mut self.system.particles.position);
         let mut velocity = std::mem::take(&mut self.system.particles.velocity);
         let mut buffers = std::mem::take(&mut self.buffers);
-        let ctx = self.contacts(h);
+        let kernel = self.kernel(h);
         let start = &self.list.start;
         let walls = !self.system.domain.walls.is_empty();
         let mut v2_max: f64 = 0.0;
         let n = position.len();
         // Without gravity the velocities need not be written back (less memory traffic).
-        let kick = gk != [0.0; 3];
+        let gravity = gk != [0.0; 3];
         for (c, buf) in buffers.iter_mut().enumerate() {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                let (y, w) = kick_drift(position[i], velocity[i], gk, dt, kick);
-                if kick {
+                let (y, w) = kick_drift(position[i], velocity[i], gk, dt, gravity);
+                if gravity {
                     velocity[i] = w;
                 }
                 position[i] = y;
@@ -267,8 +267,8 @@ impl Md {
                     v2_max = w2;
                 }
                 if walls || start[i] != start[i + 1] {
-                    let entries = ctx.list.of(i).iter().copied();
-                    ctx.particle(i, y, w, entries, &position, &velocity, buf);
+                    let entries = kernel.list.of(i).iter().copied();
+                    kernel.particle(i, y, w, entries, &position, &velocity, buf);
                 }
             }
         }
@@ -281,7 +281,7 @@ impl Md {
     /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
     /// drift everything, then find the contacts. Same numbers, same order.
     fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
-        let kick = gk != [0.0; 3];
+        let gravity = gk != [0.0; 3];
         let p = &mut self.system.particles;
         let v2 = p
             .position
@@ -292,8 +292,8 @@ impl Md {
                 for (x, v) in x.iter_mut().zip(v.iter_mut()) {
                     // Copies: re-reading just-stored components stalls the CPU.
                     let w;
-                    (*x, w) = kick_drift(*x, *v, gk, dt, kick);
-                    if kick {
+                    (*x, w) = kick_drift(*x, *v, gk, dt, gravity);
+                    if gravity {
                         *v = w;
                     }
                     let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
@@ -305,7 +305,7 @@ impl Md {
             })
             .reduce(|| 0.0, f64::max);
         let mut buffers = std::mem::take(&mut self.buffers);
-        let ctx = self.contacts(h);
+        let kernel = self.kernel(h);
         let (position, velocity) = (
             &self.system.particles.position,
             &self.system.particles.velocity,
@@ -316,8 +316,8 @@ impl Md {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
                 if walls || start[i] != start[i + 1] {
-                    let (x, v, entries) = (position[i], velocity[i], ctx.list.of(i).iter());
-                    ctx.particle(i, x, v, entries.copied(), position, velocity, buf);
+                    let (x, v, entries) = (position[i], velocity[i], kernel.list.of(i).iter());
+                    kernel.particle(i, x, v, entries.copied(), position, velocity, buf);
                 }
             }
         });

@@ -4,7 +4,7 @@
 use crate::neighbour::NeighbourList;
 use crate::options::ContactEnd;
 use emdstar_contact::PairLaw;
-use emdstar_system::{Interactions, Wall};
+use emdstar_system::{Domain, Interactions, Wall};
 
 /// A contact force found by a sweep: +f on `i`, −f on `j` (unless `j` is [`WALL`]).
 #[derive(Debug, Clone, Copy)]
@@ -30,7 +30,7 @@ impl ForceSink for Vec<PairForce> {
     }
 }
 
-/// Adds every force at once to the accelerations `acc` (with [`add_force`]).
+/// Adds every force at once to the accelerations `acc` ([`add_force`]).
 pub struct AddForces<'a> {
     pub acc: &'a mut [[f64; 3]],
     pub inv_mass: &'a [f64],
@@ -123,7 +123,26 @@ pub struct ForceModel<'a> {
     pub contact_end: ContactEnd,
 }
 
-impl ForceModel<'_> {
+impl<'a> ForceModel<'a> {
+    /// The model of particles with `radius` and `species` in `domain` (its walls and
+    /// gravity).
+    pub fn new(
+        radius: &'a [f64],
+        species: &'a [u32],
+        interactions: &'a Interactions,
+        domain: &'a Domain,
+        contact_end: ContactEnd,
+    ) -> Self {
+        Self {
+            radius,
+            species,
+            interactions,
+            walls: &domain.walls,
+            gravity: domain.gravity,
+            contact_end,
+        }
+    }
+
     /// Adds the contacts of particle `i` at `xi` with the walls and with the partners
     /// `entries` of `list` (positions `position`) to `contacts`, and their elastic
     /// energies ([`elastic_energy`]) to `potential`, pairs first, in list order.
@@ -159,7 +178,7 @@ impl ForceModel<'_> {
 
 /// The force kernel of one velocity-Verlet step: the model, the list whose entries the
 /// sweep is given, and the accelerations the velocity predictor needs.
-pub struct Contacts<'a> {
+pub struct ForceKernel<'a> {
     pub model: ForceModel<'a>,
     pub list: &'a NeighbourList,
     /// Contact accelerations of the previous step (zero for particles without contacts).
@@ -171,7 +190,7 @@ pub struct Contacts<'a> {
     pub h: f64,
 }
 
-impl Contacts<'_> {
+impl ForceKernel<'_> {
     /// Pushes the wall forces of particle `i` and the forces of the pairs with the
     /// partners `entries` (of the list), in that order. Reads `position[j]`,
     /// `velocity[j]` of those partners only, and `xi`, `vi` for particle i itself, so a

@@ -17,8 +17,8 @@
 //! **Contact start.** The linear dashpot's force jumps to γ·ξ̇ at first touch; the
 //! trapezoidal weighting of velocity Verlet then misplaces an impulse of order
 //! γ·ξ̇·dt per collision. The first step of every contact corrects it from the touch
-//! time interpolated between the last two steps (see `touch_correction` in forces.rs),
-//! which restores second order. Observed orders against the exact eMD* solution
+//! time interpolated between the last two steps (see [`touch_correction`]), which
+//! restores second order. Observed orders against the exact eMD* solution
 //! (tests/collisions.rs, 25 to 800 steps per contact): 2.0 for the linear dashpot,
 //! damped or not; about 1.6 for damped and 2.5 for elastic Hertz contacts, whose
 //! √ξ-dependence at touch is not smooth.
@@ -34,6 +34,28 @@
 //! particles may have moved by more than half the skin: the bound Σ_steps max|v|·dt,
 //! no per-particle displacement bookkeeping. On every rebuild the particles are sorted
 //! by cell, for locality.
+//!
+//! [`NeighbourList`] is the one list of the workspace. Its half layout
+//! ([`Layout::Half`]: each pair once, under its higher index) is MD's; its full layout
+//! ([`Layout::Full`]: each pair under both particles, those of higher index first, for
+//! particles in any order) is the hybrid engine's, whose event-driven part needs every
+//! neighbour of a particle. Both come from the same grid, cell stencil and cut-off
+//! test, and encode periodic images the same way ([`NeighbourList::split`]).
+//!
+//! # Building blocks for other engines
+//! The time-driven part of the hybrid engine integrates a subset of the particles with
+//! this crate's code rather than a copy:
+//! - [`step_subset`]: one velocity-Verlet step of the particles listed, with the
+//!   operations of [`Md::advance`] by one step ([`kick_contacts`], [`kick_drift`], the kernel,
+//!   [`add_force`]), velocities synchronised before and after. A filter on partners
+//!   leaves out pairs with particles that are not integrated (the hybrid's
+//!   event-driven ones: no mixed contacts).
+//! - [`ForceKernel::particle`], the force kernel (walls, then the partners it is given,
+//!   with predictor and touch correction), writing to any [`ForceSink`]: MD records
+//!   [`PairForce`]s per chunk and applies them in order, the hybrid adds them at once
+//!   ([`AddForces`]). With h = 0 it gives the forces at the current velocities, as at
+//!   t = 0 (the hybrid's particles that switch to time-driven).
+//! - [`ForceModel::add_elastic`] and [`elastic_energy`] for the thermo output.
 //!
 //! # Determinism
 //! The force loop runs on rayon over fixed chunks of particles. Each chunk sets its
@@ -52,12 +74,12 @@ mod verlet;
 
 pub use engine::{Md, check_and_wrap};
 pub use forces::{
-    AddForces, Contacts, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
+    AddForces, ForceKernel, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
     normal_force, touch_correction, unclipped_force,
 };
-pub use neighbour::{INDEX_BITS, INDEX_MASK, Layout, NeighbourList};
+pub use neighbour::{Layout, NeighbourList};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
     prepare_system, shortest_contact_time,
 };
-pub use verlet::{Motion, StepBounds, kick, kick_drift, step_subset};
+pub use verlet::{Motion, StepBounds, kick_contacts, kick_drift, step_subset};

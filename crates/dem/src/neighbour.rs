@@ -22,10 +22,10 @@ pub enum Layout {
 }
 
 /// A Verlet list: every pair closer than R_i + R_j + skin, as entries
-/// `j | code << INDEX_BITS`, where the neighbour's image sits at x_j + `shift(code)`
-/// ([`NeighbourList::split`]). Under each particle the neighbours come in the order of
-/// the cells of [`CellGrid::for_each_neighbour`] (full stencil), by index within a
-/// cell.
+/// `j | code << INDEX_BITS` under particle i, where `code` names the periodic image of
+/// j that is close ([`NeighbourList::split`] gives j and the image's shift). Under each
+/// particle the neighbours come in the order of the cells of
+/// [`CellGrid::for_each_neighbour`] (full stencil), by index within a cell.
 #[derive(Debug, Clone, Default)]
 pub struct NeighbourList {
     layout: Layout,
@@ -123,12 +123,11 @@ impl NeighbourList {
         Ok(())
     }
 
-    /// The non-empty cells next to cell `c` (itself included), in the order of
-    /// [`CellGrid::for_each_neighbour`].
+    /// Writes the non-empty cells next to cell `c` (itself included) to `cells`, in the
+    /// order of [`CellGrid::for_each_neighbour`], and returns their number.
     #[inline]
-    fn near(&self, c: [usize; 3]) -> ([Near; 27], usize) {
+    fn near(&self, c: [usize; 3], cells: &mut [Near; 27]) -> usize {
         let grid = &self.grid;
-        let mut cells = [Near::default(); 27];
         let mut n = 0;
         grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
             let code =
@@ -147,7 +146,7 @@ impl NeighbourList {
                 n += 1;
             }
         });
-        (cells, n)
+        n
     }
 
     /// Lays a grid as [`Self::build_full`] does, with cells of about `per_cell`
@@ -194,7 +193,8 @@ impl NeighbourList {
             ];
             // The full stencil, keeping j < i: a half stencil would list some pairs
             // that meet through a periodic wrap under their lower index.
-            let (cells, n_cells) = self.near(c);
+            let mut cells = [Near::default(); 27];
+            let n_cells = self.near(c, &mut cells);
             for i in a..b {
                 let (xi, ri) = (positions[i], radius[i] + skin);
                 for near in &cells[..n_cells] {
@@ -229,17 +229,17 @@ impl NeighbourList {
         self.start.push(0);
         // In particle order: dilute grids have far more cells than particles.
         let mut last_cell = usize::MAX;
-        let mut cells = ([Near::default(); 27], 0);
+        let (mut cells, mut n_cells) = ([Near::default(); 27], 0);
         for (i, &xi) in positions.iter().enumerate() {
             let c = self.grid.coords(xi);
             let index = self.grid.index(c);
             if index != last_cell {
-                cells = self.near(c);
+                n_cells = self.near(c, &mut cells);
                 last_cell = index;
             }
             let ri = radius[i] + skin;
             self.lower.clear();
-            for near in &cells.0[..cells.1] {
+            for near in &cells[..n_cells] {
                 for &j in &self.grid.cell_items[near.first..near.end] {
                     let j = j as usize;
                     if j != i && within(xi, positions[j], near.shift, ri + radius[j]) {

@@ -1,7 +1,7 @@
 //! The kicks and drifts of velocity Verlet (see the crate docs), and one whole step of
 //! a subset of the particles.
 
-use crate::forces::{AddForces, Contacts, ForceModel};
+use crate::forces::{AddForces, ForceKernel, ForceModel};
 use crate::neighbour::{INDEX_MASK, NeighbourList};
 
 /// max(a, b) that lets a NaN through (so that a blow-up is noticed).
@@ -10,8 +10,9 @@ pub(crate) fn max_nan(a: f64, b: f64) -> f64 {
     if b > a || b.is_nan() { b } else { a }
 }
 
-/// v += a·`kick` for the particles `ids`; returns their largest |v|² (NaN passes).
-pub fn kick(velocity: &mut [[f64; 3]], acc: &[[f64; 3]], ids: &[u32], kick: f64) -> f64 {
+/// v += a·`kick` for the particles `ids` (a: their contact accelerations); returns
+/// their largest |v|² (NaN passes).
+pub fn kick_contacts(velocity: &mut [[f64; 3]], acc: &[[f64; 3]], ids: &[u32], kick: f64) -> f64 {
     let mut v2_max: f64 = 0.0;
     for &i in ids {
         let (i, a) = (i as usize, acc[i as usize]);
@@ -91,7 +92,7 @@ pub fn step_subset(
     let g = model.gravity;
     let gravity = g != [0.0; 3];
     let gk = [g[0] * h, g[1] * h, g[2] * h];
-    kick(velocity, contact_acc, ids, h);
+    kick_contacts(velocity, contact_acc, ids, h);
     let mut v2_max: f64 = 0.0;
     for &i in ids {
         let i = i as usize;
@@ -100,7 +101,7 @@ pub fn step_subset(
         velocity[i] = w;
         v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
     }
-    let ctx = Contacts {
+    let kernel = ForceKernel {
         model: *model,
         list,
         contact_acc: &*contact_acc,
@@ -117,7 +118,7 @@ pub fn step_subset(
             .iter()
             .copied()
             .filter(|&e| partner((e & INDEX_MASK) as usize));
-        ctx.particle(
+        kernel.particle(
             i,
             position[i],
             velocity[i],
@@ -135,7 +136,7 @@ pub fn step_subset(
         contact_acc[i] = a;
         a2_max = max_nan(a2_max, a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     }
-    kick(velocity, contact_acc, ids, h);
+    kick_contacts(velocity, contact_acc, ids, h);
     for &i in ids {
         let i = i as usize;
         let v = velocity[i];

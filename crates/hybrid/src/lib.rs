@@ -61,13 +61,17 @@
 //! 3. ED events up to t + dt are processed in time order (collisions among ED
 //!    particles and with walls, E^v events); ED particles are updated lazily, only when
 //!    they take part in an event, so a free ED particle costs nothing per step;
-//! 4. TD particles take one velocity-Verlet step with the force laws of
-//!    [`emdstar_contact`] and the predictor and touch correction of [`emdstar_dem`]
-//!    (see its crate docs), so an all-TD run is MD.
+//! 4. TD particles take one velocity-Verlet step: [`emdstar_dem::step_subset`] on the
+//!    TD particles, MD's own step (predictor, touch correction and force kernel; see
+//!    that crate's docs) with pairs of a TD and an ED particle left out, so an all-TD
+//!    run is MD. Particles that switch to TD get their forces from MD's kernel with
+//!    their velocities at the switch, as MD's first step.
 //!
-//! ED predictions use the same list (pairs closer than contact + skin at the rebuild):
-//! the drift bound guarantees that no other pair can touch before the next rebuild,
-//! when every ED particle is re-predicted. (While no particle is TD, the cell path
+//! The list is [`emdstar_dem::NeighbourList`] in its full layout (each pair under both
+//! particles), on link cells at least as wide as its cut-off 2R_max + skin, which also serve
+//! the local volume fractions. ED predictions use the same list (pairs closer than
+//! contact + skin at the rebuild): the drift bound guarantees that no other pair can
+//! touch before the next rebuild, when every ED particle is re-predicted. (While no particle is TD, the cell path
 //! below replaces the list.) Detection is Bannerman et al. 2014
 //! (Algorithms 1 and 2, via [`emdstar_edmd::detect`]), so gravity (parabolic flights)
 //! and inclined plane walls are handled in both modes. Collisions follow eMD* with

@@ -5,7 +5,7 @@
 use crate::engine::Hybrid;
 use crate::options::Mode;
 use emdstar_contact::vec3::{norm, norm2};
-use emdstar_dem::{AddForces, ContactEnd, Contacts, ForceModel, INDEX_MASK, Motion, step_subset};
+use emdstar_dem::{AddForces, ContactEnd, ForceKernel, ForceModel, Motion, step_subset};
 
 impl Hybrid {
     /// Refreshes the sorted list of TD particles after switches.
@@ -27,14 +27,14 @@ impl Hybrid {
         self.refresh_td();
         let mode = &self.mode;
         let p = &mut self.system.particles;
-        let model = ForceModel {
-            radius: &p.radius,
-            species: &p.species,
-            interactions: self.materials.interactions(),
-            walls: &self.system.domain.walls,
-            gravity: self.system.domain.gravity,
-            contact_end: ContactEnd::ForceZero,
-        };
+        let interactions = self.materials.interactions();
+        let model = ForceModel::new(
+            &p.radius,
+            &p.species,
+            interactions,
+            &self.system.domain,
+            ContactEnd::ForceZero,
+        );
         let motion = Motion {
             position: &mut p.position,
             velocity: &mut p.velocity,
@@ -72,15 +72,15 @@ impl Hybrid {
             fresh[i as usize] = self.mode[i as usize] == Mode::Time;
         }
         let p = &self.system.particles;
-        let kernel = Contacts {
-            model: ForceModel {
-                radius: &p.radius,
-                species: &p.species,
-                interactions: self.materials.interactions(),
-                walls: &self.system.domain.walls,
-                gravity: self.system.domain.gravity,
-                contact_end: ContactEnd::ForceZero,
-            },
+        let interactions = self.materials.interactions();
+        let kernel = ForceKernel {
+            model: ForceModel::new(
+                &p.radius,
+                &p.species,
+                interactions,
+                &self.system.domain,
+                ContactEnd::ForceZero,
+            ),
             list: &self.list,
             // Not read with h = 0 (zero between steps).
             contact_acc: &self.new_acc,
@@ -98,7 +98,7 @@ impl Hybrid {
             }
             // A pair of fresh particles once, from its lower index.
             let partners = self.list.of(i).iter().copied().filter(|&e| {
-                let j = (e & INDEX_MASK) as usize;
+                let j = self.list.split(e).0;
                 self.mode[j] == Mode::Time && !(fresh[j] && j < i)
             });
             let (xi, vi) = (p.position[i], p.velocity[i]);

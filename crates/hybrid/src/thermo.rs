@@ -2,7 +2,7 @@
 
 use crate::engine::Hybrid;
 use crate::options::Mode;
-use emdstar_dem::{ContactEnd, ForceModel, INDEX_MASK};
+use emdstar_dem::{ContactEnd, ForceModel};
 use emdstar_system::{Particles, Thermo};
 
 impl Hybrid {
@@ -30,14 +30,14 @@ impl Hybrid {
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.domain.gravity;
-        let model = ForceModel {
-            radius: &p.radius,
-            species: &p.species,
-            interactions: self.materials.interactions(),
-            walls: &self.system.domain.walls,
-            gravity: g,
-            contact_end: ContactEnd::ForceZero,
-        };
+        let interactions = self.materials.interactions();
+        let model = ForceModel::new(
+            &p.radius,
+            &p.species,
+            interactions,
+            &self.system.domain,
+            ContactEnd::ForceZero,
+        );
         let mut potential = 0.0;
         let mut contacts = 0;
         let mut kinetic = 0.0;
@@ -61,7 +61,7 @@ impl Hybrid {
                 .upper(i)
                 .iter()
                 .copied()
-                .filter(|&e| self.mode[(e & INDEX_MASK) as usize] == Mode::Time);
+                .filter(|&e| self.mode[self.list.split(e).0] == Mode::Time);
             let sums = (&mut contacts, &mut potential);
             model.add_elastic(i, xi, time_driven, &self.list, &p.position, sums);
         }
