@@ -2,14 +2,29 @@
 //! options, driven through the one simulation interface, and reported with its own
 //! counters.
 
-use super::edmd_engine;
-use super::engine::{EngineArgs, EngineKind, md_options};
-use super::hybrid_engine;
+use super::edmd_engine::{self, EdmdArgs};
+use super::engine::{EngineKind, MdArgs, md_options, parse_engine};
+use super::hybrid_engine::{self, HybridArgs};
+use clap::Args;
 use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, Md};
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_system::{Config, Simulation, System};
 use serde_json::{Value, json};
+
+/// Every engine's options, as `pair` and `run` take them.
+#[derive(Args, Debug, Clone)]
+pub struct EngineArgs {
+    /// The engine: md, emd, emdstar or hybrid.
+    #[arg(long, value_parser = parse_engine, default_value = "md")]
+    pub engine: EngineKind,
+    #[command(flatten)]
+    pub md: MdArgs,
+    #[command(flatten)]
+    pub edmd: EdmdArgs,
+    #[command(flatten)]
+    pub hybrid: HybridArgs,
+}
 
 /// One of the engines.
 pub enum AnyEngine {

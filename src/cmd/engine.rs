@@ -1,8 +1,6 @@
 //! What `pair` and `run` share: the engine choice and its options, and building the
 //! engine a config and those options describe.
 
-use super::edmd_engine::EdmdArgs;
-use super::hybrid_engine::HybridArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
@@ -51,20 +49,6 @@ pub struct MdArgs {
     /// Verlet-list skin in m [default: the largest radius].
     #[arg(long, value_name = "M")]
     pub skin: Option<f64>,
-}
-
-/// Every engine's options, as `pair` and `run` take them.
-#[derive(Args, Debug, Clone)]
-pub struct EngineArgs {
-    /// The engine: md, emd, emdstar or hybrid.
-    #[arg(long, value_parser = parse_engine, default_value = "md")]
-    pub engine: EngineKind,
-    #[command(flatten)]
-    pub md: MdArgs,
-    #[command(flatten)]
-    pub edmd: EdmdArgs,
-    #[command(flatten)]
-    pub hybrid: HybridArgs,
 }
 
 /// Reads and builds a config.

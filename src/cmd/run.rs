@@ -1,8 +1,8 @@
 //! `emdstar run`: simulate a gas with any engine, writing a trajectory, a thermo log
 //! and checkpoints, and printing a summary.
 
-use super::any_engine::AnyEngine;
-use super::engine::{EngineArgs, drift_fields, load, progress_bar, with_fields};
+use super::any_engine::{AnyEngine, EngineArgs};
+use super::engine::{drift_fields, load, progress_bar, with_fields};
 use super::run_loop::{Plan, Ticks, drive};
 use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
