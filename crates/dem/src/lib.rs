@@ -70,6 +70,7 @@ mod engine;
 mod forces;
 mod neighbour;
 mod options;
+mod simulation;
 mod verlet;
 
 pub use engine::{Md, check_and_wrap};

@@ -140,6 +140,7 @@ mod engine;
 mod host;
 mod list;
 mod options;
+mod simulation;
 mod td;
 mod thermo;
 
