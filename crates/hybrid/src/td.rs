@@ -6,6 +6,20 @@ use crate::engine::Hybrid;
 use crate::options::Mode;
 use emdstar_contact::vec3::{norm, norm2};
 use emdstar_dem::{AddForces, ContactEnd, ForceKernel, ForceModel, Motion, step_subset};
+use emdstar_edmd::Materials;
+use emdstar_system::Domain;
+
+/// MD's force model for particles of `radius` and `species`: the laws of `materials`,
+/// clipped (F ≥ 0: the only contact end the hybrid supports, see the crate docs).
+pub(crate) fn force_model<'a>(
+    radius: &'a [f64],
+    species: &'a [u32],
+    materials: &'a Materials,
+    domain: &'a Domain,
+) -> ForceModel<'a> {
+    let interactions = materials.interactions();
+    ForceModel::new(radius, species, interactions, domain, ContactEnd::ForceZero)
+}
 
 impl Hybrid {
     /// Refreshes the sorted list of TD particles after switches.
@@ -27,14 +41,7 @@ impl Hybrid {
         self.refresh_td();
         let mode = &self.mode;
         let p = &mut self.system.particles;
-        let interactions = self.materials.interactions();
-        let model = ForceModel::new(
-            &p.radius,
-            &p.species,
-            interactions,
-            &self.system.domain,
-            ContactEnd::ForceZero,
-        );
+        let model = force_model(&p.radius, &p.species, &self.materials, &self.system.domain);
         let motion = Motion {
             position: &mut p.position,
             velocity: &mut p.velocity,
@@ -72,15 +79,8 @@ impl Hybrid {
             fresh[i as usize] = self.mode[i as usize] == Mode::Time;
         }
         let p = &self.system.particles;
-        let interactions = self.materials.interactions();
         let kernel = ForceKernel {
-            model: ForceModel::new(
-                &p.radius,
-                &p.species,
-                interactions,
-                &self.system.domain,
-                ContactEnd::ForceZero,
-            ),
+            model: force_model(&p.radius, &p.species, &self.materials, &self.system.domain),
             list: &self.list,
             // Not read with h = 0 (zero between steps).
             contact_acc: &self.new_acc,

@@ -2,7 +2,7 @@
 
 use crate::engine::Hybrid;
 use crate::options::Mode;
-use emdstar_dem::{ContactEnd, ForceModel};
+use crate::td::force_model;
 use emdstar_system::{Particles, Thermo};
 
 impl Hybrid {
@@ -30,14 +30,7 @@ impl Hybrid {
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.domain.gravity;
-        let interactions = self.materials.interactions();
-        let model = ForceModel::new(
-            &p.radius,
-            &p.species,
-            interactions,
-            &self.system.domain,
-            ContactEnd::ForceZero,
-        );
+        let model = force_model(&p.radius, &p.species, &self.materials, &self.system.domain);
         let mut potential = 0.0;
         let mut contacts = 0;
         let mut kinetic = 0.0;
