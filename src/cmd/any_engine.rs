@@ -5,8 +5,8 @@
 use super::edmd_engine::{self, EdmdArgs};
 use super::engine::{EngineKind, MdArgs, md_options, parse_engine};
 use super::hybrid_engine::{self, HybridArgs};
-use clap::Args;
 use anyhow::{Result, bail};
+use clap::Args;
 use emdstar_dem::{ContactEnd, Md};
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_system::{Config, Simulation, System};

@@ -1,7 +1,7 @@
 //! `emdstar pair`: a few particles to t_end, printing the final state.
 
 use super::any_engine::{AnyEngine, EngineArgs};
-use super::engine::{load};
+use super::engine::load;
 use anyhow::Result;
 use clap::Args;
 use serde_json::json;
