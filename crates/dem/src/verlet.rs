@@ -63,16 +63,17 @@ pub struct StepBounds {
     pub a_max: f64,
 }
 
-/// One velocity-Verlet step of dt for the particles `ids` (sorted, each once), with
+/// One velocity-Verlet step of dt for the particles `ids` (each once), with
 /// velocities synchronised with positions before and after: the half kick with a(t),
 /// the drift, the forces at the new positions (predictor and touch correction as MD's,
 /// see the crate docs), the half kick with a(t + dt): the operations of
 /// [`crate::Md::advance`] by one step, on the subset.
 ///
 /// Pairs are taken from `list` once each ([`NeighbourList::once`]), and only with
-/// partners j for which `partner(j)` holds; both particles of such a pair must be in
-/// `ids` (other particles feel no force from them). Particles outside `ids` are not
-/// touched.
+/// partners j for which `partner(j)` holds; both particles of a pair kept must be in
+/// `ids` (a partner outside would be left with a force in `new_acc`). The caller keeps
+/// `list` fresh: it must hold every pair that can touch by the end of the step.
+/// Particles outside `ids` are not touched.
 pub fn step_subset(
     model: &ForceModel<'_>,
     list: &NeighbourList,
