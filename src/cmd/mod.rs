@@ -10,6 +10,7 @@ pub mod hybrid_engine;
 pub mod lammps;
 pub mod mor;
 pub mod pair;
+pub mod restitution_curve;
 pub mod run;
 pub mod table;
 pub mod validate;

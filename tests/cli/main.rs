@@ -4,6 +4,7 @@ mod edmd;
 mod hybrid;
 mod md;
 mod mor;
+mod restitution;
 mod table;
 mod validate;
 
