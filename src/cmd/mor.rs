@@ -129,8 +129,7 @@ struct Answer {
     mor: Mor,
     /// "exact" or "table".
     source: &'static str,
-    /// The dissipation computed from --restitution: ("damping", γ) or ("dissipation", A).
-    fitted: Option<(&'static str, f64)>,
+    fitted: Option<Fitted>,
 }
 
 pub fn run(args: &MorArgs) -> Result<()> {
@@ -231,29 +230,34 @@ pub(super) fn required(value: Option<f64>, flag: &str, model: Model) -> Result<f
     value.with_context(|| format!("--model {model} needs {flag}"))
 }
 
+/// A flag and its value, if given.
+type Flag = (&'static str, Option<f64>);
+
+/// The dissipation computed from --restitution: ("damping", γ) or ("dissipation", A).
+pub(super) type Fitted = (&'static str, f64);
+
 /// The material (its dissipation given, or computed from --restitution), the pair of
 /// spheres, and the dissipation computed, if it was.
 pub(super) fn material(
     args: &MorArgs,
     model: Model,
-) -> Result<(ForceLaw, PairProperties, Option<(&'static str, f64)>)> {
-    let (elastic, dissipative, foreign): (&[&str], (&str, Option<f64>), Vec<(&str, Option<f64>)>) =
-        match model {
-            Model::Linear => (
-                &["--stiffness"],
-                ("--damping", args.damping),
-                vec![
-                    ("--young", args.young),
-                    ("--poisson", args.poisson),
-                    ("--dissipation", args.dissipation),
-                ],
-            ),
-            Model::Hertz => (
-                &["--young", "--poisson"],
+) -> Result<(ForceLaw, PairProperties, Option<Fitted>)> {
+    let (elastic, dissipative, foreign): (&[&str], Flag, Vec<Flag>) = match model {
+        Model::Linear => (
+            &["--stiffness"],
+            ("--damping", args.damping),
+            vec![
+                ("--young", args.young),
+                ("--poisson", args.poisson),
                 ("--dissipation", args.dissipation),
-                vec![("--stiffness", args.stiffness), ("--damping", args.damping)],
-            ),
-        };
+            ],
+        ),
+        Model::Hertz => (
+            &["--young", "--poisson"],
+            ("--dissipation", args.dissipation),
+            vec![("--stiffness", args.stiffness), ("--damping", args.damping)],
+        ),
+    };
     if let Some((flag, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
         bail!(
             "{flag} does not belong to --model {model}, which takes {}, and {} or --restitution",
