@@ -15,6 +15,7 @@
 mod config;
 mod error;
 mod geometry;
+pub mod gsd;
 mod init;
 mod state;
 mod system;
