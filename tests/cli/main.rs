@@ -1,6 +1,7 @@
 //! End-to-end tests of the `emdstar` command line.
 
 mod edmd;
+mod examples;
 mod hybrid;
 mod md;
 mod mor;
