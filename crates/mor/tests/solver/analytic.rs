@@ -1,5 +1,5 @@
 //! Analytic limits: elastic durations, Schwager & Pöschel's dashpot, the Hertz restitution
-//! table and series of DESIGN.md, energy conservation, and the large-l̃ limit of ε_φ.
+//! table and series of docs/physics.md ("Reference values"), energy conservation, and the large-l̃ limit of ε_φ.
 
 use crate::common::*;
 use emdstar_contact::Model;
@@ -22,7 +22,7 @@ fn linear_elastic_central_impact_lasts_pi_and_keeps_its_energy() {
 
 #[test]
 fn hertz_elastic_central_duration_matches_the_gamma_formula() {
-    // τ̃ = (4/5)(5/4)^{2/5}·√π·Γ(2/5)/Γ(9/10) = 3.218065 (DESIGN.md), evaluated by
+    // τ̃ = (4/5)(5/4)^{2/5}·√π·Γ(2/5)/Γ(9/10) = 3.218065 (docs/physics.md), evaluated by
     // emdstar-contact (Lanczos Γ, tested there against known Γ values), not the solver.
     let exact = emdstar_contact::hertz_elastic_scaled_duration();
     assert!((exact - 3.218065).abs() < 5e-7);
@@ -37,7 +37,7 @@ fn hertz_elastic_central_duration_matches_the_gamma_formula() {
     }
 }
 
-/// Schwager & Pöschel, Granular Matter 9, 465 (2007), as tabulated in DESIGN.md, in scaled
+/// Schwager & Pöschel, Granular Matter 9, 465 (2007), as tabulated in docs/physics.md, in scaled
 /// units ω0 = 1, β = c_dis/2: (t_c, ε).
 fn schwager_poeschel(c_dis: f64) -> (f64, f64) {
     let omega0 = 1.0f64;
