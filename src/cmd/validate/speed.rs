@@ -48,7 +48,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     b.finish();
     let path = args.out.join("speed_ratio.png");
     plot(&points, &path).map_err(|e| anyhow!(e))?;
-    let auto = emdstar_edmd::BroadPhase::AUTO_EPOCHS_BELOW;
+    let auto = emdstar_edmd::BroadPhaseKind::AUTO_EPOCHS_BELOW;
     let mut markdown = vec![
         format!(
             "## 5. Speed: MD against eMD* (table), elastic Hertz gas, N = {count}, one thread each"
@@ -60,7 +60,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
              (the least disturbed by other load). MD's cost is the rate of its steps (not a run over \
              the whole simulated time eMD* covers); eMD* runs ≥ 1 collision per particle over the rounds. \
              The ratio is a ratio of measured rates on this (shared) machine. eMD* finds its candidate \
-             pairs by epochs below η = {auto} (swept boxes filed once per epoch, `BroadPhase::Epochs`) and \
+             pairs by epochs below η = {auto} (swept boxes filed once per epoch, `BroadPhaseKind::Epochs`) and \
              by cell crossings above, where crossings are most of its events in a dilute gas (see the \
              note below the table).",
             budget / rounds as f64
