@@ -97,14 +97,7 @@ fn strongly_overdamped_central_impacts_stay_accurate() {
 
 #[test]
 fn hertz_central_restitution_matches_the_table_and_the_small_delta_series() {
-    let table = [
-        (0.1, 0.892859),
-        (0.3, 0.722085),
-        (0.5, 0.595252),
-        (1.0, 0.393931),
-        (2.0, 0.211646),
-    ];
-    for (delta, eps) in table {
+    for (delta, eps) in HERTZ_RESTITUTION {
         let m = solve(Model::Hertz, &params(1e4, 0.0, delta)).unwrap();
         assert!(
             (-m.eps_rdot - eps).abs() < 6e-7,
@@ -112,14 +105,11 @@ fn hertz_central_restitution_matches_the_table_and_the_small_delta_series() {
             -m.eps_rdot
         );
     }
-    // The series stops at δ² and its coefficients carry 7 decimals: allow 1e-7·δ plus a
-    // next term of size δ^{5/2}, and 1e-11 for the solver.
     for delta in [1e-6, 1e-5, 1e-4] {
         let m = solve(Model::Hertz, &params(1e4, 0.0, delta)).unwrap();
-        let series = 1.0 - 1.1534489 * delta + 0.7982666 * delta * delta;
-        let d = (-m.eps_rdot - series).abs();
+        let d = (-m.eps_rdot - hertz_restitution_series(delta)).abs();
         assert!(
-            d < 1e-7 * delta + delta.powf(2.5) + 1e-11,
+            d < hertz_series_tolerance(delta),
             "δ = {delta}: off by {d:e}"
         );
     }

@@ -3,6 +3,7 @@
 //! and the published Hertz restitution ε(c_dis) with its small-c_dis series
 //! (docs/physics.md, "Reference values").
 
+use crate::common::{HERTZ_RESTITUTION, hertz_restitution_series, hertz_series_tolerance};
 use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, Sphere, ViscoelasticHertz,
     scale,
@@ -100,15 +101,7 @@ fn hertz_dissipation_gives_the_restitution_at_the_speed_it_was_asked_for() {
 
 #[test]
 fn hertz_c_dis_matches_the_published_restitution_table() {
-    // ε(δ = c_dis) for the force-zero end, to the six digits published.
-    let table = [
-        (0.1, 0.892859),
-        (0.3, 0.722085),
-        (0.5, 0.595252),
-        (1.0, 0.393931),
-        (2.0, 0.211646),
-    ];
-    for (delta, eps) in table {
+    for (delta, eps) in HERTZ_RESTITUTION {
         let c = central_c_dis(Model::Hertz, eps).unwrap();
         // dε/dδ is about −1 here, so six digits of ε fix δ to about 1e-6.
         assert!(
@@ -116,13 +109,12 @@ fn hertz_c_dis_matches_the_published_restitution_table() {
             "ε = {eps}: c_dis = {c}, expected {delta}"
         );
     }
-    // Small δ: ε = 1 − 1.1534489·δ + 0.7982666·δ² + O(δ³); the bound allows for the
-    // remainder (10·δ³) and 1e-10 in ε.
-    for delta in [1e-4, 1e-3] {
-        let eps = 1.0 - 1.1534489 * delta + 0.7982666 * delta * delta;
-        let c = central_c_dis(Model::Hertz, eps).unwrap();
+    // Small δ: the series, within its tolerance in ε (|dε/dδ| ≈ 1.15 > 1, so the same
+    // bound holds for δ).
+    for delta in [1e-5, 1e-4, 1e-3] {
+        let c = central_c_dis(Model::Hertz, hertz_restitution_series(delta)).unwrap();
         assert!(
-            (c - delta).abs() < 1e-10 + 10.0 * delta.powi(3),
+            (c - delta).abs() < hertz_series_tolerance(delta),
             "δ = {delta}: c_dis = {c}"
         );
     }
