@@ -133,6 +133,7 @@
 mod cells;
 mod ed;
 mod engine;
+mod host;
 mod list;
 mod options;
 mod td;

@@ -53,10 +53,10 @@ use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
 use crate::system::System;
 use emdstar_contact::{ForceLaw, LinearDashpot, Model, PairProperties, Sphere, ViscoelasticHertz};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The whole config file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
     /// End time in s.
@@ -77,7 +77,7 @@ pub struct Config {
 }
 
 /// `[material]`: the force law and the density.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
     pub model: String,
@@ -95,7 +95,7 @@ pub struct MaterialConfig {
 }
 
 /// One `[[particles]]` entry.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleConfig {
     pub radius: f64,
@@ -106,7 +106,7 @@ pub struct ParticleConfig {
 }
 
 /// `[box]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxConfig {
     pub size: [f64; 3],
@@ -121,7 +121,7 @@ fn all_periodic() -> [bool; 3] {
 }
 
 /// One `[[walls]]` entry.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallConfig {
     pub normal: [f64; 3],
@@ -129,7 +129,7 @@ pub struct WallConfig {
 }
 
 /// `[output]`: file names and intervals (the CLI may override them).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputConfig {
     pub trajectory: Option<String>,
@@ -139,7 +139,7 @@ pub struct OutputConfig {
 }
 
 /// `[md]`: options of the force-based engine; the command line overrides them.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MdConfig {
     /// Time step in s.
@@ -165,6 +165,19 @@ impl Config {
             source,
         })?;
         Self::from_toml(&text)
+    }
+
+    /// A digest of the physical system the config describes (everything but `t_end`
+    /// and `[output]`): a checkpoint records it, and a run resumed from it under
+    /// another config is refused.
+    pub fn digest(&self) -> u64 {
+        let physics = Self {
+            t_end: 0.0,
+            output: None,
+            ..self.clone()
+        };
+        let text = toml::to_string(&physics).expect("a parsed config serialises");
+        u64::from(crc32fast::hash(text.as_bytes())) | (text.len() as u64) << 32
     }
 
     /// Builds and validates the system the config describes.
