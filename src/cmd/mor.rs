@@ -226,7 +226,7 @@ fn reject_physical(args: &MorArgs) -> Result<()> {
     Ok(())
 }
 
-pub(super) fn required(value: Option<f64>, flag: &str, model: Model) -> Result<f64> {
+fn required(value: Option<f64>, flag: &str, model: Model) -> Result<f64> {
     value.with_context(|| format!("--model {model} needs {flag}"))
 }
 
