@@ -1,5 +1,6 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
+pub mod any_engine;
 pub mod bench;
 pub mod bench_edmd;
 pub mod check;
@@ -12,5 +13,7 @@ pub mod mor;
 pub mod pair;
 pub mod restitution_curve;
 pub mod run;
+pub mod run_loop;
+pub mod stop;
 pub mod table;
 pub mod validate;

@@ -163,6 +163,14 @@ impl Hybrid {
         &self.stats
     }
 
+    /// The name of the source of the matrix of restitution ("table+exact", …).
+    pub fn mor_name(&self) -> &'static str {
+        match &self.physics {
+            Physics::EmdStar { mor, .. } => mor.name(),
+            _ => "",
+        }
+    }
+
     /// The options in use.
     pub fn options(&self) -> &HybridOptions {
         &self.opts

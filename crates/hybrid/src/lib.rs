@@ -136,6 +136,7 @@ mod engine;
 mod host;
 mod list;
 mod options;
+mod simulation;
 mod td;
 mod thermo;
 

@@ -37,6 +37,7 @@
 //! # trajectory_interval = 0.01     # s
 //! # log = "run.log"
 //! # log_interval = 0.001           # s
+//! # restart_interval = 0.1         # s: a checkpoint this often (with `run --checkpoint`)
 //! # [md]                           # options of the MD engine only
 //! # dt = 1e-5                      # s (default: a fraction of the contact time)
 //! # contact_end = "force"          # or "overlap" (LAMMPS)
@@ -136,6 +137,8 @@ pub struct OutputConfig {
     pub trajectory_interval: Option<f64>,
     pub log: Option<String>,
     pub log_interval: Option<f64>,
+    /// Time between checkpoints in s (none by default).
+    pub restart_interval: Option<f64>,
 }
 
 /// `[md]`: options of the force-based engine; the command line overrides them.
