@@ -65,14 +65,13 @@ enum TableRef {
 }
 
 impl TableMorSource {
-    /// The shipped default table of `model`.
-    pub fn default_for(model: Model, exact_fallback: bool) -> Result<Self> {
-        let table = emdstar_table::default_table(model)
-            .map_err(|e| EngineError::Invalid(format!("default {} table: {e}", model.name())))?;
-        Ok(Self {
+    /// A table that lives for the whole program, e.g. a shipped default table
+    /// (`emdstar_table::default_table` with that crate's `embedded-defaults` feature).
+    pub fn new(table: &'static Table, exact_fallback: bool) -> Self {
+        Self {
             table: TableRef::Static(table),
             exact_fallback,
-        })
+        }
     }
 
     /// A table read from a file.

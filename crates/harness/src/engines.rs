@@ -121,7 +121,10 @@ pub fn lattice_gas(
 fn mor_source(kind: EventKind, model: Model) -> Result<Box<dyn MorSource>> {
     Ok(match kind {
         EventKind::EmdStarExact => Box::new(ExactMor),
-        _ => Box::new(TableMorSource::default_for(model, true)?),
+        _ => Box::new(TableMorSource::new(
+            emdstar_table::default_table(model)?,
+            true,
+        )),
     })
 }
 
