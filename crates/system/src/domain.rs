@@ -175,7 +175,10 @@ mod tests {
         let free = Domain::default();
         assert!(free.check(&two([1e150, 0.0, 0.0])).is_ok());
         let err = free.check(&two([1e300, 0.0, 0.0])).unwrap_err().to_string();
-        assert!(err.contains("particle 0") && err.contains("too large"), "{err}");
+        assert!(
+            err.contains("particle 0") && err.contains("too large"),
+            "{err}"
+        );
         // Each particle's energy finite, their sum not.
         let mut p = two([1.2e154, 0.0, 0.0]);
         p.velocity[1] = [1.2e154, 0.0, 0.0];
