@@ -273,7 +273,7 @@ mod tests {
             r_eff: 0.05,
         };
         // β = γ/(2 m_eff) = 0.25, ω0 = √1000: ε = exp(−β t_c) with
-        // t_c = (π − atan(2βω/(ω²−β²)))/ω (DESIGN.md, Schwager & Pöschel 2007).
+        // t_c = (π − atan(2βω/(ω²−β²)))/ω (docs/physics.md, Schwager & Pöschel 2007).
         let (beta, w0) = (0.25f64, 1000f64.sqrt());
         let w = (w0 * w0 - beta * beta).sqrt();
         let tc = (std::f64::consts::PI - (2.0 * beta * w / (w * w - beta * beta)).atan()) / w;

@@ -165,8 +165,8 @@ fn emdstar_pair_collisions_equal_the_exact_solution() {
     eprintln!("largest eMD* pair error, exact MoR (relative to R and v): {worst:e}");
 }
 
-/// The default tables hold the MoR to 1e-6 over their physical boxes (issue 3's
-/// table check). The linear table stops short of the pass-through limit l̃ → 1 of
+/// The default tables hold the MoR to 1e-6 over their physical boxes (`emdstar table
+/// check`). The linear table stops short of the pass-through limit l̃ → 1 of
 /// near-central impacts (lω/v < 1.05): those are solved exactly and counted.
 #[test]
 fn emdstar_pair_collisions_with_tables_are_within_table_accuracy() {

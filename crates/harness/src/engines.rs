@@ -42,6 +42,8 @@ pub fn material(law: &ForceLaw, density: f64) -> MaterialConfig {
         young: None,
         poisson: None,
         dissipation: None,
+        restitution: None,
+        restitution_speed: None,
         density: Some(density),
     };
     match law {
