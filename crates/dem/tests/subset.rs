@@ -64,13 +64,6 @@ fn run_subset(
         }
         list.build_full(&p.position, &p.radius, sim_box, min_cell, skin)
             .unwrap();
-        let model = ForceModel::new(
-            &p.radius,
-            &p.species,
-            &interactions,
-            &system.domain,
-            ContactEnd::ForceZero,
-        );
         let motion = Motion {
             position: &mut p.position,
             velocity: &mut p.velocity,
