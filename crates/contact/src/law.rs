@@ -47,7 +47,7 @@ impl FromStr for Model {
 }
 
 /// Linear spring-dashpot material: F = kξ + γξ̇ (Müller & Pöschel 2013, Eq. 40).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LinearDashpot {
     /// Spring constant k in N/m.
     pub stiffness: f64,
@@ -90,7 +90,7 @@ impl LinearDashpot {
 }
 
 /// Viscoelastic Hertz material (Brilliantov et al. 1996; Müller & Pöschel 2013, Eq. 51).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ViscoelasticHertz {
     /// Young's modulus Y in Pa.
     pub young: f64,
@@ -134,7 +134,7 @@ pub struct CentralImpact {
 }
 
 /// A material's force law.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ForceLaw {
     Linear(LinearDashpot),
     Hertz(ViscoelasticHertz),

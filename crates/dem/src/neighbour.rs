@@ -10,7 +10,7 @@ pub const INDEX_BITS: u32 = 27;
 pub const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 
 /// Which pairs a list holds under which particle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Layout {
     /// Every pair once, under its higher index, so that a single sweep in index order
     /// meets each pair after both particles. Needs particles sorted by cell.
@@ -26,7 +26,7 @@ pub enum Layout {
 /// j that is close ([`NeighbourList::split`] gives j and the image's shift). Under each
 /// particle the neighbours come in the order of the cells of
 /// [`CellGrid::for_each_neighbour`] (full stencil), by index within a cell.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighbourList {
     layout: Layout,
     /// The entries of particle i are `entries[start[i]..start[i + 1]]`.
@@ -35,6 +35,7 @@ pub struct NeighbourList {
     upper_end: Vec<u32>,
     pub(crate) entries: Vec<u32>,
     /// Scratch of a full build: the neighbours of lower index of one particle.
+    #[serde(skip)]
     lower: Vec<u32>,
     pub(crate) shifts: [[f64; 3]; 27],
     /// The link cells of the last build, binned with the positions it was given (for

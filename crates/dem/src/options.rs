@@ -3,7 +3,7 @@
 use emdstar_system::{System, SystemError};
 
 /// When a contact ends, and so whether the normal force may attract.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum ContactEnd {
     /// F = max(0, …): the contact ends when the force reaches zero, while the spheres
     /// may still overlap geometrically (Schwager & Pöschel, Granular Matter 9, 465,

@@ -20,9 +20,15 @@ impl Simulation for Md {
         self.steps()
     }
 
+    /// Steps to the step nearest `t`, the last half kick left pending (see
+    /// [`Md::stride`]).
     fn advance_to(&mut self, t: f64) -> Result<(), SimulationError> {
         let target = (t / self.options().dt).round().max(0.0) as u64;
-        Ok(self.advance(target.saturating_sub(self.steps()))?)
+        Ok(self.stride(target.saturating_sub(self.steps()))?)
+    }
+
+    fn synchronise(&mut self) -> Result<(), SimulationError> {
+        Ok(Md::synchronise(self)?)
     }
 
     fn thermo(&self) -> Thermo {
@@ -38,10 +44,10 @@ impl Simulation for Md {
     }
 
     fn save_state(&self) -> Vec<u8> {
-        Vec::new()
+        Md::save_state(self)
     }
 
-    fn restore_state(&mut self, _: &[u8]) -> Result<(), SimulationError> {
-        Err("MD checkpoints: pending".into())
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), SimulationError> {
+        Ok(Md::restore_state(self, state)?)
     }
 }

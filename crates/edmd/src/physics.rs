@@ -37,7 +37,7 @@ impl BroadPhaseKind {
 
 /// The pair physics of every kind of contact ([`Interactions`], shared with the other
 /// engines) and, for eMD, the central restitution of each.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Materials {
     interactions: Interactions,
     /// The central restitution of each interaction, in the order of `Interactions`:

@@ -33,8 +33,9 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
         Ok(self.run_until(t)?)
     }
 
-    fn synchronise(&mut self) {
+    fn synchronise(&mut self) -> Result<(), SimulationError> {
         self.sync();
+        Ok(())
     }
 
     fn thermo(&self) -> Thermo {

@@ -217,7 +217,8 @@ pub fn sample_at(
     for (k, t) in times.into_iter().enumerate() {
         sim.advance_to(t)
             .map_err(|e| HarnessError::Invalid(e.to_string()))?;
-        sim.synchronise();
+        sim.synchronise()
+            .map_err(|e| HarnessError::Invalid(e.to_string()))?;
         observe(k, sim)?;
     }
     Ok(())

@@ -134,16 +134,10 @@
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
-mod cells;
-mod ed;
 mod engine;
-mod host;
-mod list;
 mod options;
-mod simulation;
-mod td;
-mod thermo;
+mod phi;
 
 pub use engine::Hybrid;
-pub use list::local_volume_fractions;
 pub use options::{HybridError, HybridOptions, HybridStats, Mode};
+pub use phi::local_volume_fractions;

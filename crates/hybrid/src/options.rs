@@ -3,7 +3,7 @@
 use emdstar_system::SystemError;
 
 /// How a particle is moved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Mode {
     /// Event-driven: free (parabolic) flight between eMD* events.
     Event,
@@ -14,7 +14,7 @@ pub enum Mode {
 }
 
 /// Options of the hybrid engine.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HybridOptions {
     /// The MD time step in s (bounded like [`emdstar_dem::MdOptions::dt`]).
     pub dt: f64,
@@ -59,7 +59,7 @@ impl HybridOptions {
 }
 
 /// Counters of a hybrid run.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HybridStats {
     /// Time steps done.
     pub steps: u64,

@@ -109,7 +109,7 @@ pub enum Stencil {
 ///
 /// Along periodic axes the grid covers the box exactly and wraps; along closed axes it
 /// covers the given extent and positions beyond it fall into the border cells.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct CellGrid {
     pub lo: [f64; 3],
     pub dims: [usize; 3],

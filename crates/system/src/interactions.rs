@@ -14,7 +14,7 @@ pub struct Interaction {
 }
 
 /// Every kind of contact of a system, looked up by species.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Interactions {
     species: usize,
     /// `pairs[a * species + b]`.

@@ -45,7 +45,9 @@ pub trait Simulation {
     /// Brings the stored state to the present (delayed updates, pending half kicks).
     /// Nothing physical changes, only the rounding of what follows; callers that must
     /// reproduce a computation which did so at the same points call it.
-    fn synchronise(&mut self) {}
+    fn synchronise(&mut self) -> Result<(), SimulationError> {
+        Ok(())
+    }
 
     /// Energies, granular temperature, momentum and contacts now.
     fn thermo(&self) -> Thermo;

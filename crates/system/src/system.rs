@@ -7,7 +7,7 @@ use crate::state::{Particles, Species};
 use emdstar_contact::ForceLaw;
 
 /// Everything an engine of soft spheres needs besides its own options.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct System {
     pub particles: Particles,
     pub species: Vec<Species>,

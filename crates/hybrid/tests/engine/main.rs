@@ -5,3 +5,4 @@
 mod cells;
 mod common;
 mod modes;
+mod restart;

@@ -1,23 +1,14 @@
 //! The hybrid's event-driven part as a host of `emdstar_edmd`'s collision rules: the
 //! same E^φ, E^v and exceptions as the event engine, applied to the ED particles.
 
-use crate::engine::Hybrid;
+use super::Hybrid;
+use super::record::Saved;
 use crate::options::Mode;
 use emdstar_contact::vec3::{add, sub};
 use emdstar_edmd::collision::{Host, NONE, RotationProbe};
 use emdstar_edmd::rules::HertzRestitution;
 use emdstar_edmd::{Physics, Stats};
 use emdstar_system::Wall;
-
-/// An ED particle's state before an E^φ: position, velocity, their time, and its cell
-/// on the cell path.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Saved {
-    position: [f64; 3],
-    velocity: [f64; 3],
-    stamp: f64,
-    cell: Option<[u32; 3]>,
-}
 
 impl Host for Hybrid {
     type Saved = Saved;

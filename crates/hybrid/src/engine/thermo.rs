@@ -1,8 +1,8 @@
 //! Output of the hybrid engine: the particles now and the thermo quantities.
 
-use crate::engine::Hybrid;
+use super::Hybrid;
+use super::time_driven::force_model;
 use crate::options::Mode;
-use crate::td::force_model;
 use emdstar_system::{Particles, Thermo};
 
 impl Hybrid {

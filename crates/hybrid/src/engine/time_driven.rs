@@ -2,7 +2,7 @@
 //! (both by emdstar-dem's Verlet step and force kernel), and the guard that keeps ED
 //! particles out of contact with TD particles.
 
-use crate::engine::Hybrid;
+use super::Hybrid;
 use crate::options::Mode;
 use emdstar_contact::vec3::{norm, norm2};
 use emdstar_dem::{AddForces, ContactEnd, ForceKernel, ForceModel, Motion, step_subset};

@@ -1,6 +1,6 @@
 //! The hybrid engine behind the workspace's one simulation interface.
 
-use crate::engine::Hybrid;
+use super::Hybrid;
 use emdstar_system::{Domain, Particles, Simulation, SimulationError, Thermo};
 
 impl Simulation for Hybrid {
@@ -38,10 +38,10 @@ impl Simulation for Hybrid {
     }
 
     fn save_state(&self) -> Vec<u8> {
-        Vec::new()
+        Hybrid::save_state(self)
     }
 
-    fn restore_state(&mut self, _: &[u8]) -> Result<(), SimulationError> {
-        Err("hybrid checkpoints: pending".into())
+    fn restore_state(&mut self, state: &[u8]) -> Result<(), SimulationError> {
+        Ok(Hybrid::restore_state(self, state)?)
     }
 }

@@ -1,7 +1,7 @@
 //! `emdstar mor --restitution-curve`: the normal restitution of central impacts against
 //! the impact speed, for one material and pair of spheres.
 
-use super::mor::{MorArgs, material};
+use super::{MorArgs, material};
 use anyhow::{Context, Result, anyhow, bail};
 use emdstar_contact::{ForceLaw, Impact, Model, PairLaw, scale};
 use emdstar_mor::solve;

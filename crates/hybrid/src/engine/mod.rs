@@ -1,17 +1,29 @@
-//! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
+//! The hybrid engine: state, the step loop, rebuilds and mode decisions; its event
+//! part (events.rs, cells.rs, host.rs), its time-driven part (time_driven.rs), and
+//! what it reports (thermo.rs, simulation.rs).
 
-use crate::ed::EdRec;
-use crate::host::Saved;
-use crate::list::{DenseScratch, local_volume_fractions, region, volume_fractions_on};
+mod cells;
+mod events;
+mod host;
+mod record;
+mod simulation;
+mod snapshot;
+mod thermo;
+mod time_driven;
+
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
+use crate::phi::{DenseScratch, local_volume_fractions, region, volume_fractions_on};
+use emdstar_contact::vec3::norm;
 use emdstar_dem::{MdError, NeighbourList, check_and_wrap, prepare_system};
 use emdstar_edmd::cells::LinkedCells;
 use emdstar_edmd::collision::RotationProbe;
 use emdstar_edmd::rules::{HertzRestitution, MorSource};
 use emdstar_edmd::{CalendarQueue, EventQueue, Interference, Materials, Physics};
 use emdstar_system::System;
+use record::{EdRec, Saved};
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct Hybrid {
     pub(crate) system: System,
     pub(crate) opts: HybridOptions,
@@ -24,13 +36,19 @@ pub struct Hybrid {
     /// TD contact accelerations at the current time (zero for ED particles).
     pub(crate) contact_acc: Vec<[f64; 3]>,
     pub(crate) new_acc: Vec<[f64; 3]>,
+    /// The pair physics (not saved: a restored engine keeps its own).
+    #[serde(skip)]
     pub(crate) materials: Materials,
-    /// The collision rule of the ED particles (eMD*) and its cache.
+    /// The collision rule of the ED particles (eMD*) and its cache (not saved).
+    #[serde(skip, default = "snapshot::unset_physics")]
     pub(crate) physics: Physics,
+    #[serde(skip)]
     pub(crate) hertz: HertzRestitution,
     /// The time of the ED event being executed.
     pub(crate) now: f64,
-    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions.
+    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions
+    /// (none between steps).
+    #[serde(skip)]
     pub(crate) probe: Option<RotationProbe<Saved>>,
     pub(crate) ed: Vec<EdRec>,
     /// Each ED particle's earliest event (+∞ for the others).
@@ -41,8 +59,11 @@ pub struct Hybrid {
     /// list path.
     pub(crate) grid: Option<LinkedCells>,
     /// Scratch of the cell path's mode check: positions and radii now, cell sums.
+    #[serde(skip)]
     pub(crate) positions_now: Vec<[f64; 3]>,
+    #[serde(skip)]
     pub(crate) radius_now: Vec<f64>,
+    #[serde(skip)]
     pub(crate) dense: DenseScratch,
     /// Sorted indices of the TD particles.
     pub(crate) td: Vec<u32>,
@@ -63,10 +84,6 @@ pub struct Hybrid {
     pub(crate) jump: Vec<f64>,
     pub(crate) max_jump: f64,
     pub(crate) stats: HybridStats,
-}
-
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 impl Hybrid {

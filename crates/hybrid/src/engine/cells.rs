@@ -7,9 +7,9 @@
 //! checked at the cadence of the list rebuilds, on the link cells of the list path
 //! (the same φ), without synchronising or re-predicting anything.
 
-use crate::engine::Hybrid;
-use crate::list::{any_dense, region};
+use super::Hybrid;
 use crate::options::{HybridError, Mode};
+use crate::phi::{any_dense, region};
 use emdstar_contact::vec3::{norm, sub};
 use emdstar_edmd::cells::{LinkedCells, NONE, auto_cell_width};
 use emdstar_edmd::detect::sphere_sphere;

@@ -1,5 +1,7 @@
 //! `emdstar mor`: the matrix of restitution of one collision.
 
+mod curve;
+
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_contact::{
@@ -135,7 +137,7 @@ struct Answer {
 pub fn run(args: &MorArgs) -> Result<()> {
     let model = Model::from(args.model);
     if args.restitution_curve {
-        return super::restitution_curve::run(args, model);
+        return curve::run(args, model);
     }
     for (flag, given) in [
         ("--curve-speeds", args.curve_speeds.is_some()),

@@ -1,8 +1,11 @@
 //! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
 
+mod snapshot;
+
 use crate::forces::{ForceKernel, ForceModel, PairForce, WALL, add_force};
 use crate::neighbour::NeighbourList;
 use crate::options::{MdError, MdOptions, prepare_system};
+
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
 use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
@@ -33,6 +36,20 @@ pub struct Md {
     /// Largest speed after the last sweep.
     v_max: f64,
     rebuilds: u64,
+    /// The velocities lag half a kick (contacts and gravity) behind the positions: the
+    /// first half kick of the next step is fused with the last one of the previous
+    /// (see [`Md::synchronise`]).
+    lagging: bool,
+}
+
+/// v + g·dt/2, component by component (the gravity half kick of a synchronisation).
+#[inline]
+fn half_kick_gravity(v: [f64; 3], g: [f64; 3], dt: f64) -> [f64; 3] {
+    [
+        v[0] + g[0] * 0.5 * dt,
+        v[1] + g[1] * 0.5 * dt,
+        v[2] + g[2] * 0.5 * dt,
+    ]
 }
 
 fn p_max_speed(p: &Particles) -> f64 {
@@ -66,6 +83,7 @@ impl Md {
             drift_bound: 0.0,
             v_max: 0.0,
             rebuilds: 0,
+            lagging: false,
         };
         md.rebuild()?;
         // Forces at t = 0 with the velocities themselves (h = 0).
@@ -117,14 +135,17 @@ impl Md {
     }
 
     /// The system; particles are in the engine's (cell-sorted) order, see
-    /// [`Particles::id`].
+    /// [`Particles::id`]. Their velocities lag half a kick behind after
+    /// [`Md::stride`]; [`Md::particles_in_config_order`] and [`Md::thermo`] show them
+    /// in step.
     pub fn system(&self) -> &System {
         &self.system
     }
 
-    /// The particles in config order.
+    /// The particles in config order, velocities in step with the positions.
     pub fn particles_in_config_order(&self) -> Particles {
         let mut p = self.system.particles.clone();
+        p.velocity = self.velocities_now();
         let mut order = vec![0u32; p.len()];
         for (k, &id) in p.id.iter().enumerate() {
             order[id as usize] = k as u32;
@@ -133,42 +154,74 @@ impl Md {
         p
     }
 
-    /// Advances `n` steps of velocity Verlet (see the crate docs). Velocities are
-    /// synchronised with positions before and after.
+    /// Advances `n` steps of velocity Verlet (see the crate docs), velocities in step
+    /// with the positions afterwards.
     pub fn advance(&mut self, n: u64) -> Result<(), MdError> {
+        self.stride(n)?;
+        self.synchronise()
+    }
+
+    /// Advances `n` steps of velocity Verlet leaving the last half kick pending: the
+    /// trajectory does not depend on how a run is cut into strides (a run stopped,
+    /// read or saved between strides goes on bitwise as one that ran through).
+    pub fn stride(&mut self, n: u64) -> Result<(), MdError> {
         let dt = self.opts.dt;
         for s in 0..n {
             // The first half-kick of this step fused with the last one of the previous.
-            self.step(if s == 0 { 0.5 * dt } else { dt }, dt)?;
-        }
-        if n > 0 {
-            self.kick_contacts(0.5 * dt);
-            let g = self.system.domain.gravity;
-            let mut v2_max: f64 = 0.0;
-            for v in &mut self.system.particles.velocity {
-                *v = [
-                    v[0] + g[0] * 0.5 * dt,
-                    v[1] + g[1] * 0.5 * dt,
-                    v[2] + g[2] * 0.5 * dt,
-                ];
-                v2_max = max_nan(v2_max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            }
-            self.v_max = v2_max.sqrt();
-            if self.v_max.is_nan() {
-                let p = &self.system.particles;
-                let bad = (0..p.len()).find(|&i| {
-                    !p.velocity[i]
-                        .iter()
-                        .chain(&p.position[i])
-                        .all(|c| c.is_finite())
-                });
-                return Err(MdError::BlewUp {
-                    id: bad.map_or(0, |i| p.id[i]),
-                    t: self.time(),
-                });
-            }
+            let kick = if s == 0 && !self.lagging {
+                0.5 * dt
+            } else {
+                dt
+            };
+            self.step(kick, dt)?;
+            self.lagging = true;
         }
         Ok(())
+    }
+
+    /// Applies the pending half kick, if any (velocities then in step with the
+    /// positions), and reports a blow-up.
+    pub fn synchronise(&mut self) -> Result<(), MdError> {
+        if !self.lagging {
+            return Ok(());
+        }
+        self.lagging = false;
+        let dt = self.opts.dt;
+        self.kick_contacts(0.5 * dt);
+        let g = self.system.domain.gravity;
+        let mut v2_max: f64 = 0.0;
+        for v in &mut self.system.particles.velocity {
+            *v = half_kick_gravity(*v, g, dt);
+            v2_max = max_nan(v2_max, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        }
+        self.v_max = v2_max.sqrt();
+        if self.v_max.is_nan() {
+            let p = &self.system.particles;
+            let bad = (0..p.len()).find(|&i| {
+                !p.velocity[i]
+                    .iter()
+                    .chain(&p.position[i])
+                    .all(|c| c.is_finite())
+            });
+            return Err(MdError::BlewUp {
+                id: bad.map_or(0, |i| p.id[i]),
+                t: self.time(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The velocities now, in the engine's order: the stored ones with the pending
+    /// half kick applied (the arithmetic of [`Md::synchronise`]).
+    fn velocities_now(&self) -> Vec<[f64; 3]> {
+        let mut v = self.system.particles.velocity.clone();
+        if self.lagging {
+            kick_contacts(&mut v, &self.contact_acc, &self.touched, 0.5 * self.opts.dt);
+            let g = self.system.domain.gravity;
+            v.iter_mut()
+                .for_each(|w| *w = half_kick_gravity(*w, g, self.opts.dt));
+        }
+        v
     }
 
     /// One step: v += a·kick, x += v·dt, forces at the new positions.
@@ -382,7 +435,16 @@ impl Md {
     /// elastic energy of the contacts, ∫F_el dξ: ½kξ² (linear) or (2/5)ρ_el ξ^{5/2}
     /// (Hertz, Müller & Pöschel 2013, Eq. 51), plus −Σ m g·x.
     pub fn thermo(&self) -> Thermo {
-        let p = &self.system.particles;
+        let synced;
+        let p = if self.lagging {
+            synced = Particles {
+                velocity: self.velocities_now(),
+                ..self.system.particles.clone()
+            };
+            &synced
+        } else {
+            &self.system.particles
+        };
         let model = self.model();
         let mut potential = 0.0;
         let mut contacts = 0;

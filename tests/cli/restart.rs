@@ -1,0 +1,276 @@
+//! Restarts and clean stops of `emdstar run`, for every engine: a run stopped at t/2
+//! with a checkpoint and resumed ends in bitwise the state of a run that went through;
+//! SIGINT and SIGTERM stop a run with whole files, a checkpoint and a summary; wrong
+//! checkpoints are refused with a message that says why.
+
+use crate::{emdstar_in, error_in, stdout_in};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+const GAS: &str = "tests/md/configs/gas_small.toml";
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("emdstar-restart-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn config() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(GAS)
+        .display()
+        .to_string()
+}
+
+/// The last frame of an extended-XYZ file (its header line and particle lines).
+fn last_frame(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let n: usize = lines[0].trim().parse().unwrap();
+    lines[lines.len() - n - 1..].join("\n")
+}
+
+#[test]
+fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
+    let cfg = config();
+    for engine in ["md", "emdstar", "hybrid"] {
+        let dir = scratch(engine);
+        let run = |extra: &[&str]| {
+            let mut args = vec!["run", cfg.as_str(), "--engine", engine, "--quiet"];
+            args.extend_from_slice(extra);
+            let out = stdout_in(&dir, &args);
+            serde_json::from_str::<serde_json::Value>(&out).unwrap()
+        };
+        run(&["--trajectory", "one.xyz", "--log", "one.log"]);
+        let first = run(&[
+            "--trajectory",
+            "two.xyz",
+            "--log",
+            "two.log",
+            "--t-end",
+            "0.01",
+            "--checkpoint",
+            "half.ckpt",
+        ]);
+        let t_half = first["t"].as_f64().unwrap();
+        assert!((t_half - 0.01).abs() < 1e-12, "{engine}: {first}");
+        let second = run(&[
+            "--trajectory",
+            "two.xyz",
+            "--log",
+            "two.log",
+            "--resume",
+            "half.ckpt",
+        ]);
+        assert_eq!(second["resumed_from"], t_half, "{engine}");
+        assert_eq!(
+            last_frame(&dir.join("one.xyz")),
+            last_frame(&dir.join("two.xyz")),
+            "{engine}: the resumed run ends elsewhere"
+        );
+        // The log of the two parts is the log of the one run.
+        let one = std::fs::read_to_string(dir.join("one.log")).unwrap();
+        let two = std::fs::read_to_string(dir.join("two.log")).unwrap();
+        assert_eq!(one.lines().last(), two.lines().last(), "{engine}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
+
+#[test]
+fn wrong_checkpoints_are_refused_with_reasons() {
+    let cfg = config();
+    let dir = scratch("wrong");
+    stdout_in(
+        &dir,
+        &[
+            "run",
+            &cfg,
+            "--engine",
+            "md",
+            "--quiet",
+            "--t-end",
+            "0.005",
+            "--checkpoint",
+            "md.ckpt",
+        ],
+    );
+    let err = error_in(
+        &dir,
+        &["run", &cfg, "--engine", "emdstar", "--resume", "md.ckpt"],
+    );
+    assert!(err.contains("--engine md"), "{err}");
+    let elastic = dir.join("elastic.toml");
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    std::fs::write(
+        &elastic,
+        text.replace("dissipation = 1e-4", "dissipation = 2e-4"),
+    )
+    .unwrap();
+    let err = error_in(
+        &dir,
+        &[
+            "run",
+            elastic.to_str().unwrap(),
+            "--engine",
+            "md",
+            "--resume",
+            "md.ckpt",
+        ],
+    );
+    assert!(err.contains("another system"), "{err}");
+    let bytes = std::fs::read(dir.join("md.ckpt")).unwrap();
+    std::fs::write(dir.join("cut.ckpt"), &bytes[..bytes.len() / 2]).unwrap();
+    let err = error_in(
+        &dir,
+        &["run", &cfg, "--engine", "md", "--resume", "cut.ckpt"],
+    );
+    assert!(
+        err.contains("truncated") || err.contains("not a valid"),
+        "{err}"
+    );
+    std::fs::write(dir.join("none.ckpt"), b"not a checkpoint at all").unwrap();
+    let err = error_in(
+        &dir,
+        &["run", &cfg, "--engine", "md", "--resume", "none.ckpt"],
+    );
+    assert!(err.contains("not a valid emdstar checkpoint"), "{err}");
+    let err = error_in(
+        &dir,
+        &[
+            "run", &cfg, "--engine", "md", "--resume", "md.ckpt", "--t-end", "0.001",
+        ],
+    );
+    assert!(err.contains("--t-end"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_killed_run_leaves_whole_lines_and_frames() {
+    let dir = scratch("kill");
+    let cfg = long_config(&dir);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
+        .current_dir(&dir)
+        .args(["run", cfg.to_str().unwrap(), "--engine", "md", "--quiet"])
+        .args(["--trajectory", "k.xyz", "--log", "k.log"])
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while std::fs::read_to_string(dir.join("k.xyz")).map_or(0, |t| t.lines().count()) < 3 * 502 {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no frames written"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let text = std::fs::read_to_string(dir.join("k.log")).unwrap();
+    assert!(text.ends_with('\n'));
+    assert!(
+        text.lines()
+            .skip(1)
+            .all(|l| l.split_whitespace().count() == 10)
+    );
+    let frames = std::fs::read_to_string(dir.join("k.xyz")).unwrap();
+    assert!(frames.ends_with('\n') && frames.lines().count() % 502 == 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A run long enough to be stopped in the middle.
+fn long_config(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(config()).unwrap();
+    let path = dir.join("long.toml");
+    std::fs::write(&path, text.replace("t_end = 0.02", "t_end = 100.0")).unwrap();
+    path
+}
+
+#[test]
+fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
+    let dir = scratch("signals");
+    let cfg = long_config(&dir);
+    for (engine, signal, code) in [
+        ("md", "INT", 130),
+        ("emdstar", "TERM", 143),
+        ("hybrid", "INT", 130),
+    ] {
+        let traj = format!("{engine}.xyz");
+        let log = format!("{engine}.log");
+        let child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
+            .current_dir(&dir)
+            .args(["run", cfg.to_str().unwrap(), "--engine", engine, "--quiet"])
+            .args(["--trajectory", &traj, "--log", &log])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until the run has written a few log lines.
+        let start = Instant::now();
+        while std::fs::read_to_string(dir.join(&log)).map_or(0, |t| t.lines().count()) < 4 {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "{engine} wrote no log"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let sent = Command::new("kill")
+            .args([&format!("-{signal}"), &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(sent.success());
+        let t_sent = Instant::now();
+        let out = child.wait_with_output().unwrap();
+        assert!(
+            t_sent.elapsed() < Duration::from_secs(10),
+            "{engine} took long to stop"
+        );
+        assert_eq!(out.status.code(), Some(code), "{engine}");
+        let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(summary["interrupted"], true, "{engine}");
+        let t = summary["t"].as_f64().unwrap();
+        assert!(t > 0.0 && t < 100.0, "{engine}: {t}");
+        // Whole files: every log line has its ten columns, every frame its particles.
+        let text = std::fs::read_to_string(dir.join(&log)).unwrap();
+        assert!(text.ends_with('\n'));
+        assert!(
+            text.lines()
+                .skip(1)
+                .all(|l| l.split_whitespace().count() == 10)
+        );
+        let frames = std::fs::read_to_string(dir.join(&traj)).unwrap();
+        assert_eq!(
+            frames.lines().count() % 502,
+            0,
+            "{engine}: a frame cut short"
+        );
+        // The checkpoint next to the trajectory resumes the run.
+        let ckpt = format!("{engine}.ckpt");
+        assert!(dir.join(&ckpt).exists(), "{engine}");
+        let resumed = emdstar_in(
+            &dir,
+            &[
+                "run",
+                cfg.to_str().unwrap(),
+                "--engine",
+                engine,
+                "--quiet",
+                "--resume",
+                &ckpt,
+                "--trajectory",
+                &traj,
+                "--log",
+                &log,
+                "--t-end",
+                &format!("{}", t + 1e-3),
+            ],
+        );
+        assert!(
+            resumed.status.success(),
+            "{}",
+            String::from_utf8_lossy(&resumed.stderr)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
