@@ -73,7 +73,7 @@ pub fn sample_points(
     seed: u64,
     region: Region,
 ) -> Result<Vec<(RectCoords, ScaledParams)>, String> {
-    let [ax, bx, cx] = *table.axes();
+    let [ax, bx, cx] = table.rect();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
     let bounds = table.bounds();
@@ -186,7 +186,7 @@ pub fn check(
         })
         .collect();
     let mut by_axis = [[0.0f64; BINS]; 3];
-    let [ax, bx, cx] = *table.axes();
+    let [ax, bx, cx] = table.rect();
     for (x, e) in points.iter().zip(&errors) {
         let worst = e.iter().fold(0.0f64, |m, v| m.max(*v));
         for (k, (v, r)) in [(x.a, ax), (x.b, bx), (x.c, cx)].into_iter().enumerate() {

@@ -12,5 +12,5 @@ pub mod plot;
 pub mod spec;
 
 pub use check::{CheckReport, Region, check};
-pub use generate::{Solver, build, build_shard, exact_solver, merge, node_count};
+pub use generate::{Solver, build, build_shard, exact_solver, merge, unit_count};
 pub use spec::Spec;
