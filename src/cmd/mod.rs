@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod bench_edmd;
+pub mod bench_table;
 pub mod check;
 pub mod cpu_time;
 pub mod edmd_engine;

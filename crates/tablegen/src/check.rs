@@ -109,6 +109,18 @@ fn physical_sample(
     table: &Table,
     draw: &mut dyn FnMut([f64; 2]) -> f64,
 ) -> Result<ScaledParams, String> {
+    let (law, pair, impact) = physical_impact(table, draw)?;
+    Ok(scale(&law, &pair, &impact)
+        .map_err(|e| e.to_string())?
+        .params)
+}
+
+/// One physical impact of the table's box: law, pair and impact, each parameter drawn
+/// by `draw` from its [min, max] (two equal spheres, as in the paper's tables).
+pub fn physical_impact(
+    table: &Table,
+    draw: &mut dyn FnMut([f64; 2]) -> f64,
+) -> Result<(PairLaw, PairProperties, Impact), String> {
     let info = table.info();
     let mut get = |name: &str| -> Result<f64, String> {
         let k = info
@@ -133,7 +145,7 @@ fn physical_sample(
         Impact::from_speed_eccentricity(get("speed")?, get("eccentricity")?).map_err(err)?;
     let pair = PairProperties::spheres(&sphere, &sphere);
     let law = PairLaw::same_material(&law, pair.r_eff).map_err(err)?;
-    Ok(scale(&law, &pair, &impact).map_err(err)?.params)
+    Ok((law, pair, impact))
 }
 
 /// Compares the table with exact solves at `n` random points.
