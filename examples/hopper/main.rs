@@ -12,7 +12,7 @@ mod plot;
 use emdstar_contact::{ForceLaw, LinearDashpot, PairProperties, Sphere};
 use emdstar_edmd::rules::TableMorSource;
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
-use emdstar_system::{Particles, SimBox, Species, System, Wall};
+use emdstar_system::{Domain, Particles, SimBox, Species, System, Wall};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -100,13 +100,15 @@ fn hopper(seed: u64) -> System {
         particles,
         species,
         material: ForceLaw::Linear(material(m_eff)),
-        sim_box: Some(SimBox {
-            lo: [0.0, -0.01, 0.0],
-            size: [WIDTH, HEIGHT + 0.02, THICKNESS],
-            periodic: [false; 3],
-        }),
-        walls,
-        gravity: [0.0, -9.81, 0.0],
+        domain: Domain {
+            sim_box: Some(SimBox {
+                lo: [0.0, -0.01, 0.0],
+                size: [WIDTH, HEIGHT + 0.02, THICKNESS],
+                periodic: [false; 3],
+            }),
+            walls,
+            gravity: [0.0, -9.81, 0.0],
+        },
     }
 }
 

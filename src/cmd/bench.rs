@@ -103,7 +103,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             contact_end: ContactEnd::ForceZero,
             skin: Some(skin),
         };
-        let box_side = system.sim_box.expect("gas has a box").size[0];
+        let box_side = system.domain.sim_box.expect("gas has a box").size[0];
         for round in 0..args.repeat {
             for &threads in &args.threads {
                 let pool = rayon::ThreadPoolBuilder::new()

@@ -6,11 +6,11 @@ use clap::{Args, ValueEnum};
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{
-    BroadPhase, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials, Physics,
-    Setup, gas,
+    BroadPhaseKind, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials,
+    Physics,
 };
+use emdstar_system::{Domain, Particles, fcc_gas};
 use serde_json::{Value, json};
-use std::f64::consts::PI;
 use std::time::Instant;
 
 /// Where the eMD* benchmark takes its MoR from.
@@ -73,11 +73,6 @@ pub struct BenchEdmdArgs {
     pub json: bool,
 }
 
-/// Number density ρσ³ of packing fraction η.
-fn density(eta: f64) -> f64 {
-    6.0 * eta / PI
-}
-
 /// Runs `collisions` after `warmup` and returns (collisions/s, stats JSON).
 fn time_run<Q: EventQueue>(
     mut engine: Engine<Q>,
@@ -121,26 +116,36 @@ fn time_run<Q: EventQueue>(
 #[derive(Clone, Copy, Debug)]
 struct Build {
     queue: QueueArg,
-    broad_phase: BroadPhase,
+    broad_phase: BroadPhaseKind,
 }
 
 impl Build {
     /// Builds the engine and times `collisions` after `warmup`.
     fn time(
         self,
-        setup: Setup,
+        (particles, domain): (Particles, Domain),
         physics: Physics,
         warmup: u64,
         collisions: u64,
     ) -> Result<(f64, Value)> {
         match self.queue {
             QueueArg::Heap => time_run(
-                Engine::<IndexedHeap>::with_broad_phase(setup, physics, self.broad_phase)?,
+                Engine::<IndexedHeap>::with_broad_phase(
+                    &particles,
+                    &domain,
+                    physics,
+                    self.broad_phase,
+                )?,
                 warmup,
                 collisions,
             ),
             QueueArg::Calendar => time_run(
-                Engine::<CalendarQueue>::with_broad_phase(setup, physics, self.broad_phase)?,
+                Engine::<CalendarQueue>::with_broad_phase(
+                    &particles,
+                    &domain,
+                    physics,
+                    self.broad_phase,
+                )?,
                 warmup,
                 collisions,
             ),
@@ -149,8 +154,9 @@ impl Build {
 }
 
 fn hard_spheres(cells: usize, eta: f64, per_particle: f64, build: Build) -> Result<(f64, Value)> {
-    let setup = gas::fcc(cells, density(eta), 1.0, 1.0, 1.0, 1);
-    let n = setup.position.len() as f64;
+    // σ = 1, m = 1, kT = 1: rms speed √3.
+    let setup = fcc_gas(cells, eta, 0.5, 1.0, 3f64.sqrt(), 1)?;
+    let n = setup.0.len() as f64;
     let physics = Physics::HardSpheres { restitution: 1.0 };
     let count = (per_particle * n * 0.5) as u64;
     build.time(setup, physics, count, count)
@@ -172,15 +178,9 @@ fn emdstar_gas(
 ) -> Result<(f64, Value)> {
     let sphere = Sphere::from_density(0.1, 1140.0)?;
     let eta = EMDSTAR_ETA;
-    let setup: Setup = gas::fcc(
-        cells,
-        eta / (4.0 / 3.0 * PI * 0.1f64.powi(3)),
-        0.2,
-        sphere.mass,
-        sphere.mass * 4.0 / 3.0,
-        1,
-    );
-    let n = setup.position.len() as f64;
+    // kT = (4/3)·m: rms speed 2 m/s.
+    let setup = fcc_gas(cells, eta, 0.1, sphere.mass, 2.0, 1)?;
+    let n = setup.0.len() as f64;
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.4, 0.0)?);
     let physics = Physics::EmdStar {
         materials: Materials::of_spheres(&law, &[sphere])?,

@@ -3,7 +3,8 @@
 use anyhow::{Result, bail};
 use clap::{Args, Subcommand};
 use emdstar_edmd::bouncing::BouncingBall;
-use emdstar_edmd::{Engine, Physics, gas};
+use emdstar_edmd::{Engine, Physics};
+use emdstar_system::fcc_gas;
 use serde_json::json;
 
 /// Numerical stability checks of the event-driven engine.
@@ -128,10 +129,13 @@ fn inelastic(a: &InelasticArgs) -> Result<()> {
     if a.cells == 0 || a.density.is_nan() || a.density <= 0.0 {
         bail!("--cells and --density must be positive");
     }
-    let setup = gas::fcc(a.cells, a.density, 1.0, 1.0, 1.0, a.seed);
-    let n = setup.position.len();
+    // σ = 1, m = 1, kT = 1 (rms speed √3); η = n·πσ³/6.
+    let eta = a.density * std::f64::consts::PI / 6.0;
+    let (particles, domain) = fcc_gas(a.cells, eta, 0.5, 1.0, 3f64.sqrt(), a.seed)?;
+    let n = particles.len();
     let mut e: Engine = Engine::new(
-        setup,
+        &particles,
+        &domain,
         Physics::HardSpheres {
             restitution: a.restitution,
         },

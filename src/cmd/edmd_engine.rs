@@ -6,7 +6,7 @@ use super::engine::{drift_fields, progress_bar, with_fields};
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{BroadPhase, Engine, Interference, Materials, Physics, Setup, Stats};
+use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Materials, Physics, Stats};
 use emdstar_system::{Config, System, Thermo, ThermoLog, XyzWriter};
 use emdstar_table::Table;
 use serde_json::{Value, json};
@@ -67,22 +67,22 @@ pub struct EdmdArgs {
     pub broad_phase: BroadPhaseChoice,
 }
 
-impl From<BroadPhaseChoice> for BroadPhase {
+impl From<BroadPhaseChoice> for BroadPhaseKind {
     fn from(choice: BroadPhaseChoice) -> Self {
         match choice {
-            BroadPhaseChoice::Auto => BroadPhase::Auto,
-            BroadPhaseChoice::Crossings => BroadPhase::Crossings,
-            BroadPhaseChoice::Epochs => BroadPhase::Epochs,
+            BroadPhaseChoice::Auto => BroadPhaseKind::Auto,
+            BroadPhaseChoice::Crossings => BroadPhaseKind::Crossings,
+            BroadPhaseChoice::Epochs => BroadPhaseKind::Epochs,
         }
     }
 }
 
 /// The event engine for `system` with the options of `args`.
 fn build_engine(kind: EngineKind, system: &System, args: &EdmdArgs) -> Result<Engine> {
-    let setup = Setup::from_system(system);
     let physics = physics(kind, system, args)?;
     Ok(Engine::with_broad_phase(
-        setup,
+        &system.particles,
+        &system.domain,
         physics,
         args.broad_phase.into(),
     )?)
@@ -203,7 +203,7 @@ fn thermo(engine: &mut Engine, system: &System) -> Thermo {
         let m = p.mass[i];
         for k in 0..3 {
             momentum[k] += m * v[i][k];
-            potential -= m * system.gravity[k] * x[i][k];
+            potential -= m * system.domain.gravity[k] * x[i][k];
         }
         kinetic += 0.5 * m * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
     }
@@ -263,7 +263,7 @@ pub fn run(
     let first = thermo(&mut engine, &system);
     log.write(&first)?;
     engine.write_state(&mut system.particles);
-    traj.write_frame(0.0, &system.particles, system.sim_box.as_ref())?;
+    traj.write_frame(0.0, &system.particles, system.domain.sim_box.as_ref())?;
     let t_end = config.t_end;
     let bar = progress_bar(
         out.quiet,
@@ -293,7 +293,11 @@ pub fn run(
         }
         if engine.time() >= next_traj || done {
             engine.write_state(&mut system.particles);
-            traj.write_frame(engine.time(), &system.particles, system.sim_box.as_ref())?;
+            traj.write_frame(
+                engine.time(),
+                &system.particles,
+                system.domain.sim_box.as_ref(),
+            )?;
             next_traj += out.trajectory_interval;
         }
         if done {

@@ -90,7 +90,7 @@ pub fn run(args: &RunArgs) -> Result<()> {
     };
     let mor = super::edmd_engine::mor_source(&system, &args.edmd)?;
     let n = system.particles.len();
-    let sim_box = system.sim_box;
+    let sim_box = system.domain.sim_box;
     let mut engine = Hybrid::new(system, opts, mor, config.t_end)?;
     let mut traj = XyzWriter::create(&out.trajectory)?;
     let mut log = ThermoLog::create(&out.log)?;

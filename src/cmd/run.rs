@@ -206,7 +206,7 @@ fn write_outputs(
     }
     if frame {
         let s = md.system();
-        traj.write_frame(th.t, &s.particles, s.sim_box.as_ref())?;
+        traj.write_frame(th.t, &s.particles, s.domain.sim_box.as_ref())?;
     }
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! - [`Mor`]: the matrix of restitution of one collision, as the solver and the tables
 //!   return it;
 //! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
+//! - [`vec3`]: the `[f64; 3]` operations the engines share;
 //! - [`ParameterBox`] and [`RectBounds`]: the rectangularised coordinates (a, b, c) in
 //!   both directions, with the paper's Tab. I and Tab. II as presets.
 //!
@@ -32,6 +33,7 @@ mod mor;
 mod pair;
 mod rect;
 mod scaled;
+pub mod vec3;
 
 pub use error::{ContactError, Result};
 pub use impact::Impact;

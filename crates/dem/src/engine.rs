@@ -4,7 +4,7 @@ use crate::forces::{Contacts, PairForce, WALL};
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
 use crate::options::{MdError, MdOptions, prepare_system};
 use emdstar_contact::PairLaw;
-use emdstar_system::{Particles, SimBox, System, Thermo, permute};
+use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
 
 /// Particles per chunk of the force loop. Fixed, so that the order in which forces are
@@ -26,8 +26,7 @@ pub struct Md {
     /// where they are used. Non-zero only for the particles listed in `touched`.
     contact_acc: Vec<[f64; 3]>,
     touched: Vec<u32>,
-    pair_laws: Vec<PairLaw>,
-    wall_laws: Vec<PairLaw>,
+    interactions: Interactions,
     list: NeighbourList,
     buffers: Vec<Vec<PairForce>>,
     drift_bound: f64,
@@ -55,16 +54,7 @@ impl Md {
     /// the check of the time step against the shortest expected contact time).
     pub fn new(mut system: System, opts: MdOptions, t_end: f64) -> Result<Self, MdError> {
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
-        let ns = system.species.len();
-        let mut pair_laws = Vec::with_capacity(ns * ns);
-        for a in 0..ns {
-            for b in 0..ns {
-                pair_laws.push(system.pair(a, b)?.0);
-            }
-        }
-        let wall_laws = (0..ns)
-            .map(|a| system.wall_pair(a).map(|p| p.0))
-            .collect::<Result<_, _>>()?;
+        let interactions = system.interactions()?;
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let mut md = Self {
@@ -76,8 +66,7 @@ impl Md {
             inv_mass,
             contact_acc: vec![[0.0; 3]; n],
             touched: Vec::new(),
-            pair_laws,
-            wall_laws,
+            interactions,
             list: NeighbourList::default(),
             buffers: vec![Vec::new(); n.div_ceil(CHUNK)],
             drift_bound: 0.0,
@@ -159,7 +148,7 @@ impl Md {
         }
         if n > 0 {
             self.kick_contacts(0.5 * dt);
-            let g = self.system.gravity;
+            let g = self.system.domain.gravity;
             let mut v2_max: f64 = 0.0;
             for v in &mut self.system.particles.velocity {
                 *v = [
@@ -195,7 +184,7 @@ impl Md {
     /// gravity, so it holds for every particle.
     fn step(&mut self, kick: f64, dt: f64) -> Result<(), MdError> {
         let touched_v2 = self.kick_contacts(kick);
-        let g = self.system.gravity;
+        let g = self.system.domain.gravity;
         let g_kick = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * kick;
         let v_bound = max_nan(self.v_max, touched_v2.sqrt()) + g_kick;
         // Written so that NaN (a blow-up) rebuilds, where it is reported.
@@ -248,11 +237,9 @@ impl Md {
             radius: &self.system.particles.radius,
             species: &self.system.particles.species,
             list: &self.list,
-            pair_laws: &self.pair_laws,
-            n_species: self.system.species.len(),
-            wall_laws: &self.wall_laws,
-            walls: &self.system.walls,
-            gravity: self.system.gravity,
+            interactions: &self.interactions,
+            walls: &self.system.domain.walls,
+            gravity: self.system.domain.gravity,
             h,
             contact_end: self.opts.contact_end,
         }
@@ -266,7 +253,7 @@ impl Md {
         let mut buffers = std::mem::take(&mut self.buffers);
         let ctx = self.contacts(h);
         let start = &self.list.start;
-        let walls = !self.system.walls.is_empty();
+        let walls = !self.system.domain.walls.is_empty();
         let mut v2_max: f64 = 0.0;
         let n = position.len();
         // Without gravity the velocities need not be written back (less memory traffic).
@@ -338,7 +325,7 @@ impl Md {
             &self.system.particles.velocity,
         );
         let n = position.len();
-        let (start, walls) = (&self.list.start, !self.system.walls.is_empty());
+        let (start, walls) = (&self.list.start, !self.system.domain.walls.is_empty());
         buffers.par_iter_mut().enumerate().for_each(|(c, buf)| {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
@@ -387,7 +374,7 @@ impl Md {
         let min_cell = 2.0 * self.system.max_radius() + self.skin;
         check_and_wrap(
             &mut self.system.particles,
-            self.system.sim_box.as_ref(),
+            self.system.domain.sim_box.as_ref(),
             t,
             |_| false,
         )?;
@@ -396,7 +383,7 @@ impl Md {
             .list
             .sort_order(
                 &p.position,
-                self.system.sim_box.as_ref(),
+                self.system.domain.sim_box.as_ref(),
                 min_cell,
                 PER_CELL,
             )
@@ -425,7 +412,6 @@ impl Md {
     /// (Hertz, Müller & Pöschel 2013, Eq. 51), plus −Σ m g·x.
     pub fn thermo(&self) -> Thermo {
         let p = &self.system.particles;
-        let ns = self.system.species.len();
         let mut potential = 0.0;
         let mut contacts = 0;
         for i in 0..p.len() {
@@ -438,18 +424,18 @@ impl Md {
                     p.radius[i] + p.radius[j] - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
                 if overlap > 0.0 {
                     contacts += 1;
-                    let law = &self.pair_laws[p.species[i] as usize * ns + p.species[j] as usize];
+                    let law = &self.interactions.pair(p.species[i], p.species[j]).law;
                     potential += elastic_energy(law, overlap);
                 }
             }
-            for w in &self.system.walls {
+            for w in &self.system.domain.walls {
                 let overlap = p.radius[i] - w.distance(xi);
                 if overlap > 0.0 {
                     contacts += 1;
-                    potential += elastic_energy(&self.wall_laws[p.species[i] as usize], overlap);
+                    potential += elastic_energy(&self.interactions.wall(p.species[i]).law, overlap);
                 }
             }
-            let g = self.system.gravity;
+            let g = self.system.domain.gravity;
             potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
         }
         Thermo {

@@ -3,7 +3,7 @@
 use crate::neighbour::{INDEX_BITS, INDEX_MASK, NeighbourList};
 use crate::options::ContactEnd;
 use emdstar_contact::PairLaw;
-use emdstar_system::Wall;
+use emdstar_system::{Interactions, Wall};
 
 /// A contact force found by a sweep, applied afterwards: +f on `i`, −f on `j` (unless
 /// `j` is [`WALL`]).
@@ -66,10 +66,7 @@ pub struct Contacts<'a> {
     pub radius: &'a [f64],
     pub species: &'a [u32],
     pub list: &'a NeighbourList,
-    /// `pair_laws[a * n_species + b]`.
-    pub pair_laws: &'a [PairLaw],
-    pub n_species: usize,
-    pub wall_laws: &'a [PairLaw],
+    pub interactions: &'a Interactions,
     pub walls: &'a [Wall],
     pub gravity: [f64; 3],
     /// The stored velocities lag by half a step; the velocity at the force's time is
@@ -125,7 +122,7 @@ impl Contacts<'_> {
             overlap + dt * (w.normal[0] * vi[0] + w.normal[1] * vi[1] + w.normal[2] * vi[2]);
         let v = self.predict(i, vi);
         let rate = -(w.normal[0] * v[0] + w.normal[1] * v[1] + w.normal[2] * v[2]);
-        let law = &self.wall_laws[self.species[i] as usize];
+        let law = &self.interactions.wall(self.species[i]).law;
         let f = normal_force(law, overlap, rate, self.contact_end)
             + touch_correction(law, overlap_prev, overlap, rate);
         if f != 0.0 {
@@ -161,8 +158,7 @@ impl Contacts<'_> {
         let (vi, vj) = (self.predict(i, vi), self.predict(j, vj));
         // ξ̇ = −ṙ = −n·(v_i − v_j).
         let rate = -(n[0] * (vi[0] - vj[0]) + n[1] * (vi[1] - vj[1]) + n[2] * (vi[2] - vj[2]));
-        let law =
-            &self.pair_laws[self.species[i] as usize * self.n_species + self.species[j] as usize];
+        let law = &self.interactions.pair(self.species[i], self.species[j]).law;
         let f = normal_force(law, l - r, rate, self.contact_end)
             + touch_correction(law, overlap_prev, l - r, rate);
         if f != 0.0 {

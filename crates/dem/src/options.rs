@@ -113,23 +113,22 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
         .iter()
         .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
         .fold(0.0, f64::max);
-    let g = system.gravity;
+    let g = system.domain.gravity;
     let v_ref = 2.0 * v_max + (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * t_end;
     if v_ref.is_nan() || v_ref <= 0.0 {
         return Ok(None);
     }
-    let ns = system.species.len();
-    let mut pairs = Vec::new();
-    for a in 0..ns {
-        for b in a..ns {
-            pairs.push(system.pair(a, b)?);
-        }
-        if !system.walls.is_empty() {
-            pairs.push(system.wall_pair(a)?);
-        }
-    }
+    let interactions = system.interactions()?;
+    let ns = interactions.species();
+    // The wall contacts come last; count them only where there are walls.
+    let contacts = (ns * (ns + 1) / 2)
+        + if system.domain.walls.is_empty() {
+            0
+        } else {
+            ns
+        };
     let mut t_min = f64::INFINITY;
-    for (law, props) in pairs {
+    for &emdstar_system::Interaction { law, props } in interactions.distinct().take(contacts) {
         let mut t = law.elastic_duration(props.m_eff, v_ref)?;
         if let emdstar_contact::PairLaw::Linear { stiffness, damping } = law {
             let damped = emdstar_contact::LinearDashpot::new(stiffness, damping)?;
@@ -168,7 +167,7 @@ pub fn prepare_system(
     if !(skin.is_finite() && skin >= 0.0) {
         return Err(MdError::BadSkin(skin));
     }
-    if let Some(b) = system.sim_box {
+    if let Some(b) = system.domain.sim_box {
         for x in &mut system.particles.position {
             *x = b.wrap(*x);
         }
@@ -182,7 +181,7 @@ pub fn prepare_system(
 /// η = 0.01, R/2 at η = 0.1).
 pub fn default_skin(system: &System) -> f64 {
     let r_max = system.max_radius();
-    let Some(b) = &system.sim_box else {
+    let Some(b) = &system.domain.sim_box else {
         return r_max;
     };
     let p = &system.particles;

@@ -92,7 +92,7 @@ fn central_wall_bounce_has_the_laws_restitution() {
                 Vec3::new(0.3, 0.0, -v0),
             )],
         );
-        system.walls.push(wall);
+        system.domain.walls.push(wall);
         let tc = shortest_contact_time(&system, 0.0).unwrap().unwrap();
         let t_end = 0.01 / v0 + 3.0 * tc;
         let steps = (t_end / (tc / 4000.0)).ceil() as u64;
@@ -202,7 +202,7 @@ fn results_do_not_depend_on_the_thread_count() {
     };
     // Without gravity the sweeps skip the velocity write-back; with it they do not.
     for gravity in [[0.0; 3], [0.3, -1.0, -9.81]] {
-        system.gravity = gravity;
+        system.domain.gravity = gravity;
         let (a, b) = (run(1, &system), run(2, &system));
         assert!(
             a.1.contacts > 0 && a.2 > 1,

@@ -34,14 +34,52 @@ pub fn cells_per_axis(size: [f64; 3], min_width: f64) -> [usize; 3] {
     })
 }
 
-/// The grid and its particle lists.
-#[derive(Debug, Clone)]
-pub struct CellGrid {
+/// The geometry of a cell grid: cuboid cells over `[lo, lo + size]`, periodic or
+/// closed along each axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellShape {
     pub lo: [f64; 3],
     pub size: [f64; 3],
     pub periodic: [bool; 3],
     pub dims: [usize; 3],
     pub width: [f64; 3],
+}
+
+impl CellShape {
+    /// Cells at least `min_width` wide over `[lo, lo + size]` (see [`cells_per_axis`]).
+    pub fn new(lo: [f64; 3], size: [f64; 3], periodic: [bool; 3], min_width: f64) -> Self {
+        let dims = cells_per_axis(size, min_width);
+        let width = std::array::from_fn(|k| size[k] / dims[k] as f64);
+        Self {
+            lo,
+            size,
+            periodic,
+            dims,
+            width,
+        }
+    }
+
+    /// Cell coordinates of a position (closed axes clamp to the border cells).
+    #[inline]
+    pub fn coords_of(&self, p: [f64; 3]) -> [u32; 3] {
+        std::array::from_fn(|k| {
+            let c = ((p[k] - self.lo[k]) / self.width[k]).floor();
+            let top = self.dims[k] - 1;
+            if c < 0.0 {
+                if self.periodic[k] { top as u32 } else { 0 }
+            } else {
+                (c as usize).min(top) as u32
+            }
+        })
+    }
+}
+
+/// A cell grid with a linked list of particles per cell: O(1) insertion, removal and
+/// moves, for particles that change cell one event at a time. (The static grids of
+/// neighbour lists bin all particles at once instead: `emdstar_system::LinkedCells`.)
+#[derive(Debug, Clone)]
+pub struct LinkedCells {
+    pub shape: CellShape,
     head: Vec<u32>,
     /// Index offsets of the 27 neighbours of an interior cell, and of the 9 cells of
     /// the new layer for each face (axis·2 + 1 if moving up).
@@ -69,7 +107,7 @@ pub struct CellSet<const N: usize = 27> {
 }
 
 /// The up to 9 cells that become neighbours when a particle enters a cell (see
-/// [`CellGrid::new_layer`]).
+/// [`LinkedCells::new_layer`]).
 pub type Layer = CellSet<9>;
 
 impl<const N: usize> CellSet<N> {
@@ -100,9 +138,9 @@ impl<const N: usize> CellSet<N> {
     }
 }
 
-impl CellGrid {
+impl LinkedCells {
     /// A grid over `[lo, lo + size]` with cells at least `min_width` wide, for `n`
-    /// particles (all outside any cell until [`CellGrid::insert`]).
+    /// particles (all outside any cell until [`LinkedCells::insert`]).
     pub fn new(
         lo: [f64; 3],
         size: [f64; 3],
@@ -110,8 +148,8 @@ impl CellGrid {
         min_width: f64,
         n: usize,
     ) -> Self {
-        let dims = cells_per_axis(size, min_width);
-        let width = std::array::from_fn(|k| size[k] / dims[k] as f64);
+        let shape = CellShape::new(lo, size, periodic, min_width);
+        let dims = shape.dims;
         let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];
         let offset = |d: [isize; 3]| d[0] * stride[0] + d[1] * stride[1] + d[2] * stride[2];
         let mut offsets = [0; 27];
@@ -157,11 +195,7 @@ impl CellGrid {
                 .collect()
         });
         Self {
-            lo,
-            size,
-            periodic,
-            dims,
-            width,
+            shape,
             head: vec![NONE; dims.iter().product()],
             offsets,
             layers,
@@ -175,20 +209,12 @@ impl CellGrid {
     /// Cell coordinates of a position (closed axes clamp to the border cells).
     #[inline]
     pub fn coords_of(&self, p: [f64; 3]) -> [u32; 3] {
-        std::array::from_fn(|k| {
-            let c = ((p[k] - self.lo[k]) / self.width[k]).floor();
-            let top = self.dims[k] - 1;
-            if c < 0.0 {
-                if self.periodic[k] { top as u32 } else { 0 }
-            } else {
-                (c as usize).min(top) as u32
-            }
-        })
+        self.shape.coords_of(p)
     }
 
     #[inline]
     fn index(&self, c: [u32; 3]) -> usize {
-        c[0] as usize + self.dims[0] * (c[1] as usize + self.dims[1] * c[2] as usize)
+        c[0] as usize + self.shape.dims[0] * (c[1] as usize + self.shape.dims[1] * c[2] as usize)
     }
 
     /// Puts particle `i` into the cell with coordinates `c`.
@@ -205,9 +231,16 @@ impl CellGrid {
         self.coords[i] = c;
     }
 
-    /// Empties every cell (particle coordinates are kept).
-    pub fn clear(&mut self) {
+    /// Renumbers the particles so that new number k is old number `order[k]`, and
+    /// lists every cell in increasing number.
+    pub fn renumber(&mut self, order: &[u32]) {
+        let mut coords = Vec::new();
+        crate::state::permute(&mut self.coords, order, &mut coords);
         self.head.iter_mut().for_each(|h| *h = NONE);
+        for i in (0..self.coords.len()).rev() {
+            let c = self.coords[i];
+            self.insert(i, c);
+        }
     }
 
     /// Takes particle `i` out of its cell.
@@ -234,7 +267,7 @@ impl CellGrid {
         }
     }
 
-    /// First particle of a cell (follow with [`CellGrid::next`]).
+    /// First particle of a cell (follow with [`LinkedCells::next`]).
     #[inline]
     pub fn first(&self, cell: u32) -> u32 {
         self.head[cell as usize]
@@ -277,8 +310,12 @@ impl CellGrid {
             shifts: [[0.0; 3]; 27],
             len: 0,
         };
-        let stride = [1, self.dims[0], self.dims[0] * self.dims[1]];
-        let shift = |k: usize, image: i8| f64::from(image) * self.size[k];
+        let stride = [
+            1,
+            self.shape.dims[0],
+            self.shape.dims[0] * self.shape.dims[1],
+        ];
+        let shift = |k: usize, image: i8| f64::from(image) * self.shape.size[k];
         for &(z, sz) in &axes[2].0[..axes[2].1] {
             for &(y, sy) in &axes[1].0[..axes[1].1] {
                 let row = y as usize * stride[1] + z as usize * stride[2];
@@ -297,12 +334,12 @@ impl CellGrid {
     #[inline]
     pub fn interior(&self, c: [u32; 3]) -> Option<usize> {
         (0..3)
-            .all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.dims[k])
+            .all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.shape.dims[k])
             .then(|| self.index(c))
     }
 
     /// The 27 neighbour cells of the interior cell with index `base` (see
-    /// [`CellGrid::interior`]).
+    /// [`LinkedCells::interior`]).
     #[inline]
     pub fn interior_neighbours(&self, base: usize) -> impl Iterator<Item = u32> + '_ {
         self.offsets
@@ -311,7 +348,7 @@ impl CellGrid {
     }
 
     /// The 9 cells of the new layer of the interior cell with index `base` entered
-    /// through the face on `axis` moving in direction `dir` (as [`CellGrid::new_layer`]).
+    /// through the face on `axis` moving in direction `dir` (as [`LinkedCells::new_layer`]).
     #[inline]
     pub fn interior_layer(
         &self,
@@ -328,10 +365,13 @@ impl CellGrid {
     /// The cell with coordinates `c` and its neighbours.
     #[inline]
     pub fn neighbourhood(&self, c: [u32; 3]) -> CellSet {
-        if (0..3).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.dims[k]) {
+        if (0..3).all(|k| c[k] >= 1 && (c[k] as usize) + 2 <= self.shape.dims[k]) {
             // Interior cell: 27 distinct cells, no wrapping.
             let base = self.index(c) as i64;
-            let (nx, nxy) = (self.dims[0] as i64, (self.dims[0] * self.dims[1]) as i64);
+            let (nx, nxy) = (
+                self.shape.dims[0] as i64,
+                (self.shape.dims[0] * self.shape.dims[1]) as i64,
+            );
             let mut set = CellSet {
                 cells: [0; 27],
                 shifts: [[0.0; 3]; 27],
@@ -374,7 +414,7 @@ impl CellGrid {
                 0..3
             }
         };
-        let shift = |k: usize, image: i8| f64::from(image) * self.size[k];
+        let shift = |k: usize, image: i8| f64::from(image) * self.shape.size[k];
         for &(z, sz) in &rows[2][span(2)] {
             if z == NONE {
                 continue;
@@ -383,7 +423,7 @@ impl CellGrid {
                 if y == NONE {
                     continue;
                 }
-                let row = self.dims[0] * (y as usize + self.dims[1] * z as usize);
+                let row = self.shape.dims[0] * (y as usize + self.shape.dims[1] * z as usize);
                 for &(x, sx) in &rows[0][span(0)] {
                     if x == NONE {
                         continue;
@@ -401,13 +441,13 @@ impl CellGrid {
     /// for the outer faces of the border cells of a closed axis.
     #[inline]
     pub fn faces(&self, k: usize, c: u32) -> (f64, f64) {
-        let low = self.lo[k] + c as f64 * self.width[k];
-        let high = self.lo[k] + (c + 1) as f64 * self.width[k];
-        if self.periodic[k] {
+        let low = self.shape.lo[k] + c as f64 * self.shape.width[k];
+        let high = self.shape.lo[k] + (c + 1) as f64 * self.shape.width[k];
+        if self.shape.periodic[k] {
             return (low, high);
         }
         let low = if c == 0 { f64::NEG_INFINITY } else { low };
-        let high = if c as usize + 1 == self.dims[k] {
+        let high = if c as usize + 1 == self.shape.dims[k] {
             f64::INFINITY
         } else {
             high
@@ -449,7 +489,7 @@ impl CellGrid {
 
     /// The next crossing of a face of cell `c` by a particle at `x` with velocity `v`
     /// under gravity `g`: (time from now, face = axis·2 + 1 if moving up), the
-    /// earliest of [`CellGrid::axis_crossing`] over the axes.
+    /// earliest of [`LinkedCells::axis_crossing`] over the axes.
     #[inline]
     pub fn next_crossing(&self, c: [u32; 3], x: [f64; 3], v: [f64; 3], g: [f64; 3]) -> (f64, u8) {
         let mut best = f64::INFINITY;
@@ -468,12 +508,12 @@ impl CellGrid {
     /// the position (±size along a periodic axis when wrapping, else 0).
     #[inline]
     pub fn step(&self, k: usize, c: u32, dir: i64) -> (u32, f64) {
-        let n = self.dims[k] as i64;
+        let n = self.shape.dims[k] as i64;
         let x = c as i64 + dir;
         if x < 0 {
-            ((n - 1) as u32, self.size[k])
+            ((n - 1) as u32, self.shape.size[k])
         } else if x >= n {
-            (0, -self.size[k])
+            (0, -self.shape.size[k])
         } else {
             (x as u32, 0.0)
         }
@@ -486,8 +526,8 @@ mod tests {
 
     #[test]
     fn lists_follow_inserts_and_moves() {
-        let mut g = CellGrid::new([0.0; 3], [5.0; 3], [true; 3], 1.0, 4);
-        assert_eq!(g.dims, [5, 5, 5]);
+        let mut g = LinkedCells::new([0.0; 3], [5.0; 3], [true; 3], 1.0, 4);
+        assert_eq!(g.shape.dims, [5, 5, 5]);
         for i in 0..4 {
             g.insert(i, [1, 2, 3]);
         }
@@ -511,7 +551,7 @@ mod tests {
 
     #[test]
     fn interior_fast_path_matches_the_general_stencil() {
-        let g = CellGrid::new([0.0; 3], [6.0, 5.0, 4.0], [true, false, true], 1.0, 0);
+        let g = LinkedCells::new([0.0; 3], [6.0, 5.0, 4.0], [true, false, true], 1.0, 0);
         let c = [2, 2, 1];
         let fast = g.neighbourhood(c);
         let all = [-1, 0, 1];
@@ -536,8 +576,8 @@ mod tests {
 
     #[test]
     fn neighbourhoods_wrap_with_image_shifts() {
-        let g = CellGrid::new([0.0; 3], [5.0, 2.0, 3.0], [true, true, false], 1.0, 0);
-        assert_eq!(g.dims, [5, 2, 3]);
+        let g = LinkedCells::new([0.0; 3], [5.0, 2.0, 3.0], [true, true, false], 1.0, 0);
+        assert_eq!(g.shape.dims, [5, 2, 3]);
         let n = g.neighbourhood([0, 0, 0]);
         // x: 3 (wrapping), y: 3 images of 2 cells, z: 2 (closed, no −1).
         assert_eq!(n.len(), 18);

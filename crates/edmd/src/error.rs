@@ -4,7 +4,7 @@ use emdstar_contact::ContactError;
 use emdstar_mor::SolveError;
 
 /// Why the engine refused its input or stopped.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum EngineError {
     #[error("invalid input: {0}")]
     Invalid(String),
@@ -36,6 +36,8 @@ pub enum EngineError {
         distance: f64,
         radius: f64,
     },
+    #[error(transparent)]
+    System(#[from] emdstar_system::SystemError),
     #[error("pair physics: {0}")]
     Contact(#[from] ContactError),
     #[error("matrix of restitution: {0}")]

@@ -7,8 +7,9 @@
 //! - [`cells`]: the cell grid with crossing events, and (private) `sweep`: the swept
 //!   boxes of the epoch broad phase ([`BroadPhase`]);
 //! - [`rules`]: collision rules and the source of the matrix of restitution;
-//! - [`Engine`]: the event loop with delayed updates, built from a [`Setup`] (or an
-//!   `emdstar_system::System` via [`Setup::from_system`]) and a [`Physics`].
+//! - [`Engine`]: the event loop with delayed updates, built from particles and their
+//!   domain (`emdstar_system`'s [`Particles`](emdstar_system::Particles) and
+//!   [`Domain`](emdstar_system::Domain)) and a [`Physics`].
 //!
 //! How the engine works:
 //! - every particle keeps its own earliest events (a collision with a particle or
@@ -37,30 +38,28 @@
 //!   particle or a wall falls back to the eMD rule (exception a). All are counted in
 //!   [`Stats`].
 
+mod auto;
 pub mod bouncing;
-mod build;
+pub mod broad_phase;
 mod calendar;
 pub mod cells;
-mod collide;
+pub mod collision;
 pub mod detect;
 mod engine;
-mod epoch;
 mod error;
-pub mod gas;
+mod physics;
 pub mod queue;
-mod readout;
-mod reorder;
 pub mod rules;
-mod setup;
+mod state;
 mod stats;
 mod sweep;
-mod system;
 
+pub use auto::Engine;
+pub use broad_phase::{BroadPhase, Crossings, Epochs};
 pub use calendar::CalendarQueue;
-pub use engine::{Engine, Event};
+pub use engine::{Event, EventEngine};
 pub use error::{EngineError, Result};
+pub use physics::{BroadPhaseKind, Interference, Materials, PairEntry, Physics};
 pub use queue::{EventQueue, IndexedHeap};
-pub use setup::{BroadPhase, Interference, Materials, PairEntry, Physics, Region, Setup, Wall};
+pub use state::State;
 pub use stats::Stats;
-#[cfg(test)]
-mod engine_tests;

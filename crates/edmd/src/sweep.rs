@@ -12,7 +12,7 @@
 //! that meet nobody.
 
 use crate::cells::{NONE, cells_per_axis};
-use crate::setup::Region;
+use emdstar_system::SimBox;
 
 /// ⌊x⌋ as an integer for |x| < 2³⁰, saturating beyond (boxes beyond the grid are
 /// clamped or wrapped by the caller). Without a libm call or a float-to-integer
@@ -120,7 +120,7 @@ pub(crate) struct SweepGrid {
 impl SweepGrid {
     /// A grid over `region` with cells at least `min_width` wide, for `n` particles.
     /// Along closed axes the border cells reach to ±∞.
-    pub fn new(region: &Region, min_width: f64, n: usize) -> Self {
+    pub fn new(region: &SimBox, min_width: f64, n: usize) -> Self {
         let dims = cells_per_axis(region.size, min_width).map(|d| d as u32);
         let cells = dims.iter().map(|&d| d as usize).product::<usize>();
         Self {
@@ -382,28 +382,6 @@ impl SweepGrid {
         }
         self.scratch = cells;
     }
-
-    /// Whether `f(j)` holds for any particle filed in a cell of `s` (without filing).
-    pub fn any_in(&self, s: &Spans, mut f: impl FnMut(usize) -> bool) -> bool {
-        let mut found = false;
-        self.for_cells(s, |c| {
-            if found {
-                return;
-            }
-            let (in_room, beyond) = self.filed_in(c);
-            found = in_room
-                .iter()
-                .chain(beyond.iter().map(|[_, e]| e))
-                .any(|&e| f(Filing::particle(e) as usize));
-            let mut node = self.extra_head[c];
-            while !found && node != NONE {
-                let [j, next] = self.extra[node as usize];
-                found = f(j as usize);
-                node = next;
-            }
-        });
-        found
-    }
 }
 
 #[cfg(test)]
@@ -413,7 +391,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn grid() -> SweepGrid {
-        let region = Region {
+        let region = SimBox {
             lo: [0.0; 3],
             size: [10.0; 3],
             periodic: [true, true, false],
@@ -481,7 +459,7 @@ mod tests {
     #[test]
     fn every_pair_of_touching_boxes_is_reported_once_per_run_of_shared_cells() {
         // Brute force over random boxes: the pairs whose cell sets intersect.
-        let region = Region {
+        let region = SimBox {
             lo: [0.0; 3],
             size: [6.0; 3],
             periodic: [true, false, true],

@@ -2,16 +2,20 @@
 //! brute-force reference: every step advances all particles and tests every pair in
 //! all 27 periodic images with the textbook quadratic formula, O(N²) per collision.
 
+mod common;
+
+use common::fcc;
 use emdstar_edmd::{
-    BroadPhase, CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics, Setup, gas,
+    BroadPhaseKind, CalendarQueue, Engine, Event, EventQueue, IndexedHeap, Physics,
 };
+use emdstar_system::{Domain, Particles};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Elastic hard spheres (the radii and masses of `setup`) in its periodic cube, run
 /// by brute force: the first `count` collisions as (i, j, time) with i < j.
-fn brute_force(setup: &Setup, count: usize) -> Vec<(u32, u32, f64)> {
-    let side = setup.region.expect("a periodic box").size[0];
+fn brute_force((setup, domain): &(Particles, Domain), count: usize) -> Vec<(u32, u32, f64)> {
+    let side = domain.sim_box.expect("a periodic box").size[0];
     let mut x = setup.position.clone();
     let mut v = setup.velocity.clone();
     let n = x.len();
@@ -95,14 +99,15 @@ fn collision_sequence_equals_the_brute_force_reference() {
     // N = 108 in a box 7 cells wide (interior and border cells) and N = 32 in a box of
     // three cells, where every neighbour cell is reached through a periodic image.
     for (cells, density, count) in [(3, 0.2, 150), (2, 0.15, 150)] {
-        let setup = gas::fcc(cells, density, 1.0, 1.0, 1.0, 17);
+        let setup = fcc(cells, density, 1.0, 1.0, 1.0, 17);
         let reference = brute_force(&setup, count);
         let physics = || Physics::HardSpheres { restitution: 1.0 };
-        let heap: Engine<IndexedHeap> = Engine::new(setup.clone(), physics()).unwrap();
+        let (p, d) = &setup;
+        let heap: Engine<IndexedHeap> = Engine::new(p, d, physics()).unwrap();
         assert_same(&reference, &engine_collisions(heap, count), "heap");
-        let calendar: Engine<CalendarQueue> = Engine::new(setup.clone(), physics()).unwrap();
+        let calendar: Engine<CalendarQueue> = Engine::new(p, d, physics()).unwrap();
         assert_same(&reference, &engine_collisions(calendar, count), "calendar");
-        let mut resorted: Engine = Engine::new(setup, physics()).unwrap();
+        let mut resorted: Engine = Engine::new(p, d, physics()).unwrap();
         resorted.set_resort_interval(53);
         assert_same(&reference, &engine_collisions(resorted, count), "re-sorted");
     }
@@ -113,18 +118,24 @@ fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
     // η ≈ 0.003: the mean free path exceeds the box, so spheres wrap around many times
     // between collisions; one sphere flies 20 times faster than the rest, so that its
     // swept box must end early (a renewal before the epoch's end).
-    let mut setup = gas::fcc(3, 0.005, 1.0, 1.0, 1.0, 5);
-    let rms = (setup.velocity.iter().flatten().map(|v| v * v).sum::<f64>()
-        / setup.velocity.len() as f64)
+    let mut setup = fcc(3, 0.005, 1.0, 1.0, 1.0, 5);
+    let rms = (setup
+        .0
+        .velocity
+        .iter()
+        .flatten()
+        .map(|v| v * v)
+        .sum::<f64>()
+        / setup.0.velocity.len() as f64)
         .sqrt();
-    setup.velocity[0] = [20.0 * rms / 3f64.sqrt(); 3];
+    setup.0.velocity[0] = [20.0 * rms / 3f64.sqrt(); 3];
     // Round-off grows so fast here (a near-grazing collision near the 55th) that
     // crossings and the brute force also part after about 50 collisions.
     let count = 45;
     let reference = brute_force(&setup, count);
     let physics = || Physics::HardSpheres { restitution: 1.0 };
-    let mut e: Engine =
-        Engine::with_broad_phase(setup.clone(), physics(), BroadPhase::Epochs).unwrap();
+    let (p, d) = &setup;
+    let mut e: Engine = Engine::with_broad_phase(p, d, physics(), BroadPhaseKind::Epochs).unwrap();
     let mut got = vec![];
     while got.len() < count {
         if let Event::Collision(i, j) = e.step().unwrap() {
@@ -135,9 +146,10 @@ fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
     let s = e.stats();
     assert!(s.epochs > 10 && s.crossings > 0, "{s:?}");
     // The automatic choice takes epochs here and crossings in a dense gas.
-    let auto: Engine = Engine::new(setup, physics()).unwrap();
+    let auto: Engine = Engine::new(p, d, physics()).unwrap();
     assert!(auto.stats().epochs > 0);
-    let dense: Engine = Engine::new(gas::fcc(3, 0.5, 1.0, 1.0, 1.0, 5), physics()).unwrap();
+    let (p, d) = fcc(3, 0.5, 1.0, 1.0, 1.0, 5);
+    let dense: Engine = Engine::new(&p, &d, physics()).unwrap();
     assert_eq!(dense.stats().epochs, 0);
 }
 
@@ -145,18 +157,19 @@ fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
 fn epochs_and_crossings_give_the_brute_force_sequence_of_a_polydisperse_gas() {
     // Diameters 0.5-1.5 and masses as their cubes, at η ≈ 0.01: unequal swept boxes,
     // contact distances and impulses in both broad phases.
-    let mut setup = gas::fcc(3, 0.01, 1.0, 1.0, 1.0, 23);
+    let mut setup = fcc(3, 0.01, 1.0, 1.0, 1.0, 23);
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    for i in 0..setup.position.len() {
+    for i in 0..setup.0.len() {
         let diameter = 0.5 + rng.random::<f64>();
-        setup.radius[i] = 0.5 * diameter;
-        setup.mass[i] = diameter.powi(3);
+        setup.0.radius[i] = 0.5 * diameter;
+        setup.0.mass[i] = diameter.powi(3);
     }
     let count = 60;
     let reference = brute_force(&setup, count);
     let physics = || Physics::HardSpheres { restitution: 1.0 };
-    for broad_phase in [BroadPhase::Epochs, BroadPhase::Crossings] {
-        let e: Engine = Engine::with_broad_phase(setup.clone(), physics(), broad_phase).unwrap();
+    for broad_phase in [BroadPhaseKind::Epochs, BroadPhaseKind::Crossings] {
+        let e: Engine =
+            Engine::with_broad_phase(&setup.0, &setup.1, physics(), broad_phase).unwrap();
         assert_same(
             &reference,
             &engine_collisions(e, count),

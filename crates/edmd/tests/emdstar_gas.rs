@@ -2,15 +2,19 @@
 
 use emdstar_contact::{ForceLaw, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{BroadPhase, Engine, Event, Interference, Materials, Physics, Setup, gas};
+mod common;
+
+use common::fcc;
+use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Materials, Physics};
+use emdstar_system::{Domain, Particles};
 
 /// A soft elastic Hertz gas (Y = 10 MPa so that exceptions are frequent), R = 0.1 m,
 /// ρ = 1140 kg/m³, thermal speed ≈ 2 m/s (Müller & Pöschel 2013, Sec. VI B 6).
-fn soft_gas(eta: f64, interference: Interference) -> (Setup, Physics) {
+fn soft_gas(eta: f64, interference: Interference) -> ((Particles, Domain), Physics) {
     let sphere = Sphere::from_density(0.1, 1140.0).unwrap();
     let density = eta / (4.0 / 3.0 * std::f64::consts::PI * 0.001);
     let kt = sphere.mass * 4.0 / 3.0;
-    let setup = gas::fcc(5, density, 0.2, sphere.mass, kt, 21);
+    let setup = fcc(5, density, 0.2, sphere.mass, kt, 21);
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e7, 0.4, 0.0).unwrap());
     let physics = Physics::EmdStar {
         materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
@@ -23,14 +27,15 @@ fn soft_gas(eta: f64, interference: Interference) -> (Setup, Physics) {
 #[test]
 fn elastic_emdstar_gas_conserves_energy_and_momentum_through_exceptions() {
     let variants = [
-        (Interference::HitOnly, BroadPhase::Crossings),
-        (Interference::BothPartners, BroadPhase::Crossings),
-        (Interference::HitOnly, BroadPhase::Epochs),
-        (Interference::BothPartners, BroadPhase::Epochs),
+        (Interference::HitOnly, BroadPhaseKind::Crossings),
+        (Interference::BothPartners, BroadPhaseKind::Crossings),
+        (Interference::HitOnly, BroadPhaseKind::Epochs),
+        (Interference::BothPartners, BroadPhaseKind::Epochs),
     ];
     for (interference, broad_phase) in variants {
         let (setup, physics) = soft_gas(0.2, interference);
-        let mut e: Engine = Engine::with_broad_phase(setup, physics, broad_phase).unwrap();
+        let mut e: Engine =
+            Engine::with_broad_phase(&setup.0, &setup.1, physics, broad_phase).unwrap();
         let (e0, p0) = (e.kinetic_energy(), e.momentum());
         e.run_collisions(20_000).unwrap();
         let s = *e.stats();
@@ -75,9 +80,10 @@ fn epochs_and_crossings_run_the_same_emdstar_events() {
     // Soft and dense enough for both exceptions within the compared stretch: E^φ, E^v,
     // interference and eMD fallbacks must come in the same order at the same times.
     let (setup, physics) = soft_gas(0.2, Interference::HitOnly);
-    let crossings = Engine::with_broad_phase(setup.clone(), physics, BroadPhase::Crossings);
+    let crossings =
+        Engine::with_broad_phase(&setup.0, &setup.1, physics, BroadPhaseKind::Crossings);
     let (_, physics) = soft_gas(0.2, Interference::HitOnly);
-    let epochs = Engine::with_broad_phase(setup, physics, BroadPhase::Epochs);
+    let epochs = Engine::with_broad_phase(&setup.0, &setup.1, physics, BroadPhaseKind::Epochs);
     let count = 600;
     let (a, b) = (
         events(crossings.unwrap(), count),

@@ -5,17 +5,16 @@ use emdstar_contact::{
     ForceLaw, LinearDashpot, PairLaw, PairProperties, Sphere, Vec3, ViscoelasticHertz,
 };
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Event, Interference, Materials, Physics, Setup};
+use emdstar_edmd::{Engine, Event, Interference, Materials, Physics};
 use emdstar_mor::rule::{Body, exact_collision};
+use emdstar_system::{Domain, Particles};
 
-fn arr(v: &Vec3) -> [f64; 3] {
-    [v.x, v.y, v.z]
-}
+use emdstar_contact::vec3::from_na as arr;
 
 /// Two spheres whose relative velocity has eccentricity `e` at contact, started a
 /// gap `gap` before it; returns the setup and the contact time (textbook root,
 /// independent of the engine's Algorithm 1).
-fn approach(spheres: [Sphere; 2], speed: f64, e: f64, gap: f64) -> (Setup, f64) {
+fn approach(spheres: [Sphere; 2], speed: f64, e: f64, gap: f64) -> (Particles, f64) {
     let l = spheres[0].radius + spheres[1].radius;
     // At contact: r = l·x̂, v_rel = speed·(−√(1−e²), e, 0); run backwards by t0.
     let v_rel = [-speed * (1.0 - e * e).sqrt(), speed * e, 0.0];
@@ -26,20 +25,20 @@ fn approach(spheres: [Sphere; 2], speed: f64, e: f64, gap: f64) -> (Setup, f64) 
     let drift = [0.3, -0.1, 0.2];
     let (w1, w2) = (spheres[1].mass / total, -spheres[0].mass / total);
     let origin = [1.0, 2.0, 3.0];
-    let setup = Setup {
-        position: vec![
+    let setup = Particles::from_columns(
+        vec![
             std::array::from_fn(|k| origin[k] + w1 * r_start[k]),
             std::array::from_fn(|k| origin[k] + w2 * r_start[k]),
         ],
-        velocity: vec![
+        vec![
             std::array::from_fn(|k| drift[k] + w1 * v_rel[k]),
             std::array::from_fn(|k| drift[k] + w2 * v_rel[k]),
         ],
-        radius: vec![spheres[0].radius, spheres[1].radius],
-        mass: vec![spheres[0].mass, spheres[1].mass],
-        species: vec![0, 1],
-        ..Default::default()
-    };
+        vec![spheres[0].radius, spheres[1].radius],
+        vec![spheres[0].mass, spheres[1].mass],
+        vec![0, 1],
+    )
+    .unwrap();
     // Textbook first root of |r + v t| = l.
     let (a, b, c) = (
         v_rel.iter().map(|x| x * x).sum::<f64>(),
@@ -54,7 +53,7 @@ fn approach(spheres: [Sphere; 2], speed: f64, e: f64, gap: f64) -> (Setup, f64) 
 fn exact_after(
     law: &ForceLaw,
     spheres: [Sphere; 2],
-    setup: &Setup,
+    setup: &Particles,
     t_contact: f64,
     t_end: f64,
 ) -> ([[f64; 3]; 2], [[f64; 3]; 2], f64) {
@@ -128,7 +127,7 @@ fn largest_pair_error(
                 let sp = spheres(unequal);
                 let (setup, t_contact) = approach(sp, speed, e, 0.01);
                 let physics = emdstar_with(&law, sp, source(&law));
-                let mut engine: Engine = Engine::new(setup.clone(), physics).unwrap();
+                let mut engine: Engine = Engine::new(&setup, &Domain::default(), physics).unwrap();
                 let mut kinds = vec![];
                 while engine.stats().velocity_events < 2 {
                     match engine.step().unwrap() {
@@ -186,13 +185,22 @@ fn impacts_outside_the_table_are_errors_unless_the_exact_fallback_is_chosen() {
     let sp = spheres(false);
     let (setup, _) = approach(sp, 1e-4, 0.5, 1e-6);
     let table = |fallback| Box::new(TableMorSource::default_for(law.model(), fallback).unwrap());
-    let mut strict: Engine =
-        Engine::new(setup.clone(), emdstar_with(&law, sp, table(false))).unwrap();
+    let mut strict: Engine = Engine::new(
+        &setup,
+        &Domain::default(),
+        emdstar_with(&law, sp, table(false)),
+    )
+    .unwrap();
     let err = strict
         .run_collisions(1)
         .expect_err("outside the table's box");
     assert!(err.to_string().contains("--mor exact"), "{err}");
-    let mut lenient: Engine = Engine::new(setup, emdstar_with(&law, sp, table(true))).unwrap();
+    let mut lenient: Engine = Engine::new(
+        &setup,
+        &Domain::default(),
+        emdstar_with(&law, sp, table(true)),
+    )
+    .unwrap();
     lenient.run_collisions(1).unwrap();
     assert_eq!(lenient.stats().mor_fallbacks, 1);
 }
@@ -205,7 +213,7 @@ fn emd_agrees_with_the_exact_velocities_only_for_central_impacts() {
     for (e, central) in [(0.0, true), (0.5, false)] {
         let (setup, t_contact) = approach(sp, 2.0, e, 0.01);
         let mut engine: Engine =
-            Engine::new(setup.clone(), Physics::Emd(materials.clone())).unwrap();
+            Engine::new(&setup, &Domain::default(), Physics::Emd(materials.clone())).unwrap();
         engine.run_collisions(1).unwrap();
         engine.sync();
         let (_, v, _) = exact_after(&law, sp, &setup, t_contact, t_contact + 1.0);

@@ -1,10 +1,11 @@
 //! Hard-sphere gases: conservation laws, kinetic theory, cells against brute force,
 //! stability of inelastic runs, and bad input.
 
-use emdstar_edmd::{
-    BroadPhase, Engine, EngineError, Event, EventQueue, IndexedHeap, Physics, Region, Setup, Wall,
-    gas,
-};
+mod common;
+
+use common::fcc;
+use emdstar_edmd::{BroadPhaseKind, Engine, EngineError, Event, EventQueue, IndexedHeap, Physics};
+use emdstar_system::{Domain, Particles, SimBox, SystemError, Wall};
 
 fn elastic() -> Physics {
     Physics::HardSpheres { restitution: 1.0 }
@@ -16,8 +17,8 @@ fn energy_momentum(e: &Engine) -> (f64, [f64; 3]) {
 
 #[test]
 fn elastic_gas_conserves_energy_and_momentum() {
-    let setup = gas::fcc(5, 0.3, 1.0, 1.0, 1.0, 3);
-    let mut e: Engine = Engine::new(setup, elastic()).unwrap();
+    let setup = fcc(5, 0.3, 1.0, 1.0, 1.0, 3);
+    let mut e: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();
     let (e0, p0) = energy_momentum(&e);
     e.run_collisions(100_000).unwrap();
     e.sync();
@@ -39,10 +40,10 @@ fn elastic_gas_conserves_energy_and_momentum() {
 /// Carnahan–Starling contact value, 1/(4ρσ²g(σ)√(πkT/m)) = 0.1310, is 0.5 % above it).
 #[test]
 fn mean_free_time_matches_the_reference() {
-    let setup = gas::fcc(7, 0.5, 1.0, 1.0, 1.0, 11);
-    let n = setup.position.len() as f64;
+    let setup = fcc(7, 0.5, 1.0, 1.0, 1.0, 11);
+    let n = setup.0.len() as f64;
     assert_eq!(n, 1372.0);
-    let mut e: Engine = Engine::new(setup, elastic()).unwrap();
+    let mut e: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();
     e.run_collisions(100_000).unwrap();
     let (t0, c0) = (e.time(), e.stats().collisions());
     e.run_collisions(800_000).unwrap();
@@ -56,11 +57,11 @@ fn mean_free_time_matches_the_reference() {
 #[test]
 fn cells_agree_with_one_big_cell() {
     // A dilute gas where a 4×4×4 grid and a single cell must give the same events.
-    let setup = gas::fcc(4, 0.1, 1.0, 1.0, 1.0, 5);
-    let side = setup.region.unwrap().size[0];
+    let setup = fcc(4, 0.1, 1.0, 1.0, 1.0, 5);
+    let side = setup.1.sim_box.unwrap().size[0];
     let fine_setup = setup.clone();
-    let mut fine: Engine = Engine::new(setup.clone(), elastic()).unwrap();
-    let mut coarse: Engine = Engine::with_cell_width(setup, elastic(), side).unwrap();
+    let mut fine: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();
+    let mut coarse: Engine = Engine::with_cell_width(&setup.0, &setup.1, elastic(), side).unwrap();
     fn collisions<Q: EventQueue>(e: &mut Engine<Q>, count: usize) -> Vec<(u32, u32, f64)> {
         let mut out = vec![];
         while out.len() < count {
@@ -71,10 +72,11 @@ fn cells_agree_with_one_big_cell() {
         out
     }
     // Frequent spatial re-sorting renumbers slots but must not change the physics.
-    let mut resorted: Engine = Engine::new(fine_setup.clone(), elastic()).unwrap();
+    let mut resorted: Engine = Engine::new(&fine_setup.0, &fine_setup.1, elastic()).unwrap();
     resorted.set_resort_interval(97);
     // The calendar queue (the default) must give exactly the heap's event order.
-    let mut heap: Engine<IndexedHeap> = Engine::new(fine_setup, elastic()).unwrap();
+    let mut heap: Engine<IndexedHeap> =
+        Engine::new(&fine_setup.0, &fine_setup.1, elastic()).unwrap();
     let a = collisions(&mut fine, 300);
     let b = collisions(&mut coarse, 300);
     let c = collisions(&mut resorted, 300);
@@ -96,12 +98,13 @@ fn cells_agree_with_one_big_cell() {
 #[test]
 fn inelastic_overlaps_never_grow() {
     for (broad_phase, collisions) in [
-        (BroadPhase::Crossings, 300_000),
-        (BroadPhase::Epochs, 100_000),
+        (BroadPhaseKind::Crossings, 300_000),
+        (BroadPhaseKind::Epochs, 100_000),
     ] {
-        let setup = gas::fcc(8, 0.2, 1.0, 1.0, 1.0, 9);
+        let setup = fcc(8, 0.2, 1.0, 1.0, 1.0, 9);
         let physics = Physics::HardSpheres { restitution: 0.8 };
-        let mut e: Engine = Engine::with_broad_phase(setup, physics, broad_phase).unwrap();
+        let mut e: Engine =
+            Engine::with_broad_phase(&setup.0, &setup.1, physics, broad_phase).unwrap();
         e.run_collisions(collisions).unwrap();
         let s = e.stats();
         assert!(
@@ -123,9 +126,9 @@ fn inelastic_overlaps_never_grow() {
 /// pair and wall collisions.
 #[test]
 fn epochs_agree_with_crossings_between_walls() {
-    let mut setup = gas::fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
-    let region = setup.region.unwrap();
-    setup.region = Some(Region {
+    let mut setup = fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
+    let region = setup.1.sim_box.unwrap();
+    setup.1.sim_box = Some(SimBox {
         periodic: [false; 3],
         ..region
     });
@@ -135,12 +138,12 @@ fn epochs_agree_with_crossings_between_walls() {
             normal[k] = sign;
             let mut point = [0.0; 3];
             point[k] = side - sign * 0.5;
-            setup.walls.push(Wall { normal, point });
+            setup.1.walls.push(Wall { normal, point });
         }
     }
     let events = |broad_phase| {
         let mut e: Engine =
-            Engine::with_broad_phase(setup.clone(), elastic(), broad_phase).unwrap();
+            Engine::with_broad_phase(&setup.0, &setup.1, elastic(), broad_phase).unwrap();
         let mut out = vec![];
         while out.len() < 400 {
             match e.step().unwrap() {
@@ -151,8 +154,8 @@ fn epochs_agree_with_crossings_between_walls() {
         }
         (out, *e.stats())
     };
-    let (a, sa) = events(BroadPhase::Crossings);
-    let (b, sb) = events(BroadPhase::Epochs);
+    let (a, sa) = events(BroadPhaseKind::Crossings);
+    let (b, sb) = events(BroadPhaseKind::Epochs);
     for (k, (x, y)) in a.iter().zip(&b).enumerate() {
         assert_eq!((x.0, x.1), (y.0, y.1), "event {k}: {x:?} {y:?}");
         assert!(
@@ -174,20 +177,18 @@ fn epochs_agree_with_crossings_between_walls() {
 /// periodic axes, or closed axes held by walls from both sides.
 #[test]
 fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
-    let periodic = gas::fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
-    let region = periodic.region.unwrap();
-    let uses_epochs = |setup: &Setup| {
-        let e: Engine = Engine::new(setup.clone(), elastic()).unwrap();
+    let periodic = fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
+    let region = periodic.1.sim_box.unwrap();
+    let uses_epochs = |setup: &(Particles, Domain)| {
+        let e: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();
         e.stats().epochs > 0
     };
     assert!(uses_epochs(&periodic));
-    let free = Setup {
-        region: None,
-        ..periodic.clone()
-    };
+    let mut free = periodic.clone();
+    free.1.sim_box = None;
     assert!(!uses_epochs(&free), "free space");
     let mut open_z = periodic.clone();
-    open_z.region = Some(Region {
+    open_z.1.sim_box = Some(SimBox {
         periodic: [true, true, false],
         ..region
     });
@@ -197,55 +198,67 @@ fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
         point: [0.0, 0.0, z],
     };
     let z = (region.lo[2] - 0.5, region.lo[2] + region.size[2] + 0.5);
-    open_z.walls.push(floor(1.0, z.0));
+    open_z.1.walls.push(floor(1.0, z.0));
     assert!(!uses_epochs(&open_z), "a floor but no lid");
-    open_z.walls.push(floor(-1.0, z.1));
+    open_z.1.walls.push(floor(-1.0, z.1));
     assert!(uses_epochs(&open_z), "floor and lid");
 }
 
 #[test]
 fn bad_input_gets_clear_errors() {
-    let good = gas::fcc(2, 0.3, 1.0, 1.0, 1.0, 1);
+    let good = fcc(2, 0.3, 1.0, 1.0, 1.0, 1);
     let mut overlap = good.clone();
-    overlap.position[1] = overlap.position[0];
-    overlap.position[1][0] += 0.9;
-    let err = Engine::<emdstar_edmd::IndexedHeap>::new(overlap, elastic())
+    overlap.0.position[1] = overlap.0.position[0];
+    overlap.0.position[1][0] += 0.9;
+    let err = Engine::<emdstar_edmd::IndexedHeap>::new(&overlap.0, &overlap.1, elastic())
         .err()
         .unwrap();
-    assert!(matches!(err, EngineError::Overlap { .. }), "{err}");
+    assert!(
+        matches!(err, EngineError::System(SystemError::Overlap { .. })),
+        "{err}"
+    );
     assert!(err.to_string().contains("move them apart"));
 
     let mut packed = good.clone();
-    packed.region = Some(Region {
+    packed.1.sim_box = Some(SimBox {
         lo: [0.0; 3],
         size: [2.5; 3],
         periodic: [true; 3],
     });
-    let err = Engine::<emdstar_edmd::IndexedHeap>::new(packed, elastic())
+    let err = Engine::<emdstar_edmd::IndexedHeap>::new(&packed.0, &packed.1, elastic())
         .err()
         .unwrap();
     assert!(matches!(err, EngineError::Packing { .. }), "{err}");
 
     let mut walled = good.clone();
-    let x = walled.position[3];
-    walled.walls.push(Wall {
+    // A wall needs a closed axis across it (its periodic images would cut the box).
+    if let Some(b) = &mut walled.1.sim_box {
+        b.periodic[0] = false;
+    }
+    let x = walled.0.position[3];
+    walled.1.walls.push(Wall {
         normal: [1.0, 0.0, 0.0],
         point: [x[0] - 0.2, 0.0, 0.0],
     });
-    let err = Engine::<emdstar_edmd::IndexedHeap>::new(walled, elastic())
+    let err = Engine::<emdstar_edmd::IndexedHeap>::new(&walled.0, &walled.1, elastic())
         .err()
         .unwrap();
-    assert!(matches!(err, EngineError::WallCut { wall: 0, .. }), "{err}");
+    assert!(
+        matches!(err, EngineError::System(SystemError::Misplaced { .. })),
+        "{err}"
+    );
+    assert!(err.to_string().contains("wall 0"), "{err}");
 
     let bad_eps = Engine::<emdstar_edmd::IndexedHeap>::new(
-        good.clone(),
+        &good.0,
+        &good.1,
         Physics::HardSpheres { restitution: 1.5 },
     );
     assert!(bad_eps.err().unwrap().to_string().contains("[0, 1]"));
 
     let mut nan = good;
-    nan.velocity[0][2] = f64::NAN;
-    let err = Engine::<emdstar_edmd::IndexedHeap>::new(nan, elastic())
+    nan.0.velocity[0][2] = f64::NAN;
+    let err = Engine::<emdstar_edmd::IndexedHeap>::new(&nan.0, &nan.1, elastic())
         .err()
         .unwrap();
     assert!(err.to_string().contains("finite"));
@@ -254,13 +267,16 @@ fn bad_input_gets_clear_errors() {
 #[test]
 fn ball_between_walls_under_gravity_keeps_its_energy() {
     // One elastic ball bouncing on a floor in a closed box: E = ½mv² + mgz stays.
-    let setup = Setup {
-        position: vec![[0.5, 0.5, 3.0]],
-        velocity: vec![[0.3, -0.2, 0.0]],
-        radius: vec![0.5],
-        mass: vec![1.0],
-        species: vec![0],
-        region: Some(Region {
+    let ball = Particles::from_columns(
+        vec![[0.5, 0.5, 3.0]],
+        vec![[0.3, -0.2, 0.0]],
+        vec![0.5],
+        vec![1.0],
+        vec![0],
+    )
+    .unwrap();
+    let domain = Domain {
+        sim_box: Some(SimBox {
             lo: [0.0; 3],
             size: [4.0, 4.0, 10.0],
             periodic: [true, true, false],
@@ -271,7 +287,8 @@ fn ball_between_walls_under_gravity_keeps_its_energy() {
         }],
         gravity: [0.0, 0.0, -9.81],
     };
-    let mut e: Engine = Engine::new(setup, elastic()).unwrap();
+    let setup = (ball, domain);
+    let mut e: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();
     let energy = |e: &Engine| {
         let v = e.velocities()[0];
         0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) + 9.81 * e.positions()[0][2]

@@ -14,7 +14,7 @@
 
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::{BroadPhase, Engine, Interference, Materials, Physics, Setup};
+use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Materials, Physics};
 use emdstar_harness::engines::lattice_gas;
 use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use std::time::Instant;
@@ -47,11 +47,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         interference: Interference::HitOnly,
     };
     let width = env_number("CELL_WIDTH")?.unwrap_or(0.0);
-    let setup = Setup::from_system(&system);
+    let (p, d) = (&system.particles, &system.domain);
     let mut e: Engine = match std::env::var("BROAD").as_deref() {
-        Ok("crossings") => Engine::with_cell_width(setup, physics, width)?,
-        Ok("epochs") => Engine::with_broad_phase(setup, physics, BroadPhase::Epochs)?,
-        Ok("auto") | Err(_) => Engine::with_broad_phase(setup, physics, BroadPhase::Auto)?,
+        Ok("crossings") => Engine::with_cell_width(p, d, physics, width)?,
+        Ok("epochs") => Engine::with_broad_phase(p, d, physics, BroadPhaseKind::Epochs)?,
+        Ok("auto") | Err(_) => Engine::with_broad_phase(p, d, physics, BroadPhaseKind::Auto)?,
         Ok(other) => return Err(format!("BROAD = {other:?}: use auto, crossings or epochs").into()),
     };
     if let Some(r) = env_number("RESORT")? {

@@ -238,6 +238,7 @@ fn plan(s: &DiffusionSettings) -> Result<Plan> {
         s.seed,
     )?;
     let sim_box = system
+        .domain
         .sim_box
         .ok_or_else(|| HarnessError::Invalid("the lattice gas has no box".into()))?;
     let speed2: Vec<f64> = system

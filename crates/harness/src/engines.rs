@@ -5,7 +5,7 @@ use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, Model};
 use emdstar_dem::{DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup};
+use emdstar_edmd::{Engine, Interference, Materials, Physics};
 use emdstar_system::{Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, System};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -132,7 +132,7 @@ pub fn event_engine(system: &System, kind: EventKind) -> Result<Engine> {
             interference: Interference::HitOnly,
         },
     };
-    Ok(Engine::new(Setup::from_system(system), physics)?)
+    Ok(Engine::new(&system.particles, &system.domain, physics)?)
 }
 
 /// Positions and velocities of an event engine at its current time, by particle number,

@@ -1,5 +1,5 @@
 //! The cost floor of cell crossings. Free spheres fly through the event engine's own
-//! [`CellGrid`] and event queue, and every crossing does what the engine's crossing does
+//! [`LinkedCells`] and event queue, and every crossing does what the engine's crossing does
 //! (move on, change cell, test the new layer, predict the next crossing, file the
 //! particle) with no collisions, no eMD* transients and no statistics. In a dilute gas
 //! almost every event of an engine on crossings is a crossing, so this bounds from
@@ -15,7 +15,7 @@ use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::speed::GOAL_GAS;
 use crate::{HarnessError, Result};
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
-use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
+use emdstar_edmd::cells::{LinkedCells, NONE, auto_cell_width};
 use emdstar_edmd::detect::sphere_sphere;
 use emdstar_edmd::{CalendarQueue, EventQueue, IndexedHeap};
 use emdstar_system::System;
@@ -161,7 +161,7 @@ struct Kin {
 
 struct Flight<Q: EventQueue> {
     kin: Vec<Kin>,
-    grid: CellGrid,
+    grid: LinkedCells,
     cross: Vec<[f64; 3]>,
     queue: Q,
     /// Earliest collision found by the pair tests (kept so they are not optimised out).
@@ -171,6 +171,7 @@ struct Flight<Q: EventQueue> {
 impl<Q: EventQueue> Flight<Q> {
     fn new(system: &System, cell_width: Option<f64>) -> Result<Self> {
         let sim_box = system
+            .domain
             .sim_box
             .ok_or_else(|| HarnessError::Invalid("the lattice gas has no box".into()))?;
         let n = system.particles.len();
@@ -187,7 +188,7 @@ impl<Q: EventQueue> Flight<Q> {
                 vel,
             })
             .collect();
-        let mut grid = CellGrid::new(sim_box.lo, sim_box.size, sim_box.periodic, width, n);
+        let mut grid = LinkedCells::new(sim_box.lo, sim_box.size, sim_box.periodic, width, n);
         for (i, k) in kin.iter().enumerate() {
             let c = grid.coords_of(k.pos);
             grid.insert(i, c);
@@ -263,8 +264,8 @@ impl<Q: EventQueue> Flight<Q> {
         FloorRun {
             variant,
             queue,
-            cells_per_axis: self.grid.dims[0],
-            cell_width: self.grid.width[0],
+            cells_per_axis: self.grid.shape.dims[0],
+            cell_width: self.grid.shape.width[0],
             crossings,
             pair_tests,
             wall_s: start.elapsed().as_secs_f64(),

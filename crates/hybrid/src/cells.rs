@@ -10,7 +10,7 @@
 use crate::engine::{Hybrid, norm};
 use crate::list::{any_dense, region};
 use crate::options::{HybridError, Mode};
-use emdstar_edmd::cells::{CellGrid, NONE, auto_cell_width};
+use emdstar_edmd::cells::{LinkedCells, NONE, auto_cell_width};
 
 impl Hybrid {
     /// The width of the event cells, as the eMD* engine chooses it: at least the
@@ -33,16 +33,17 @@ impl Hybrid {
     /// then).
     pub(crate) fn enter_cells(&mut self) {
         let p = &self.system.particles;
-        let (mut lo, mut extent, periodic) = region(&p.position, self.system.sim_box.as_ref());
+        let (mut lo, mut extent, periodic) =
+            region(&p.position, self.system.domain.sim_box.as_ref());
         let width = self.cell_width(extent);
-        if self.system.sim_box.is_none() {
+        if self.system.domain.sim_box.is_none() {
             for k in 0..3 {
                 let spare = 0.5 * extent[k] + width;
                 lo[k] -= spare;
                 extent[k] += 2.0 * spare;
             }
         }
-        let mut grid = CellGrid::new(lo, extent, periodic, width, p.len());
+        let mut grid = LinkedCells::new(lo, extent, periodic, width, p.len());
         for i in 0..p.len() {
             if self.mode[i] == Mode::Event {
                 let c = grid.coords_of(p.position[i]);
@@ -112,7 +113,7 @@ impl Hybrid {
             grid.coords[i],
             p.position[i],
             p.velocity[i],
-            self.system.gravity,
+            self.system.domain.gravity,
         );
         self.ed[i].cross_time = now + dt;
         self.ed[i].cross_face = face;
@@ -155,7 +156,7 @@ impl Hybrid {
     pub(crate) fn place(&mut self, i: usize) {
         if let Some(grid) = self.grid.as_mut() {
             let x = self.system.particles.position[i];
-            let x = self.system.sim_box.map_or(x, |b| b.wrap(x));
+            let x = self.system.domain.sim_box.map_or(x, |b| b.wrap(x));
             self.system.particles.position[i] = x;
             let c = grid.coords_of(x);
             grid.relocate(i, c);
@@ -173,7 +174,7 @@ impl Hybrid {
     ) -> bool {
         let grid = self.grid.as_ref().expect("on the cell path");
         let p = &self.system.particles;
-        let sim_box = self.system.sim_box;
+        let sim_box = self.system.domain.sim_box;
         let min_image = |d: [f64; 3]| sim_box.map_or(d, |b| b.min_image(d));
         for &(q, d) in parties {
             let x_old = p.position[q];
@@ -230,12 +231,15 @@ impl Hybrid {
             radius.push(p.radius[i]);
             let outside = self
                 .system
+                .domain
                 .sim_box
                 .is_some_and(|b| b.outside_closed_axis(x).is_some());
             let gone = self.opts.outlet.is_some_and(|o| o.distance(x) < 0.0);
             let grid = self.grid.as_ref().expect("on the cell path");
-            let off_grid = self.system.sim_box.is_none()
-                && (0..3).any(|k| !(grid.lo[k]..=grid.lo[k] + grid.size[k]).contains(&x[k]));
+            let off_grid = self.system.domain.sim_box.is_none()
+                && (0..3).any(|k| {
+                    !(grid.shape.lo[k]..=grid.shape.lo[k] + grid.shape.size[k]).contains(&x[k])
+                });
             if outside || gone || off_grid || !x.iter().chain(&v).all(|c| c.is_finite()) {
                 rebuild = true;
                 break;
@@ -250,7 +254,7 @@ impl Hybrid {
             && any_dense(
                 &positions,
                 &radius,
-                region(&positions, self.system.sim_box.as_ref()),
+                region(&positions, self.system.domain.sim_box.as_ref()),
                 2.0 * self.system.max_radius() + self.skin,
                 self.opts.phi_time,
                 &mut self.dense,

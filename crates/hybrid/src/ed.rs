@@ -82,7 +82,7 @@ impl Hybrid {
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
         let dt = t - self.ed[j].stamp;
         let p = &self.system.particles;
-        let (x, v, g) = (p.position[j], p.velocity[j], self.system.gravity);
+        let (x, v, g) = (p.position[j], p.velocity[j], self.system.domain.gravity);
         (
             std::array::from_fn(|k| x[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
             std::array::from_fn(|k| v[k] + g[k] * dt),
@@ -95,7 +95,7 @@ impl Hybrid {
         let rec = &self.ed[j];
         if rec.pending_time.is_finite() {
             let early = rec.pending_time - t;
-            let g = self.system.gravity;
+            let g = self.system.domain.gravity;
             (
                 x,
                 std::array::from_fn(|k| rec.pending_vel[k] - g[k] * early),
@@ -145,14 +145,14 @@ impl Hybrid {
         let p = &self.system.particles;
         let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
         let n = self.mode.len();
-        for (w, wall) in self.system.walls.iter().enumerate() {
+        for (w, wall) in self.system.domain.walls.iter().enumerate() {
             if self.in_shared_transient(i, n + w) {
                 continue;
             }
             let dt = sphere_wall(
                 wall.distance(xi),
                 dot(wall.normal, vi),
-                dot(wall.normal, self.system.gravity),
+                dot(wall.normal, self.system.domain.gravity),
                 ri,
             );
             if now + dt < best {
@@ -291,7 +291,7 @@ impl Hybrid {
         self.sync(i, t);
         let rec = &mut self.ed[i];
         let early = rec.pending_time - t;
-        let g = self.system.gravity;
+        let g = self.system.domain.gravity;
         self.system.particles.velocity[i] =
             std::array::from_fn(|k| rec.pending_vel[k] - g[k] * early);
         rec.pending_time = f64::INFINITY;
@@ -359,7 +359,7 @@ impl Hybrid {
                 self.finish_transient(p, t);
             }
         }
-        let min_image = |d: [f64; 3]| self.system.sim_box.map_or(d, |b| b.min_image(d));
+        let min_image = |d: [f64; 3]| self.system.domain.sim_box.map_or(d, |b| b.min_image(d));
         let p = &self.system.particles;
         let r = min_image(std::array::from_fn(|k| p.position[i][k] - p.position[j][k]));
         let v: [f64; 3] = std::array::from_fn(|k| p.velocity[i][k] - p.velocity[j][k]);
@@ -373,7 +373,7 @@ impl Hybrid {
         }
         self.stats.pair_collisions += 1;
         let (mi, mj) = (p.mass[i], p.mass[j]);
-        let entry = self.materials.pair(p.species[i], p.species[j]).clone();
+        let entry = *self.materials.pair(p.species[i], p.species[j]).interaction;
         let impact = Impact::from_relative(&vec3(r), &vec3(v))?;
         let scaled = scale(&entry.law, &entry.props, &impact)?;
         let (mor, fallback) = self.mor.mor(entry.law.model(), &scaled.params)?;
@@ -405,7 +405,7 @@ impl Hybrid {
                 p.velocity[j][k] += kj[k];
             }
         } else {
-            let g = self.system.gravity;
+            let g = self.system.domain.gravity;
             let end = t + out.duration;
             for (slot, (q, d)) in [(i, di), (j, dj)].into_iter().enumerate() {
                 let x = self.system.particles.position[q];
@@ -441,10 +441,15 @@ impl Hybrid {
         x_new: [f64; 3],
         own_wall: Option<usize>,
     ) -> bool {
-        self.system.walls.iter().enumerate().any(|(index, w)| {
-            let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
-            own_wall != Some(index) && h_new < radius && h_new < h_old
-        })
+        self.system
+            .domain
+            .walls
+            .iter()
+            .enumerate()
+            .any(|(index, w)| {
+                let (h_new, h_old) = (w.distance(x_new), w.distance(x_old));
+                own_wall != Some(index) && h_new < radius && h_new < h_old
+            })
     }
 
     /// Exception (a): would displacing the parties push any of them deeper into a third
@@ -506,13 +511,13 @@ impl Hybrid {
             self.finish_transient(i, t);
         }
         self.stats.wall_collisions += 1;
-        let wall = self.system.walls[w];
+        let wall = self.system.domain.walls[w];
         let n = wall.normal;
         let p = &self.system.particles;
         let vi = p.velocity[i];
         let vn = dot(n, vi);
         if vn < 0.0 {
-            let entry = self.materials.wall(p.species[i]).clone();
+            let entry = *self.materials.wall(p.species[i]).interaction;
             let impact = Impact {
                 normal_speed: -vn,
                 tangential_speed: 0.0,
@@ -542,7 +547,7 @@ impl Hybrid {
                 // (energy balance at ξ = 0), so only the tangential part of g acts
                 // over τ. (Adding all of g·τ, as for a freely falling pair, would
                 // take g_n·τ off every rebound.)
-                let g = self.system.gravity;
+                let g = self.system.domain.gravity;
                 let g_n = dot(g, n);
                 let g_t: [f64; 3] = std::array::from_fn(|k| g[k] - g_n * n[k]);
                 let rec = &mut self.ed[i];

@@ -4,7 +4,7 @@ use crate::ed::EdRec;
 use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MdError, check_and_wrap, prepare_system};
-use emdstar_edmd::cells::CellGrid;
+use emdstar_edmd::cells::LinkedCells;
 use emdstar_edmd::rules::MorSource;
 use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
 use emdstar_system::System;
@@ -30,7 +30,7 @@ pub struct Hybrid {
     pub(crate) list: FullList,
     /// The cells of the cell path (crate docs), while no particle is TD; `None` on the
     /// list path.
-    pub(crate) grid: Option<CellGrid>,
+    pub(crate) grid: Option<LinkedCells>,
     /// Scratch of the cell path's mode check: positions and radii now, cell sums.
     pub(crate) positions_now: Vec<[f64; 3]>,
     pub(crate) radius_now: Vec<f64>,
@@ -185,7 +185,7 @@ impl Hybrid {
 
     fn step(&mut self) -> Result<(), HybridError> {
         let dt = self.opts.dt;
-        let g = norm(self.system.gravity);
+        let g = norm(self.system.domain.gravity);
         let v_bound = (self.v_max_td + 0.5 * self.a_max_td * dt).max(self.v_max_ed) + g * dt;
         // Written so that NaN (a blow-up) rebuilds, where it is reported. The list lasts
         // until particles may have moved half its skin; on the cell path, which has no
@@ -255,7 +255,7 @@ impl Hybrid {
         let mode = &self.mode;
         check_and_wrap(
             &mut self.system.particles,
-            self.system.sim_box.as_ref(),
+            self.system.domain.sim_box.as_ref(),
             t,
             |i| mode[i] == Mode::Removed,
         )?;
@@ -273,7 +273,7 @@ impl Hybrid {
         self.list.build(
             &p.position,
             &p.radius,
-            self.system.sim_box.as_ref(),
+            self.system.domain.sim_box.as_ref(),
             r2 + built,
             built,
         )?;
@@ -295,7 +295,7 @@ impl Hybrid {
             self.list.build(
                 &p.position,
                 &p.radius,
-                self.system.sim_box.as_ref(),
+                self.system.domain.sim_box.as_ref(),
                 r2 + self.list_skin,
                 self.list_skin,
             )?;
@@ -337,7 +337,7 @@ impl Hybrid {
     /// at least the MD skin, and small enough for 3 cells along every periodic axis.
     pub(crate) fn event_skin(&self, positions: &[[f64; 3]]) -> f64 {
         let active = self.mode.iter().filter(|&&m| m != Mode::Removed).count();
-        let (_, extent, periodic) = region(positions, self.system.sim_box.as_ref());
+        let (_, extent, periodic) = region(positions, self.system.domain.sim_box.as_ref());
         let r2 = 2.0 * self.system.max_radius();
         let volume: f64 = extent.iter().map(|e| e.max(r2)).product();
         let mut skin = self.skin.max((volume / active.max(1) as f64).cbrt());
@@ -374,7 +374,7 @@ impl Hybrid {
                 count += 1;
             }
         }
-        for w in &self.system.walls {
+        for w in &self.system.domain.walls {
             if w.distance(xi) < p.radius[i] {
                 count += 1;
             }
@@ -403,7 +403,7 @@ impl Hybrid {
         let phi = if list_cells {
             volume_fractions_on(&self.list.grid, &p.position, &radius, min_cell)
         } else {
-            let area = region(&p.position, self.system.sim_box.as_ref());
+            let area = region(&p.position, self.system.domain.sim_box.as_ref());
             local_volume_fractions(&p.position, &radius, area, min_cell)
         };
         let n = self.mode.len();

@@ -36,7 +36,7 @@ impl Hybrid {
         self.refresh_td();
         let dt = self.opts.dt;
         let h = 0.5 * dt;
-        let g = self.system.gravity;
+        let g = self.system.domain.gravity;
         let p = &mut self.system.particles;
         let mut v2_max: f64 = 0.0;
         for &i in &self.td {
@@ -57,14 +57,14 @@ impl Hybrid {
         for &i in &self.td {
             let i = i as usize;
             let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-            for w in &self.system.walls {
+            for w in &self.system.domain.walls {
                 let overlap = ri - w.distance(xi);
                 if overlap > 0.0 {
                     let n = w.normal;
                     let overlap_prev = overlap + dt * (n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
                     let v = predict(i, vi);
                     let rate = -(n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
-                    let law = &self.materials.wall(p.species[i]).law;
+                    let law = &self.materials.wall(p.species[i]).interaction.law;
                     let f = Self::force(law, overlap_prev, overlap, rate) * self.inv_mass[i];
                     for k in 0..3 {
                         new_acc[i][k] += f * n[k];
@@ -89,7 +89,11 @@ impl Hybrid {
                 let overlap_prev = l - norm(d_prev);
                 let (ui, uj) = (predict(i, vi), predict(j, vj));
                 let rate = -(0..3).map(|k| n[k] * (ui[k] - uj[k])).sum::<f64>();
-                let law = &self.materials.pair(p.species[i], p.species[j]).law;
+                let law = &self
+                    .materials
+                    .pair(p.species[i], p.species[j])
+                    .interaction
+                    .law;
                 let f = Self::force(law, overlap_prev, l - r, rate);
                 let (fi, fj) = (f * self.inv_mass[i], f * self.inv_mass[j]);
                 for k in 0..3 {
@@ -138,12 +142,12 @@ impl Hybrid {
                 continue;
             }
             let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-            for w in &self.system.walls {
+            for w in &self.system.domain.walls {
                 let overlap = ri - w.distance(xi);
                 if overlap > 0.0 {
                     let n = w.normal;
                     let rate = -(n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
-                    let law = &self.materials.wall(p.species[i]).law;
+                    let law = &self.materials.wall(p.species[i]).interaction.law;
                     let f = law.normal_force(overlap, rate) * self.inv_mass[i];
                     for k in 0..3 {
                         self.contact_acc[i][k] += f * n[k];
@@ -164,7 +168,11 @@ impl Hybrid {
                 let n = d.map(|c| c / r);
                 let vj = p.velocity[j];
                 let rate = -(0..3).map(|k| n[k] * (vi[k] - vj[k])).sum::<f64>();
-                let law = &self.materials.pair(p.species[i], p.species[j]).law;
+                let law = &self
+                    .materials
+                    .pair(p.species[i], p.species[j])
+                    .interaction
+                    .law;
                 let f = law.normal_force(l - r, rate);
                 for k in 0..3 {
                     self.contact_acc[i][k] += f * self.inv_mass[i] * n[k];

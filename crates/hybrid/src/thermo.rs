@@ -28,7 +28,7 @@ impl Hybrid {
     /// temperature still counts them).
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
-        let g = self.system.gravity;
+        let g = self.system.domain.gravity;
         let mut potential = 0.0;
         let mut contacts = 0;
         let mut kinetic = 0.0;
@@ -55,15 +55,19 @@ impl Hybrid {
                 let overlap = p.radius[i] + p.radius[j] - norm(d);
                 if overlap > 0.0 {
                     contacts += 1;
-                    let law = &self.materials.pair(p.species[i], p.species[j]).law;
+                    let law = &self
+                        .materials
+                        .pair(p.species[i], p.species[j])
+                        .interaction
+                        .law;
                     potential += elastic_energy(law, overlap);
                 }
             }
-            for w in &self.system.walls {
+            for w in &self.system.domain.walls {
                 let overlap = p.radius[i] - w.distance(xi);
                 if overlap > 0.0 {
                     contacts += 1;
-                    let law = &self.materials.wall(p.species[i]).law;
+                    let law = &self.materials.wall(p.species[i]).interaction.law;
                     potential += elastic_energy(law, overlap);
                 }
             }

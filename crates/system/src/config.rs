@@ -19,7 +19,7 @@
 //! # [gas]                          # ... or a generated gas
 //! # count = 32768
 //! # radius = 0.1
-//! # arrangement = "lattice"        # or "random" (non-overlapping)
+//! # arrangement = "lattice"        # or "fcc" (count = 4n³), "random" (non-overlapping)
 //! # packing_fraction = 0.01        # sizes a cubic periodic box (omit [box] then)
 //! # rms_speed = 1.0                # m/s, √⟨v²⟩, Maxwell, zero total momentum
 //! # seed = 1
@@ -44,9 +44,10 @@
 //! Engines own their optional sections (`[md]` here); the rest describes the physical
 //! system and is engine-independent.
 
+use crate::domain::Domain;
 use crate::error::{Result, SystemError, finite3, invalid, positive};
+use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
-use crate::init;
 use crate::state::{Particles, Species};
 use crate::system::System;
 use emdstar_contact::{ForceLaw, LinearDashpot, Model, Sphere, ViscoelasticHertz};
@@ -95,31 +96,6 @@ pub struct ParticleConfig {
     #[serde(default)]
     pub velocity: [f64; 3],
     pub mass: Option<f64>,
-}
-
-/// How a generated gas is placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Arrangement {
-    /// Simple cubic lattice filling the box.
-    Lattice,
-    /// Uniformly random, without overlaps (random sequential addition).
-    Random,
-}
-
-/// `[gas]`: `count` equal spheres with Maxwell velocities.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct GasConfig {
-    pub count: usize,
-    pub radius: f64,
-    pub mass: Option<f64>,
-    pub arrangement: Arrangement,
-    pub packing_fraction: Option<f64>,
-    /// Root-mean-square speed √⟨v²⟩ in m/s.
-    pub rms_speed: f64,
-    #[serde(default)]
-    pub seed: u64,
 }
 
 /// `[box]`.
@@ -224,22 +200,24 @@ impl Config {
                         );
                     }
                     (Some(b), None) => b,
-                    (None, Some(eta)) => init::cubic_box(gas.count, gas.radius, eta)?,
+                    (None, Some(eta)) => gas::cubic_box(gas.count, gas.radius, eta)?,
                     (None, None) => {
                         return invalid!("a [gas] needs a [box] or a gas.packing_fraction");
                     }
                 };
                 sim_box = Some(b);
-                init::generate_gas(gas, &species, &b, &mut particles)?;
+                gas::generate_gas(gas, &species, &b, &mut particles)?;
             }
         }
         let system = System {
             particles,
             species,
             material,
-            sim_box,
-            walls,
-            gravity,
+            domain: Domain {
+                sim_box,
+                walls,
+                gravity,
+            },
         };
         system.validate()?;
         Ok(system)

@@ -1,11 +1,14 @@
 //! State and input shared by the emdstar engines (force-based MD and event-driven eMD*):
 //!
 //! - [`Particles`] (structure of arrays) and [`Species`];
-//! - [`SimBox`] (periodic or closed axes; `None` = free space), plane [`Wall`]s, gravity;
+//! - the [`Domain`]: a [`SimBox`] (periodic or closed axes; `None` = free space), plane
+//!   [`Wall`]s, gravity; and [`Domain::check`], the checks of a state every engine
+//!   relies on (no overlaps, everything inside the box and in front of the walls);
+//! - [`Interactions`]: the pair law and properties of every kind of contact;
 //! - [`Config`], the TOML schema (unknown keys are errors), and [`System`], what it
-//!   builds after validation (no overlaps, everything inside the box and in front of
-//!   the walls);
-//! - generated gases (lattice or random placement, Maxwell velocities);
+//!   builds after validation;
+//! - generated gases ([`GasConfig`]: simple cubic, fcc or random placement, Maxwell
+//!   velocities);
 //! - [`CellGrid`] for neighbour searches;
 //! - writers: extended XYZ trajectories for OVITO and a thermo log.
 
@@ -13,20 +16,23 @@
 #![allow(clippy::needless_range_loop)]
 
 mod config;
+mod domain;
 mod error;
+mod gas;
 mod geometry;
-mod init;
+mod interactions;
 mod state;
 mod system;
 mod writers;
 
 pub use config::{
-    Arrangement, BoxConfig, Config, GasConfig, MaterialConfig, MdConfig, OutputConfig,
-    ParticleConfig, WallConfig,
+    BoxConfig, Config, MaterialConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
 };
+pub use domain::Domain;
 pub use error::{Result, SystemError};
+pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
 pub use geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
-pub use init::cubic_box;
+pub use interactions::{Interaction, Interactions};
 pub use state::{Particles, Species, permute};
 pub use system::System;
 pub use writers::{Thermo, ThermoLog, XyzWriter};

@@ -48,6 +48,34 @@ impl Particles {
         self.position.is_empty()
     }
 
+    /// Particles from one column per field, numbered in order (`id` = 0, 1, …). Errors
+    /// unless every column has one entry per position.
+    pub fn from_columns(
+        position: Vec<[f64; 3]>,
+        velocity: Vec<[f64; 3]>,
+        radius: Vec<f64>,
+        mass: Vec<f64>,
+        species: Vec<u32>,
+    ) -> crate::Result<Self> {
+        let n = position.len();
+        let lens = [velocity.len(), radius.len(), mass.len(), species.len()];
+        if lens.iter().any(|&l| l != n) {
+            return Err(crate::SystemError::Invalid(format!(
+                "position, velocity, radius, mass and species need one entry per particle; \
+                 got {n}, {}, {}, {} and {}",
+                lens[0], lens[1], lens[2], lens[3]
+            )));
+        }
+        Ok(Self {
+            position,
+            velocity,
+            species,
+            radius,
+            mass,
+            id: (0..n as u32).collect(),
+        })
+    }
+
     /// Appends a particle of species number `species_index` (see `species`).
     pub fn push(
         &mut self,

@@ -45,7 +45,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     b.finish();
     let path = args.out.join("speed_ratio.png");
     plot(&points, &path).map_err(|e| anyhow!(e))?;
-    let auto = emdstar_edmd::BroadPhase::AUTO_EPOCHS_BELOW;
+    let auto = emdstar_edmd::BroadPhaseKind::AUTO_EPOCHS_BELOW;
     let mut markdown = vec![
         format!(
             "## 5. Speed: MD against eMD* (table), elastic Hertz gas, N = {count}, one thread each"
@@ -55,7 +55,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             "Wall seconds per simulated second. MD's cost is measured over a run of steps of ≥ {budget} s wall \
              (not over the whole simulated time eMD* covers); eMD* over ≥ {budget} s and ≥ 1 collision per particle. \
              The ratio is a ratio of measured rates on this (shared) machine. eMD* finds its candidate \
-             pairs by epochs below η = {auto} (swept boxes filed once per epoch, `BroadPhase::Epochs`) and \
+             pairs by epochs below η = {auto} (swept boxes filed once per epoch, `BroadPhaseKind::Epochs`) and \
              by cell crossings above, where crossings are most of its events in a dilute gas (see the \
              note below the table)."
         ),

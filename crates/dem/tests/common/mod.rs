@@ -4,7 +4,7 @@
 use emdstar_contact::{ForceLaw, LinearDashpot, PairLaw, PairProperties, Vec3, ViscoelasticHertz};
 use emdstar_dem::{ContactEnd, Md, MdOptions};
 use emdstar_mor::rule::{Body, exact_collision};
-use emdstar_system::{Particles, Species, System, Wall};
+use emdstar_system::{Domain, Particles, Species, System};
 
 pub const RADIUS: f64 = 0.1;
 pub const DENSITY: f64 = 1140.0;
@@ -37,9 +37,7 @@ pub fn free_system(material: ForceLaw, bodies: &[(Vec3, Vec3)]) -> System {
         particles,
         species,
         material,
-        sim_box: None,
-        walls: Vec::<Wall>::new(),
-        gravity: [0.0; 3],
+        domain: Domain::default(),
     }
 }
 

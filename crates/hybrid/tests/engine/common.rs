@@ -3,7 +3,7 @@
 use emdstar_contact::Vec3;
 use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Setup, Stats};
+use emdstar_edmd::{Engine, Interference, Materials, Physics, Stats};
 use emdstar_hybrid::{Hybrid, HybridOptions};
 use emdstar_system::{Config, Particles, System};
 
@@ -62,7 +62,7 @@ pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };
-    let mut e: Engine = Engine::new(Setup::from_system(system), physics).unwrap();
+    let mut e: Engine = Engine::new(&system.particles, &system.domain, physics).unwrap();
     e.run_until(t_end).unwrap();
     let mut state = system.particles.clone();
     e.write_state(&mut state);
@@ -75,7 +75,7 @@ pub fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f6
     let mut dv: f64 = 0.0;
     for i in 0..a.len() {
         let d: [f64; 3] = std::array::from_fn(|k| a.position[i][k] - b.position[i][k]);
-        let d = system.sim_box.map_or(d, |bx| bx.min_image(d));
+        let d = system.domain.sim_box.map_or(d, |bx| bx.min_image(d));
         let w: [f64; 3] = std::array::from_fn(|k| a.velocity[i][k] - b.velocity[i][k]);
         dx = dx.max(Vec3::from(d).norm());
         dv = dv.max(Vec3::from(w).norm());

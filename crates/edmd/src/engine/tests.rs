@@ -1,18 +1,22 @@
 //! Unit tests of the event loop that need access to its internals.
 
-use crate::setup::{Physics, Setup};
-use crate::{Engine, Event};
+use super::EventEngine;
+use crate::Event;
+use crate::broad_phase::Crossings;
+use crate::physics::Physics;
+use emdstar_contact::vec3::{dot, sub};
+use emdstar_system::{Domain, Particles};
 
-fn line(x: &[f64], v: &[f64]) -> Setup {
+fn line(x: &[f64], v: &[f64]) -> Particles {
     let n = x.len();
-    Setup {
-        position: x.iter().map(|&x| [x, 0.0, 0.0]).collect(),
-        velocity: v.iter().map(|&v| [v, 0.0, 0.0]).collect(),
-        radius: vec![0.5; n],
-        mass: vec![1.0; n],
-        species: vec![0; n],
-        ..Default::default()
-    }
+    Particles::from_columns(
+        x.iter().map(|&x| [x, 0.0, 0.0]).collect(),
+        v.iter().map(|&v| [v, 0.0, 0.0]).collect(),
+        vec![0.5; n],
+        vec![1.0; n],
+        vec![0; n],
+    )
+    .unwrap()
 }
 
 /// Bannerman et al. 2014, Figs. 4 and 6: B and C overlap by round-off and recede
@@ -21,13 +25,15 @@ fn line(x: &[f64], v: &[f64]) -> Setup {
 /// separate; without it B would run through C.
 #[test]
 fn three_body_overlap_resolves_by_a_stabilising_collision() {
-    let mut e: Engine = Engine::new(
-        line(&[-2.0, 0.0, 1.5], &[10.0, 0.0, 1e-7]),
+    let mut e: EventEngine<Crossings> = EventEngine::crossings(
+        &line(&[-2.0, 0.0, 1.5], &[10.0, 0.0, 1e-7]),
+        &Domain::default(),
         Physics::HardSpheres { restitution: 1.0 },
+        0.0,
     )
     .unwrap();
     // The invalid state of Fig. 4: C overlapping B by 1e-7 σ, receding at 1e-7.
-    e.slot[2].kin.pos[0] = 1.0 - 1e-7;
+    e.state.slot[2].kin.pos[0] = 1.0 - 1e-7;
     for i in 0..3 {
         e.predict(i);
     }
@@ -71,28 +77,29 @@ fn without_the_stabilising_rule_the_pair_would_pass_through() {
     );
 }
 
-impl Engine {
+impl EventEngine<Crossings> {
     fn queue_is_empty_of_collisions(&self) -> bool {
         (0..self.len()).all(|i| {
-            !self.slot[i].ev.coll_time.is_finite() && !self.slot[i].ev.pending_time.is_finite()
+            !self.state.slot[i].ev.coll_time.is_finite()
+                && !self.state.slot[i].ev.pending_time.is_finite()
         })
     }
 }
 
-fn soft_pair() -> (Setup, Physics) {
+fn soft_pair() -> (Particles, Physics) {
+    use crate::physics::{Interference, Materials};
     use crate::rules::ExactMor;
-    use crate::setup::{Interference, Materials};
     use emdstar_contact::{ForceLaw, LinearDashpot, Sphere};
     let s = Sphere::from_density(0.1, 1140.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(2000.0, 0.0).unwrap());
-    let setup = Setup {
-        position: vec![[0.0, 0.0, 0.0], [0.25, 0.1, 0.0]],
-        velocity: vec![[2.5, 0.0, 0.0], [-2.5, 0.0, 0.0]],
-        radius: vec![0.1; 2],
-        mass: vec![s.mass; 2],
-        species: vec![0; 2],
-        ..Default::default()
-    };
+    let setup = Particles::from_columns(
+        vec![[0.0, 0.0, 0.0], [0.25, 0.1, 0.0]],
+        vec![[2.5, 0.0, 0.0], [-2.5, 0.0, 0.0]],
+        vec![0.1; 2],
+        vec![s.mass; 2],
+        vec![0; 2],
+    )
+    .unwrap();
     let physics = Physics::EmdStar {
         materials: Materials::of_spheres(&law, &[s]).unwrap(),
         mor: Box::new(ExactMor),
@@ -108,17 +115,21 @@ fn soft_pair() -> (Setup, Physics) {
 #[test]
 fn transient_partners_are_not_tested_against_each_other() {
     let (setup, physics) = soft_pair();
-    let mut e: Engine = Engine::new(setup, physics).unwrap();
+    let mut e: EventEngine<Crossings> =
+        EventEngine::crossings(&setup, &Domain::default(), physics, 0.0).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     let now = e.time();
     assert!(
-        e.slot[0].ev.pending_time > now && e.slot[0].ev.pending_time == e.slot[1].ev.pending_time
+        e.state.slot[0].ev.pending_time > now
+            && e.state.slot[0].ev.pending_time == e.state.slot[1].ev.pending_time
     );
     // Round-off-sized approach between the partners.
     approach(&mut e, 1e-13);
     e.predict(0);
     e.predict(1);
-    assert!(e.slot[0].ev.coll_time.is_infinite() && e.slot[1].ev.coll_time.is_infinite());
+    assert!(
+        e.state.slot[0].ev.coll_time.is_infinite() && e.state.slot[1].ev.coll_time.is_infinite()
+    );
     // The next events are the two E^v at t* + τ.
     let mut next = vec![];
     while next.len() < 2 {
@@ -130,20 +141,24 @@ fn transient_partners_are_not_tested_against_each_other() {
     assert_eq!(next, vec![Event::Velocity(0), Event::Velocity(1)]);
     // Without the exclusion the same state collides at once.
     let (setup, physics) = soft_pair();
-    let mut e: Engine = Engine::new(setup, physics).unwrap();
+    let mut e: EventEngine<Crossings> =
+        EventEngine::crossings(&setup, &Domain::default(), physics, 0.0).unwrap();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     approach(&mut e, 1e-13);
-    e.slot[0].ev.partner = crate::cells::NONE;
+    e.state.slot[0].ev.partner = crate::collision::NONE;
     e.predict(0);
-    assert!(e.slot[0].ev.coll_time < e.slot[0].ev.pending_time && e.slot[0].ev.coll_partner == 1);
+    assert!(
+        e.state.slot[0].ev.coll_time < e.state.slot[0].ev.pending_time
+            && e.state.slot[0].ev.coll_partner == 1
+    );
 }
 
 /// Makes particles 0 and 1 approach along their line of centres by `speed`.
-fn approach(e: &mut Engine, speed: f64) {
-    let r = crate::engine::sub(e.slot[0].kin.pos, e.slot[1].kin.pos);
-    let norm = crate::engine::dot(r, r).sqrt();
+fn approach(e: &mut EventEngine<Crossings>, speed: f64) {
+    let r = sub(e.state.slot[0].kin.pos, e.state.slot[1].kin.pos);
+    let norm = dot(r, r).sqrt();
     for (k, rk) in r.iter().enumerate() {
-        e.slot[0].kin.vel[k] -= 0.5 * speed * rk / norm;
-        e.slot[1].kin.vel[k] += 0.5 * speed * rk / norm;
+        e.state.slot[0].kin.vel[k] -= 0.5 * speed * rk / norm;
+        e.state.slot[1].kin.vel[k] += 0.5 * speed * rk / norm;
     }
 }

@@ -1,28 +1,32 @@
 //! Reading the engine's state: positions, velocities, energy and momentum, by original
 //! particle number (slots are re-sorted in space).
 
-use crate::engine::{Engine, dot};
+use super::EventEngine;
+use crate::broad_phase::BroadPhase;
+use crate::collision::transient_gravity;
 use crate::queue::EventQueue;
+use emdstar_contact::vec3::dot;
+use emdstar_system::Particles;
 
-impl<Q: EventQueue> Engine<Q> {
+impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Brings every particle to the current time (for output and measurements).
     pub fn sync(&mut self) {
-        let now = self.time;
+        let now = self.state.time;
         for i in 0..self.len() {
-            self.advance(i, now);
+            self.state.advance(i, now);
         }
     }
 
     /// Positions at the current time (call [`Engine::sync`] first), inside the box
     /// along periodic axes (the broad phases wrap stored positions at different times).
     pub fn positions(&self) -> Vec<[f64; 3]> {
-        self.in_original_order(|i| self.wrap(self.slot[i].kin.pos))
+        self.in_original_order(|i| self.state.wrap(self.state.slot[i].kin.pos))
     }
 
     /// `f(slot)` for every particle, listed by original particle number.
     pub(crate) fn in_original_order<T: Copy + Default>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
         let mut out = vec![T::default(); self.len()];
-        for (i, &id) in self.id.iter().enumerate() {
+        for (i, &id) in self.state.id.iter().enumerate() {
             out[id as usize] = f(i);
         }
         out
@@ -31,18 +35,21 @@ impl<Q: EventQueue> Engine<Q> {
     /// Velocities at the current time (call [`Engine::sync`] first). Particles in an
     /// eMD* transient show their centre-of-mass velocity.
     pub fn velocities(&self) -> Vec<[f64; 3]> {
-        self.in_original_order(|i| self.slot[i].kin.vel)
+        self.in_original_order(|i| self.state.slot[i].kin.vel)
     }
 
     /// Velocity of slot `i` now, counting a pending E^v as done (what the particle will
     /// have once its collision is over; use for energy and momentum balances).
     pub(crate) fn settled_velocity(&self, i: usize) -> [f64; 3] {
-        if self.slot[i].ev.pending_time.is_finite() {
-            let early = self.slot[i].ev.pending_time - self.time;
-            let v = self.pending_vel[i];
-            std::array::from_fn(|k| v[k] - self.gravity[k] * early)
+        let s = &self.state;
+        let ev = &s.slot[i].ev;
+        if ev.pending_time.is_finite() {
+            let early = ev.pending_time - s.time;
+            let v = s.pending_vel[i];
+            let g = transient_gravity(s.gravity, &s.walls, s.len(), ev.partner);
+            std::array::from_fn(|k| v[k] - g[k] * early)
         } else {
-            self.state_at(i, self.time).1
+            s.state_at(i, s.time).1
         }
     }
 
@@ -56,7 +63,7 @@ impl<Q: EventQueue> Engine<Q> {
         (0..self.len())
             .map(|i| {
                 let v = self.settled_velocity(i);
-                0.5 * self.mass[i] * dot(v, v)
+                0.5 * self.state.mass[i] * dot(v, v)
             })
             .sum()
     }
@@ -67,18 +74,27 @@ impl<Q: EventQueue> Engine<Q> {
         for i in 0..self.len() {
             let v = self.settled_velocity(i);
             for k in 0..3 {
-                p[k] += self.mass[i] * v[k];
+                p[k] += self.state.mass[i] * v[k];
             }
         }
         p
     }
 
+    /// Copies the current state (pending E^v velocities applied) into `particles`,
+    /// which must be the particles the engine was built from (same order). Brings
+    /// every particle to now first ([`Engine::sync`]).
+    pub fn write_state(&mut self, particles: &mut Particles) {
+        self.sync();
+        particles.position = self.positions();
+        particles.velocity = self.settled_velocities();
+    }
+
     /// Radii and masses, in particle order.
     pub fn radii(&self) -> Vec<f64> {
-        self.in_original_order(|i| self.slot[i].kin.radius)
+        self.in_original_order(|i| self.state.slot[i].kin.radius)
     }
 
     pub fn masses(&self) -> Vec<f64> {
-        self.in_original_order(|i| self.mass[i])
+        self.in_original_order(|i| self.state.mass[i])
     }
 }

@@ -1,12 +1,41 @@
-//! Generated initial conditions: lattice or random placement, Maxwell velocities.
+//! Generated gases (`[gas]` of the config): lattice, fcc or random placement, Maxwell
+//! velocities.
 
-use crate::config::{Arrangement, GasConfig};
+use crate::domain::Domain;
 use crate::error::{Result, invalid, positive};
 use crate::geometry::SimBox;
 use crate::state::{Particles, Species};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use serde::Deserialize;
 use std::f64::consts::PI;
+
+/// How a generated gas is placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Arrangement {
+    /// Simple cubic lattice filling the box.
+    Lattice,
+    /// Face-centred cubic lattice of `count` = 4n³ sites, n unit cells per axis.
+    Fcc,
+    /// Uniformly random, without overlaps (random sequential addition).
+    Random,
+}
+
+/// `[gas]`: `count` equal spheres with Maxwell velocities.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasConfig {
+    pub count: usize,
+    pub radius: f64,
+    pub mass: Option<f64>,
+    pub arrangement: Arrangement,
+    pub packing_fraction: Option<f64>,
+    /// Root-mean-square speed √⟨v²⟩ in m/s.
+    pub rms_speed: f64,
+    #[serde(default)]
+    pub seed: u64,
+}
 
 /// The densest packing fraction of equal spheres, π/(3√2) (Kepler; Hales 2005).
 const CLOSE_PACKING: f64 = 0.740_480_489_693_061;
@@ -29,10 +58,48 @@ pub fn cubic_box(count: usize, radius: f64, eta: f64) -> Result<SimBox> {
     })
 }
 
+impl GasConfig {
+    /// The particles of this gas (spheres of `species`, numbered 0 in `species`) in
+    /// `sim_box`, with Maxwell velocities of zero total momentum and root-mean-square
+    /// speed `rms_speed`, reproducibly from `seed` (ChaCha8).
+    pub fn generate(&self, species: &[Species], sim_box: &SimBox) -> Result<Particles> {
+        let mut particles = Particles::default();
+        generate_gas(self, species, sim_box, &mut particles)?;
+        Ok(particles)
+    }
+}
+
+/// `4·cells³` equal spheres of `radius` and `mass` on an fcc lattice filling a periodic
+/// cube at packing fraction `eta`, with Maxwell velocities of root-mean-square speed
+/// `rms_speed` and zero total momentum (seeded): the standard start of hard-sphere
+/// benchmarks (Bannerman et al. 2014, Sec. 6).
+pub fn fcc_gas(
+    cells: usize,
+    eta: f64,
+    radius: f64,
+    mass: f64,
+    rms_speed: f64,
+    seed: u64,
+) -> Result<(Particles, Domain)> {
+    let gas = GasConfig {
+        count: 4 * cells * cells * cells,
+        radius,
+        mass: Some(mass),
+        arrangement: Arrangement::Fcc,
+        packing_fraction: Some(eta),
+        rms_speed,
+        seed,
+    };
+    positive("mass", mass)?;
+    let sim_box = cubic_box(gas.count, radius, eta)?;
+    let particles = gas.generate(&[Species { radius, mass }], &sim_box)?;
+    Ok((particles, Domain::periodic(sim_box)))
+}
+
 /// Places `gas.count` equal spheres in `sim_box` and gives them Maxwell velocities with
 /// zero total momentum and root-mean-square speed `gas.rms_speed`, reproducibly from
 /// `gas.seed` (ChaCha8).
-pub fn generate_gas(
+pub(crate) fn generate_gas(
     gas: &GasConfig,
     species: &[Species],
     sim_box: &SimBox,
@@ -61,6 +128,7 @@ pub fn generate_gas(
     let mut rng = ChaCha8Rng::seed_from_u64(gas.seed);
     let positions = match gas.arrangement {
         Arrangement::Lattice => lattice(gas.count, gas.radius, sim_box)?,
+        Arrangement::Fcc => fcc(gas.count, gas.radius, sim_box)?,
         Arrangement::Random => random_placement(gas.count, gas.radius, sim_box, &mut rng)?,
     };
     let velocities = maxwell_velocities(gas.count, rms, &mut rng);
@@ -68,6 +136,45 @@ pub fn generate_gas(
         particles.push(species, 0, x, v);
     }
     Ok(())
+}
+
+/// The face-centred cubic lattice of `count` = 4n³ sites, n unit cells along each
+/// axis, offset by a quarter cell from the box's lower corner.
+fn fcc(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
+    let n = ((count / 4) as f64).cbrt().round() as usize;
+    if 4 * n * n * n != count {
+        return invalid!(
+            "arrangement = \"fcc\" needs gas.count = 4n³ (4, 32, 108, 256, 500, …), got {count}"
+        );
+    }
+    let a: [f64; 3] = std::array::from_fn(|k| b.size[k] / n as f64);
+    let nearest = a.iter().copied().fold(f64::INFINITY, f64::min) / std::f64::consts::SQRT_2;
+    if nearest < 2.0 * radius {
+        return invalid!(
+            "an fcc lattice of {count} spheres of radius {radius} m does not fit in the box \
+             (nearest-neighbour distance {nearest:.4e} m < diameter); use a bigger box"
+        );
+    }
+    const BASIS: [[f64; 3]; 4] = [
+        [0.0, 0.0, 0.0],
+        [0.5, 0.5, 0.0],
+        [0.5, 0.0, 0.5],
+        [0.0, 0.5, 0.5],
+    ];
+    let mut sites = Vec::with_capacity(count);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let cell = [x as f64, y as f64, z as f64];
+                for basis in &BASIS {
+                    sites.push(std::array::from_fn(|k| {
+                        b.lo[k] + (cell[k] + basis[k] + 0.25) * a[k]
+                    }));
+                }
+            }
+        }
+    }
+    Ok(sites)
 }
 
 /// The first `count` sites of the simple cubic lattice with the coarsest spacing that

@@ -12,12 +12,14 @@
 //! - a predicted pair collision lies before both horizons, where the minimum image at
 //!   the time of prediction is the only image in reach.
 
-use crate::cells::NONE;
+use super::BroadPhase;
+use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
-use crate::engine::{Engine, dot, min_image_in, sub};
 use crate::queue::EventQueue;
-use crate::setup::Region;
+use crate::state::{State, min_image_in, morton_order};
 use crate::sweep::{Filing, Spans, SweepGrid};
+use emdstar_contact::vec3::{dot, sub};
+use emdstar_system::SimBox;
 
 /// A particle's state at the start of an epoch and the end of its box: what a pair
 /// test reads, in one cache line.
@@ -32,10 +34,10 @@ struct Motion {
 
 /// The epoch broad phase's grid and state.
 #[derive(Debug, Clone)]
-pub(crate) struct Epochs {
-    pub grid: SweepGrid,
+pub struct Epochs {
+    pub(crate) grid: SweepGrid,
     /// End of the running epoch.
-    pub end: f64,
+    pub(crate) end: f64,
     /// An epoch lasts `flight` cell widths of flight at the rms speed.
     flight: f64,
     width: f64,
@@ -48,6 +50,9 @@ pub(crate) struct Epochs {
     best: Vec<(f64, u32)>,
     /// The rebuild's candidate pairs.
     pairs: Vec<[u32; 2]>,
+    /// The cells whose Morton order the particles are re-sorted in (those the
+    /// crossing broad phase would use).
+    keys: CellShape,
 }
 
 /// Cell width of the epoch grid in units of the mean spacing (V/N)^(1/3), and the
@@ -62,8 +67,8 @@ const BOX_MARGIN: f64 = 1e-9;
 
 impl Epochs {
     /// Epochs over `region` for `n` particles whose largest contact distance is
-    /// `max_contact`.
-    pub fn new(region: &Region, max_contact: f64, n: usize) -> Self {
+    /// `max_contact`, re-sorting them by cells at least `key_width` wide.
+    pub(crate) fn new(region: &SimBox, max_contact: f64, n: usize, key_width: f64) -> Self {
         let width = Self::cell_width(region.size, max_contact, n);
         Self {
             grid: SweepGrid::new(region, width, n),
@@ -81,6 +86,7 @@ impl Epochs {
             partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
             pairs: Vec::new(),
+            keys: CellShape::new(region.lo, region.size, region.periodic, key_width),
         }
     }
 
@@ -88,14 +94,6 @@ impl Epochs {
     fn cell_width(size: [f64; 3], max_contact: f64, n: usize) -> f64 {
         let spacing = (size.iter().product::<f64>() / n.max(1) as f64).cbrt();
         (EPOCH_CELL * spacing).max(max_contact)
-    }
-
-    /// Whether epochs fit: a quarter of each periodic axis must exceed the largest
-    /// contact distance by a cell width, and the grid must be able to file `n`.
-    pub fn fit(region: &Region, max_contact: f64, n: usize) -> bool {
-        let width = Self::cell_width(region.size, max_contact, n);
-        n < Filing::MAX_PARTICLES
-            && (0..3).all(|k| !region.periodic[k] || 0.25 * region.size[k] - max_contact >= width)
     }
 
     /// The swept box of a sphere at `p` moving with `v` from `t0` to `end`, cut short
@@ -143,159 +141,201 @@ impl Epochs {
     }
 }
 
-impl<Q: EventQueue> Engine<Q> {
+impl Epochs {
     /// Starts a new epoch now: files every particle's swept box and predicts the pair
     /// collisions within the epoch (walls were predicted when each particle last
     /// changed course; pair predictions never reach past an epoch's end).
-    pub(crate) fn rebuild_epoch(&mut self) {
-        let Some(mut ep) = self.epochs.take() else {
-            return;
-        };
-        self.stats.epochs += 1;
-        let t0 = self.time;
-        let n = self.len();
-        if self.resort_every > 0 && self.since_resort >= self.resort_every {
-            self.since_resort = 0;
-            for i in 0..n {
-                let x = self.wrap(self.state_at(i, t0).0);
-                self.grid.coords[i] = self.grid.coords_of(x);
-            }
-            self.resort();
+    fn rebuild<Q: EventQueue>(&mut self, s: &mut State<Q>) {
+        s.stats.epochs += 1;
+        let t0 = s.time;
+        let n = s.len();
+        if s.resort_every > 0 && s.since_resort >= s.resort_every {
+            s.since_resort = 0;
+            self.resort(s);
         }
         let (mut v2, mut v_max) = (0.0, [0.0f64; 3]);
-        for s in &self.slot {
-            v2 += dot(s.kin.vel, s.kin.vel);
-            v_max = std::array::from_fn(|k| v_max[k].max(s.kin.vel[k].abs()));
+        for slot in &s.slot {
+            v2 += dot(slot.kin.vel, slot.kin.vel);
+            v_max = std::array::from_fn(|k| v_max[k].max(slot.kin.vel[k].abs()));
         }
         let v_rms = (v2 / n.max(1) as f64).sqrt();
         let end = if v_rms > 0.0 {
-            t0 + ep.flight * ep.width / v_rms
+            t0 + self.flight * self.width / v_rms
         } else {
             f64::INFINITY
         };
-        ep.end = end;
-        if ep.is_tame(v_max, t0, end) {
-            self.sweep_all::<true>(&mut ep, t0);
+        self.end = end;
+        if self.is_tame(v_max, t0, end) {
+            self.sweep_all::<true, Q>(s, t0);
         } else {
-            self.sweep_all::<false>(&mut ep, t0);
+            self.sweep_all::<false, Q>(s, t0);
         }
-        ep.grid.file_all();
-        let mut pairs = std::mem::take(&mut ep.pairs);
-        let listed = ep.grid.filed_pairs(&mut pairs);
-        let period = self.period();
-        test_pairs(listed, &ep.motion, &ep.partner, &mut ep.best, t0, period);
-        ep.pairs = pairs;
+        self.grid.file_all();
+        let mut pairs = std::mem::take(&mut self.pairs);
+        let listed = self.grid.filed_pairs(&mut pairs);
+        let period = s.period;
+        test_pairs(
+            listed,
+            &self.motion,
+            &self.partner,
+            &mut self.best,
+            t0,
+            period,
+        );
+        self.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
         for i in 0..n {
-            let (t, j) = ep.best[i];
-            let collides = t < self.slot[i].ev.coll_time;
+            let (t, j) = self.best[i];
+            let collides = t < s.slot[i].ev.coll_time;
             if collides {
-                self.keep_earliest(i, (t, j, t == t0));
+                s.keep_earliest(i, (t, j, t == t0));
             }
-            if collides || ep.motion[i].horizon < end {
-                self.schedule(i);
+            if collides || self.motion[i].horizon < end {
+                s.schedule(i);
             }
         }
-        self.queue.set(n, end);
-        self.epochs = Some(ep);
+        s.queue.set(n, end);
     }
 
     /// The rebuild's boxes: each particle's motion at `t0` and the cells of its box
     /// until the epoch's end (`TAME`: the epoch is tame, see [`Epochs::uncut_sweep`]).
-    fn sweep_all<const TAME: bool>(&mut self, ep: &mut Epochs, t0: f64) {
-        let end = ep.end;
-        for i in 0..self.len() {
-            let (mut p, v) = self.state_at(i, t0);
-            let wrapped = self.wrap(p);
+    fn sweep_all<const TAME: bool, Q: EventQueue>(&mut self, s: &mut State<Q>, t0: f64) {
+        let end = self.end;
+        for i in 0..s.len() {
+            let (mut p, v) = s.state_at(i, t0);
+            let wrapped = s.wrap(p);
             if wrapped != p {
-                self.advance(i, t0);
-                self.slot[i].kin.pos = wrapped;
+                s.advance(i, t0);
+                s.slot[i].kin.pos = wrapped;
                 p = wrapped;
             }
-            let radius = self.slot[i].kin.radius;
+            let radius = s.slot[i].kin.radius;
             // A particle in an eMD* transient changes course at its E^v.
-            let stop = end.min(self.slot[i].ev.pending_time);
+            let stop = end.min(s.slot[i].ev.pending_time);
             let (spans, horizon) = if TAME {
-                (ep.uncut_sweep(p, v, radius, t0, stop), stop)
+                (self.uncut_sweep(p, v, radius, t0, stop), stop)
             } else {
-                ep.sweep(p, v, radius, t0, stop)
+                self.sweep(p, v, radius, t0, stop)
             };
-            ep.grid.spans[i] = spans;
-            ep.motion[i] = Motion {
+            self.grid.spans[i] = spans;
+            self.motion[i] = Motion {
                 pos: p,
                 radius,
                 vel: v,
                 horizon,
             };
-            ep.partner[i] = self.slot[i].ev.partner;
-            ep.best[i] = (f64::INFINITY, 0);
+            self.partner[i] = s.slot[i].ev.partner;
+            self.best[i] = (f64::INFINITY, 0);
             if horizon < end {
-                self.slot[i].ev.cross[0] = horizon;
+                s.slot[i].ev.cross[0] = horizon;
             }
         }
+    }
+}
+
+impl BroadPhase for Epochs {
+    /// The end of the epoch.
+    const OWN_EVENTS: usize = 1;
+
+    /// Whether epochs fit: a quarter of each periodic axis must exceed the largest
+    /// contact distance by a cell width, and the grid must be able to file `n`.
+    fn fits(region: &SimBox, max_contact: f64, n: usize) -> bool {
+        let width = Self::cell_width(region.size, max_contact, n);
+        n < Filing::MAX_PARTICLES
+            && (0..3).all(|k| !region.periodic[k] || 0.25 * region.size[k] - max_contact >= width)
+    }
+
+    /// Nothing to file before the first epoch.
+    fn file<Q: EventQueue>(&mut self, _: &State<Q>) {}
+
+    fn start<Q: EventQueue>(&mut self, s: &mut State<Q>) {
+        for i in 0..s.len() {
+            s.predict_walls(i);
+            s.schedule(i);
+        }
+        self.rebuild(s);
     }
 
     /// Pair predictions of `i` (advanced to now) for the rest of the epoch, filing its
     /// new swept box; sets its horizon.
-    pub(crate) fn predict_in_epoch(&mut self, i: usize) {
-        let Some(mut ep) = self.epochs.take() else {
-            return;
-        };
-        let now = self.time;
-        let p = self.wrap(self.slot[i].kin.pos);
-        self.slot[i].kin.pos = p;
-        let (vi, ri) = (self.slot[i].kin.vel, self.slot[i].kin.radius);
-        let stop = ep.end.min(self.slot[i].ev.pending_time);
-        let (spans, horizon) = ep.sweep(p, vi, ri, now, stop);
-        self.slot[i].ev.cross[0] = if horizon < ep.end {
+    fn predict_pairs<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize) {
+        let now = s.time;
+        let p = s.wrap(s.slot[i].kin.pos);
+        s.slot[i].kin.pos = p;
+        let (vi, ri) = (s.slot[i].kin.vel, s.slot[i].kin.radius);
+        let stop = self.end.min(s.slot[i].ev.pending_time);
+        let (spans, horizon) = self.sweep(p, vi, ri, now, stop);
+        s.slot[i].ev.cross[0] = if horizon < self.end {
             horizon
         } else {
             f64::INFINITY
         };
-        let mut best = (self.slot[i].ev.coll_time, NONE);
-        let probe = self.probe_slot(i);
+        let mut best = (s.slot[i].ev.coll_time, NONE);
+        let probe = s.probe_slot(i);
         let mut blocked = false;
-        ep.grid.scan_and_file(i, &spans, |j| {
-            if self.in_shared_transient(i, j) {
+        let state = &*s;
+        self.grid.scan_and_file(i, &spans, |j| {
+            if state.in_shared_transient(i, j) {
                 return;
             }
-            let (pj, vj) = self.state_at(j, now);
-            let r = self.min_image(sub(p, pj));
-            let (v, sigma) = (sub(vi, vj), ri + self.slot[j].kin.radius);
+            let (pj, vj) = state.state_at(j, now);
+            let r = state.min_image(sub(p, pj));
+            let (v, sigma) = (sub(vi, vj), ri + state.slot[j].kin.radius);
             if let Some((probe, slot)) = &probe {
-                blocked |= self.blocks_rotation(probe, *slot, j, r, pj, sigma);
+                blocked |= state.blocks_rotation(probe, *slot, j, r, pj, sigma);
             }
             if !on_collision_course(r, v, sigma) {
                 return;
             }
             let dt = sphere_sphere(r, v, sigma);
-            let limit = horizon.min(self.slot[j].ev.cross[0]);
+            let limit = horizon.min(state.slot[j].ev.cross[0]);
             if now + dt < limit && now + dt < best.0 {
                 best = (now + dt, j as u32);
             }
         });
-        self.keep_earliest(i, (best.0, best.1, best.0 == now));
-        if blocked && let Some(probe) = &mut self.probe {
-            probe.blocked = true;
+        s.keep_earliest(i, (best.0, best.1, best.0 == now));
+        if blocked {
+            s.block_probe();
         }
-        self.epochs = Some(ep);
     }
 
-    /// Whether `test(k)` holds for a particle `k` whose sphere may reach within
-    /// `reach` of `x` now (each such particle is filed in a cell touching that cube).
-    pub(crate) fn any_near_in_epoch(
-        &self,
-        x: [f64; 3],
-        reach: f64,
-        test: impl FnMut(usize) -> bool,
-    ) -> bool {
-        let Some(ep) = &self.epochs else {
-            return false;
-        };
-        let margin = reach + BOX_MARGIN * (reach + x.iter().map(|c| c.abs()).sum::<f64>());
-        let x = self.wrap(x);
-        let spans = ep.grid.spans(x.map(|c| c - margin), x.map(|c| c + margin));
-        ep.grid.any_in(&spans, test)
+    /// The horizon is set by the pair prediction.
+    #[inline]
+    fn predict_crossing<Q: EventQueue>(&mut self, _: &mut State<Q>, _: usize) {}
+
+    /// The swept box reached its horizon before the epoch's end: renew it.
+    fn crossing<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize, _: usize, _: i64) {
+        self.predict(s, i);
+    }
+
+    fn own_event<Q: EventQueue>(&mut self, s: &mut State<Q>) {
+        self.rebuild(s);
+    }
+
+    /// Boxes are filed when the particle is predicted.
+    fn placed(&mut self, _: usize, _: [f64; 3]) {}
+
+    fn cell_of(&self, _: usize) -> [u32; 3] {
+        [0; 3]
+    }
+
+    fn return_to(&mut self, _: usize, _: [u32; 3]) {}
+
+    fn resorts_between_events(&self) -> bool {
+        false
+    }
+
+    /// Re-sorts by the cells the particles are in now (the boxes are filed anew at
+    /// every epoch, so nothing else is kept per particle between epochs).
+    fn resort<Q: EventQueue>(&mut self, s: &mut State<Q>) {
+        let t = s.time;
+        let cells: Vec<[u32; 3]> = (0..s.len())
+            .map(|i| self.keys.coords_of(s.wrap(s.state_at(i, t).0)))
+            .collect();
+        let order = morton_order(cells.into_iter());
+        s.permute(&order);
+        s.refile();
+        s.stats.resorts += 1;
     }
 }
 
@@ -341,12 +381,12 @@ mod tests {
 
     #[test]
     fn uncut_sweeps_of_a_tame_epoch_are_the_general_sweeps() {
-        let region = Region {
+        let region = SimBox {
             lo: [-3.0, 0.0, 5.0],
             size: [40.0, 30.0, 50.0],
             periodic: [true, true, false],
         };
-        let ep = Epochs::new(&region, 1.0, 500);
+        let ep = Epochs::new(&region, 1.0, 500, 1.0);
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let (t0, end) = (2.5, 4.0);
         let v_max = [2.0, 2.0, 2.0];

@@ -1,0 +1,153 @@
+//! The event engine as a host of the shared collision rules.
+
+use super::EventEngine;
+use crate::broad_phase::BroadPhase;
+use crate::collision::{Host, NONE, RotationProbe};
+use crate::physics::Physics;
+use crate::queue::EventQueue;
+use crate::rules::HertzRestitution;
+use crate::state::Saved;
+use crate::stats::Stats;
+use emdstar_system::Wall;
+
+impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
+    type Saved = Saved;
+
+    #[inline]
+    fn now(&self) -> f64 {
+        self.state.time
+    }
+
+    #[inline]
+    fn particles(&self) -> usize {
+        self.state.len()
+    }
+
+    #[inline]
+    fn sync(&mut self, i: usize) {
+        let now = self.state.time;
+        self.state.advance(i, now);
+    }
+
+    #[inline]
+    fn position(&self, i: usize) -> [f64; 3] {
+        self.state.slot[i].kin.pos
+    }
+
+    #[inline]
+    fn velocity(&self, i: usize) -> [f64; 3] {
+        self.state.slot[i].kin.vel
+    }
+
+    #[inline]
+    fn set_velocity(&mut self, i: usize, v: [f64; 3]) {
+        self.state.slot[i].kin.vel = v;
+    }
+
+    #[inline]
+    fn radius(&self, i: usize) -> f64 {
+        self.state.slot[i].kin.radius
+    }
+
+    #[inline]
+    fn mass(&self, i: usize) -> f64 {
+        self.state.mass[i]
+    }
+
+    #[inline]
+    fn species(&self, i: usize) -> u32 {
+        self.state.species[i]
+    }
+
+    #[inline]
+    fn min_image(&self, d: [f64; 3]) -> [f64; 3] {
+        self.state.min_image(d)
+    }
+
+    #[inline]
+    fn gravity(&self) -> [f64; 3] {
+        self.state.gravity
+    }
+
+    #[inline]
+    fn walls(&self) -> &[Wall] {
+        &self.state.walls
+    }
+
+    #[inline]
+    fn pending_time(&self, i: usize) -> f64 {
+        self.state.slot[i].ev.pending_time
+    }
+
+    #[inline]
+    fn pending_velocity(&self, i: usize) -> [f64; 3] {
+        self.state.pending_vel[i]
+    }
+
+    #[inline]
+    fn partner(&self, i: usize) -> u32 {
+        self.state.slot[i].ev.partner
+    }
+
+    #[inline]
+    fn begin_transient(&mut self, i: usize, end: f64, after: [f64; 3], partner: u32) {
+        self.state.pending_vel[i] = after;
+        self.state.slot[i].ev.pending_time = end;
+        self.state.slot[i].ev.partner = partner;
+    }
+
+    #[inline]
+    fn clear_transient(&mut self, i: usize) {
+        self.state.slot[i].ev.pending_time = f64::INFINITY;
+        self.state.slot[i].ev.partner = NONE;
+    }
+
+    #[inline]
+    fn changed(&mut self, i: usize) {
+        let ev = &mut self.state.slot[i].ev;
+        ev.counter = ev.counter.wrapping_add(1);
+    }
+
+    /// Puts particle `p` at position `x` now (wrapped, re-filed).
+    #[inline]
+    fn place(&mut self, p: usize, x: [f64; 3]) {
+        let x = self.state.wrap(x);
+        self.state.slot[p].kin.pos = x;
+        self.state.slot[p].kin.stamp = self.state.time;
+        self.broad.placed(p, x);
+    }
+
+    #[inline]
+    fn save(&self, i: usize) -> Saved {
+        Saved {
+            kin: self.state.slot[i].kin,
+            cell: self.broad.cell_of(i),
+        }
+    }
+
+    #[inline]
+    fn restore(&mut self, i: usize, saved: Saved) {
+        self.state.slot[i].kin = saved.kin;
+        self.broad.return_to(i, saved.cell);
+    }
+
+    #[inline]
+    fn predict(&mut self, i: usize) {
+        self.broad.predict(&mut self.state, i);
+    }
+
+    #[inline]
+    fn probe(&mut self) -> &mut Option<RotationProbe<Saved>> {
+        &mut self.state.probe
+    }
+
+    #[inline]
+    fn stats(&mut self) -> &mut Stats {
+        &mut self.state.stats
+    }
+
+    #[inline]
+    fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution) {
+        (&mut self.state.physics, &mut self.state.hertz)
+    }
+}

@@ -1,0 +1,391 @@
+//! The state an event engine keeps apart from its broad phase: each particle's
+//! kinematics and own events, the queue, the clock, the physics and the counters, with
+//! the operations both broad phases use on them (delayed updates, periodic images,
+//! keeping the earliest prediction, queueing).
+
+use crate::collision::{NONE, RotationProbe};
+use crate::physics::Physics;
+use crate::queue::EventQueue;
+use crate::rules::HertzRestitution;
+use crate::stats::Stats;
+use emdstar_contact::vec3::{dot, sub};
+use emdstar_system::{SimBox, Wall};
+
+/// A particle's kinematics (the line neighbour scans read) and own events in one
+/// 128-byte block: an event's own particle costs one miss (adjacent-line prefetch).
+#[derive(Debug, Clone, Copy, Default)]
+#[repr(C, align(128))]
+pub(crate) struct Slot {
+    pub kin: Kin,
+    pub ev: EventRec,
+}
+
+/// A particle's position and velocity, valid at time `stamp` (delayed update), and
+/// its radius: the data every pair test reads, packed into one cache line.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Kin {
+    pub pos: [f64; 3],
+    pub stamp: f64,
+    pub vel: [f64; 3],
+    pub radius: f64,
+}
+
+/// A particle's own next events (the queue holds the earliest of them).
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct EventRec {
+    /// Earliest predicted collision, with a particle or (`n + w`) wall w.
+    pub coll_time: f64,
+    /// Next crossing of a face along each axis. The motion along one axis does not
+    /// depend on the others, so a crossing only renews the time of its own axis. With
+    /// epochs, `cross[0]` is the horizon of a swept box that ends before the epoch
+    /// (+∞ otherwise), and reaching it renews the box.
+    pub cross: [f64; 3],
+    /// eMD*: time of the pending E^v event (+∞ if none).
+    pub pending_time: f64,
+    pub coll_partner: u32,
+    /// The partner's `counter` when the collision was predicted.
+    pub coll_counter: u32,
+    /// Incremented whenever this particle's velocity or position jumps.
+    pub counter: u32,
+    /// eMD*: the particle (or `n + w` wall) sharing the transient, NONE otherwise.
+    pub partner: u32,
+    /// Bit k set: the next crossing along axis k is through the upper face.
+    pub cross_up: u8,
+    /// The collision was predicted for the moment of prediction: an overlapping,
+    /// approaching pair (a stabilising collision, Bannerman 2014, Sec. 4.1).
+    pub coll_now: bool,
+}
+
+impl Default for EventRec {
+    fn default() -> Self {
+        Self {
+            coll_time: f64::INFINITY,
+            cross: [f64::INFINITY; 3],
+            pending_time: f64::INFINITY,
+            coll_partner: NONE,
+            coll_counter: 0,
+            counter: 0,
+            partner: NONE,
+            cross_up: 0,
+            coll_now: false,
+        }
+    }
+}
+
+/// A party's state before an E^φ: its kinematics and its cell (crossings).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Saved {
+    pub(crate) kin: Kin,
+    pub(crate) cell: [u32; 3],
+}
+
+/// The minimum image of `d` in a box of `period` (0 along closed axes), valid for
+/// |d_k| < 1.5·period_k; selects rather than branches, as about one pair in five that
+/// share an epoch cell straddles a periodic face.
+#[inline(always)]
+pub(crate) fn min_image_in(d: [f64; 3], period: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|k| {
+        let l = period[k];
+        let up = if d[k] > 0.5 * l { l } else { 0.0 };
+        let down = if d[k] < -0.5 * l { l } else { 0.0 };
+        d[k] - up + down
+    })
+}
+
+/// Everything of an event engine but its broad phase: what a [`crate::BroadPhase`]
+/// works on (opaque outside this crate).
+pub struct State<Q: EventQueue> {
+    /// Per-particle kinematics and own events, one 128-byte block each.
+    pub(crate) slot: Vec<Slot>,
+    pub(crate) mass: Vec<f64>,
+    /// Original particle number of each slot (slots are re-sorted in space).
+    pub(crate) id: Vec<u32>,
+    pub(crate) species: Vec<u32>,
+    /// eMD*: the velocity the pending E^v event applies.
+    pub(crate) pending_vel: Vec<[f64; 3]>,
+    /// Events between spatial re-sorts (0: never), and events since the last.
+    pub(crate) resort_every: u64,
+    pub(crate) since_resort: u64,
+    pub(crate) queue: Q,
+    pub(crate) time: f64,
+    /// The box, or in free space the particles' bounding box at the start.
+    pub(crate) region: SimBox,
+    /// The box's period along each axis, 0 along closed axes.
+    pub(crate) period: [f64; 3],
+    pub(crate) walls: Vec<Wall>,
+    pub(crate) gravity: [f64; 3],
+    pub(crate) has_gravity: bool,
+    pub(crate) physics: Physics,
+    pub(crate) hertz: HertzRestitution,
+    pub(crate) stats: Stats,
+    /// Consecutive events at one instant (an inelastic collapse never ends).
+    pub(crate) zero_streak: u64,
+    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions.
+    pub(crate) probe: Option<RotationProbe<Saved>>,
+}
+
+impl<Q: EventQueue> State<Q> {
+    /// Number of particles.
+    #[inline]
+    pub(crate) fn len(&self) -> usize {
+        self.slot.len()
+    }
+
+    /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
+    #[inline(always)]
+    pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
+        let dt = t - self.slot[j].kin.stamp;
+        let (p, v) = (self.slot[j].kin.pos, self.slot[j].kin.vel);
+        if self.has_gravity {
+            let g = self.gravity;
+            (
+                std::array::from_fn(|k| p[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
+                std::array::from_fn(|k| v[k] + g[k] * dt),
+            )
+        } else {
+            (std::array::from_fn(|k| p[k] + v[k] * dt), v)
+        }
+    }
+
+    /// Moves particle `i` on to time `t` (the delayed update).
+    #[inline]
+    pub(crate) fn advance(&mut self, i: usize, t: f64) {
+        if self.slot[i].kin.stamp != t {
+            let (p, v) = self.state_at(i, t);
+            self.slot[i].kin.pos = p;
+            self.slot[i].kin.vel = v;
+            self.slot[i].kin.stamp = t;
+        }
+    }
+
+    /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions
+    /// kept inside the box guarantee).
+    #[inline]
+    pub(crate) fn min_image(&self, d: [f64; 3]) -> [f64; 3] {
+        min_image_in(d, self.period)
+    }
+
+    /// Wraps a position into the box along periodic axes.
+    #[inline]
+    pub(crate) fn wrap(&self, mut p: [f64; 3]) -> [f64; 3] {
+        for (k, x) in p.iter_mut().enumerate() {
+            if self.region.periodic[k] {
+                let (lo, l) = (self.region.lo[k], self.region.size[k]);
+                if *x < lo {
+                    *x += l;
+                } else if *x >= lo + l {
+                    *x -= l;
+                }
+            }
+        }
+        p
+    }
+
+    /// Whether `i` and the particle or wall `j` (≥ n for walls) share an eMD*
+    /// transient. Such partners move together at their centre-of-mass velocity
+    /// between E^φ and E^v, overlapping by l(1 − ε_r), and are never tested against
+    /// each other until one of them has taken its post-collision velocity: round-off
+    /// in their common velocity must not trigger a spurious stabilising collision.
+    #[inline]
+    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
+        self.slot[i].ev.partner == j as u32
+            && (j >= self.len() || self.slot[j].ev.partner == i as u32)
+    }
+
+    /// Which party of the running exception-(a) probe `i` is, if any.
+    #[inline]
+    pub(crate) fn probe_slot(&self, i: usize) -> Option<(RotationProbe<Saved>, usize)> {
+        let probe = self.probe?;
+        let slot = probe.slot_of(i)?;
+        Some((probe, slot))
+    }
+
+    /// Whether third particle `k`, at `xk` now and `r` = (new position of party
+    /// `slot` of `probe`) − `xk` (its image), blocks the rotation.
+    #[inline(always)]
+    pub(crate) fn blocks_rotation(
+        &self,
+        probe: &RotationProbe<Saved>,
+        slot: usize,
+        k: usize,
+        r: [f64; 3],
+        xk: [f64; 3],
+        contact: f64,
+    ) -> bool {
+        probe.blocks(slot, k, r, xk, contact, |d| self.min_image(d))
+    }
+
+    /// Marks the running probe blocked.
+    #[inline]
+    pub(crate) fn block_probe(&mut self) {
+        if let Some(probe) = &mut self.probe {
+            probe.blocked = true;
+        }
+    }
+
+    /// Keeps the collision a broad phase found, if there is one: (time, partner or
+    /// NONE, whether it is a stabilising collision now).
+    #[inline(always)]
+    pub(crate) fn keep_earliest(&mut self, i: usize, (time, j, now): (f64, u32, bool)) {
+        if j != NONE {
+            self.slot[i].ev.coll_time = time;
+            self.slot[i].ev.coll_partner = j;
+            self.slot[i].ev.coll_counter = self.slot[j as usize].ev.counter;
+            self.slot[i].ev.coll_now = now;
+        }
+    }
+
+    /// The earliest cell crossing (or, with epochs, horizon) of `i`: (time, axis,
+    /// direction ±1).
+    #[inline(always)]
+    pub(crate) fn next_crossing(&self, i: usize) -> (f64, usize, i64) {
+        let ev = &self.slot[i].ev;
+        let mut axis = 0;
+        for k in 1..3 {
+            if ev.cross[k] < ev.cross[axis] {
+                axis = k;
+            }
+        }
+        let dir = if ev.cross_up >> axis & 1 == 1 { 1 } else { -1 };
+        (ev.cross[axis], axis, dir)
+    }
+
+    /// Pushes the particle's earliest own event to the queue.
+    #[inline]
+    pub(crate) fn schedule(&mut self, i: usize) {
+        let t = self.slot[i]
+            .ev
+            .coll_time
+            .min(self.next_crossing(i).0)
+            .min(self.slot[i].ev.pending_time);
+        self.queue.set(i, t);
+    }
+
+    /// The earliest wall collision of `i` (advanced to now), if before its prediction.
+    pub(crate) fn predict_walls(&mut self, i: usize) {
+        let now = self.time;
+        let n = self.len();
+        for w in 0..self.walls.len() {
+            if self.in_shared_transient(i, n + w) {
+                continue;
+            }
+            let wall = self.walls[w];
+            let h = dot(wall.normal, sub(self.slot[i].kin.pos, wall.point));
+            let dt = crate::detect::sphere_wall(
+                h,
+                dot(wall.normal, self.slot[i].kin.vel),
+                dot(wall.normal, self.gravity),
+                self.slot[i].kin.radius,
+            );
+            if now + dt < self.slot[i].ev.coll_time {
+                self.slot[i].ev.coll_time = now + dt;
+                self.slot[i].ev.coll_partner = (n + w) as u32;
+                self.slot[i].ev.coll_now = false;
+            }
+        }
+    }
+
+    /// Renumbers the particles so that new slot k holds old slot `order[k]`. Only
+    /// the numbering changes: states, stamps and predicted events move with their
+    /// particles, partners are renumbered and the queue is refiled, so nothing is
+    /// predicted again. The broad phase renumbers what it keeps per particle.
+    pub(crate) fn permute(&mut self, order: &[u32]) {
+        let n = self.len();
+        let mut new_index = vec![0u32; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_index[old as usize] = new as u32;
+        }
+        let mut s_slot = Vec::new();
+        permute(&mut self.slot, order, &mut s_slot);
+        let mut s_f = Vec::new();
+        permute(&mut self.mass, order, &mut s_f);
+        let mut s_u = Vec::new();
+        permute(&mut self.species, order, &mut s_u);
+        permute(&mut self.id, order, &mut s_u);
+        let mut s_v = Vec::new();
+        permute(&mut self.pending_vel, order, &mut s_v);
+        // Particles below n are renumbered; walls (n + w) and NONE keep their numbers.
+        let renumber = |j: u32| new_index.get(j as usize).copied().unwrap_or(j);
+        for e in self.slot.iter_mut().map(|s| &mut s.ev) {
+            e.partner = renumber(e.partner);
+            e.coll_partner = renumber(e.coll_partner);
+        }
+    }
+
+    /// Refiles every particle's earliest event in the queue (after a renumbering).
+    pub(crate) fn refile(&mut self) {
+        let n = self.len();
+        for i in 0..n {
+            self.queue.set(i, f64::INFINITY);
+        }
+        for i in 0..n {
+            self.schedule(i);
+        }
+    }
+}
+
+/// Reorders `v` so that new index k holds old element `order[k]`.
+pub(crate) fn permute<T: Copy>(v: &mut [T], order: &[u32], scratch: &mut Vec<T>) {
+    scratch.clear();
+    scratch.extend(order.iter().map(|&i| v[i as usize]));
+    v.copy_from_slice(scratch);
+}
+
+/// Spreads the low 10 bits of `x` to every third bit.
+fn spread(x: u32) -> u64 {
+    let mut x = u64::from(x & 0x3ff);
+    x = (x | (x << 16)) & 0x0300_00ff;
+    x = (x | (x << 8)) & 0x0300_f00f;
+    x = (x | (x << 4)) & 0x030c_30c3;
+    (x | (x << 2)) & 0x0924_9249
+}
+
+/// The Morton (Z-order) key of cell coordinates below 1024: cells close in space are
+/// mostly close in this order along all three axes, not only along x as in row order.
+pub(crate) fn morton(c: [u32; 3]) -> u64 {
+    spread(c[0]) | (spread(c[1]) << 1) | (spread(c[2]) << 2)
+}
+
+/// The order that sorts particles by the Morton keys of their cells. Pair tests are
+/// limited by memory latency, and a gas stirs an initial ordering up within a few
+/// collisions per particle, so engines re-sort periodically: neighbours in space are
+/// then mostly neighbours in memory.
+pub(crate) fn morton_order(cells: impl Iterator<Item = [u32; 3]>) -> Vec<u32> {
+    // (key, index) pairs are distinct, so the unstable sort gives one order.
+    let mut keyed: Vec<(u64, u32)> = cells
+        .enumerate()
+        .map(|(i, c)| (morton(c), i as u32))
+        .collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::morton;
+
+    #[test]
+    fn morton_interleaves_the_bits_of_the_three_axes() {
+        assert_eq!(morton([1, 0, 0]), 0b001);
+        assert_eq!(morton([0, 1, 0]), 0b010);
+        assert_eq!(morton([0, 0, 1]), 0b100);
+        assert_eq!(morton([3, 5, 6]), 0b110_101_011);
+        assert_eq!(morton([1023, 1023, 1023]), (1 << 30) - 1);
+        // Every cell of a 2×2×2 block comes before any cell of the next block.
+        let mut keys: Vec<_> = (0..64u32)
+            .map(|m| {
+                (
+                    [m % 4, m / 4 % 4, m / 16],
+                    morton([m % 4, m / 4 % 4, m / 16]),
+                )
+            })
+            .collect();
+        keys.sort_by_key(|k| k.1);
+        for (rank, (c, _)) in keys.iter().enumerate() {
+            let block = (c[0] / 2) + 2 * (c[1] / 2) + 4 * (c[2] / 2);
+            assert_eq!(block as usize, rank / 8, "{c:?}");
+        }
+    }
+}

@@ -1,0 +1,139 @@
+//! Where the particles move — the box, the plane walls and gravity — and the checks
+//! of a state against it that every engine relies on.
+
+use crate::error::{Result, SystemError, invalid};
+use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
+use crate::state::Particles;
+use emdstar_contact::vec3::{norm, sub};
+
+/// The surroundings of the particles.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Domain {
+    /// `None` means free space.
+    pub sim_box: Option<SimBox>,
+    pub walls: Vec<Wall>,
+    /// Uniform acceleration in m/s².
+    pub gravity: [f64; 3],
+}
+
+impl Domain {
+    /// A periodic cube or cuboid without walls or gravity.
+    pub fn periodic(sim_box: SimBox) -> Self {
+        Self {
+            sim_box: Some(sim_box),
+            ..Self::default()
+        }
+    }
+
+    /// The shortest image of a separation `d` (itself in free space).
+    #[inline]
+    pub fn min_image(&self, d: [f64; 3]) -> [f64; 3] {
+        self.sim_box.map_or(d, |b| b.min_image(d))
+    }
+
+    /// The region a cell grid over `positions` must cover: the box, or in free space
+    /// the positions' bounding box (all axes closed).
+    pub fn search_region(&self, positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3], [bool; 3]) {
+        match &self.sim_box {
+            Some(b) => (b.lo, b.size, b.periodic),
+            None => {
+                let (lo, extent) = bounding_box(positions);
+                (lo, extent, [false; 3])
+            }
+        }
+    }
+
+    /// Checks what every engine relies on: walls parallel to the periodic axes, finite
+    /// state, particles inside the box along closed axes, in front of every wall, and
+    /// no two particles overlapping. Particles are named by their config number.
+    pub fn check(&self, p: &Particles) -> Result<()> {
+        if let Some(b) = &self.sim_box {
+            for (w_index, w) in self.walls.iter().enumerate() {
+                if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
+                    return invalid!(
+                        "wall {w_index} (normal {:?}) is not parallel to the periodic axis {}: \
+                         its periodic images would cut the box; make that axis closed \
+                         (box.periodic) or turn the wall",
+                        w.normal,
+                        ["x", "y", "z"][k]
+                    );
+                }
+            }
+        }
+        for i in 0..p.len() {
+            let (x, v) = (p.position[i], p.velocity[i]);
+            let id = p.id[i] as usize;
+            if !x.iter().chain(&v).all(|c| c.is_finite()) {
+                return invalid!("particle {id}: position {x:?} and velocity {v:?} must be finite");
+            }
+            if let Some(b) = &self.sim_box
+                && let Some(k) = b.outside_closed_axis(x)
+            {
+                return Err(SystemError::Misplaced {
+                    i: id,
+                    position: x,
+                    why: format!(
+                        "lies outside the box along the closed axis {} ([{}, {}]); move it \
+                         inside or make that axis periodic",
+                        ["x", "y", "z"][k],
+                        b.lo[k],
+                        b.lo[k] + b.size[k]
+                    ),
+                });
+            }
+            for (w_index, w) in self.walls.iter().enumerate() {
+                let d = w.distance(x);
+                if d < p.radius[i] {
+                    return Err(SystemError::Misplaced {
+                        i: id,
+                        position: x,
+                        why: format!(
+                            "cuts through or lies behind wall {w_index} (distance {d:e} m < \
+                             radius {} m); place it on the side the wall normal points to",
+                            p.radius[i]
+                        ),
+                    });
+                }
+            }
+        }
+        self.check_overlaps(p)
+    }
+
+    /// The first overlapping pair (in config numbering), found with a cell grid.
+    fn check_overlaps(&self, p: &Particles) -> Result<()> {
+        if p.len() < 2 {
+            return Ok(());
+        }
+        let (lo, extent, periodic) = self.search_region(&p.position);
+        let max_radius = p.radius.iter().copied().fold(0.0, f64::max);
+        let mut grid = CellGrid::new(lo, extent, periodic, 2.0 * max_radius);
+        grid.bin(&p.position);
+        let mut worst: Option<(usize, usize, f64, f64)> = None;
+        for i in 0..p.len() {
+            let c = grid.coords(p.position[i]);
+            grid.for_each_neighbour(c, Stencil::Full, |cell, _| {
+                for &j in grid.items(cell) {
+                    let j = j as usize;
+                    if j <= i {
+                        continue;
+                    }
+                    let dist = norm(self.min_image(sub(p.position[i], p.position[j])));
+                    let contact = p.radius[i] + p.radius[j];
+                    let (a, b) = (p.id[i].min(p.id[j]) as usize, p.id[i].max(p.id[j]) as usize);
+                    if dist < contact && worst.is_none_or(|w| (a, b) < (w.0, w.1)) {
+                        worst = Some((a, b, dist, contact));
+                    }
+                }
+            });
+        }
+        match worst {
+            Some((i, j, distance, contact)) => Err(SystemError::Overlap {
+                i,
+                j,
+                distance,
+                contact,
+            }),
+            None => Ok(()),
+        }
+    }
+}
