@@ -271,6 +271,26 @@ pub unsafe extern "C" fn emdstar_table_open(path: *const c_char) -> *mut Emdstar
     })
 }
 
+/// Reads a table from `len` bytes at `data` (e.g. a table embedded in the caller's own
+/// binary); the bytes are parsed, not kept. NULL on failure.
+///
+/// # Safety
+/// `data` must be NULL or point to `len` readable bytes.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn emdstar_table_open_bytes(data: *const u8, len: usize) -> *mut EmdstarTable {
+    make(|| {
+        if data.is_null() {
+            return Err(input_err("data is NULL"));
+        }
+        // SAFETY: non-null with `len` readable bytes by the caller's contract.
+        let bytes = unsafe { std::slice::from_raw_parts(data, len) };
+        let table = Table::from_bytes(bytes).map_err(table_err)?;
+        Ok(EmdstarTable {
+            table: TableRef::Owned(Arc::new(table)),
+        })
+    })
+}
+
 /// Opens the default table of `model`, embedded in the library: parsed once per
 /// process, then shared by every handle (no copy). NULL on failure.
 #[unsafe(no_mangle)]
