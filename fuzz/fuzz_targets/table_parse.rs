@@ -11,7 +11,12 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let [a, b, c] = table.rect();
-    for (fa, fb, fc) in [(0.0, 0.0, 0.0), (0.5, 0.5, 0.5), (1.0, 1.0, 1.0), (-0.2, 0.3, -0.1)] {
+    for (fa, fb, fc) in [
+        (0.0, 0.0, 0.0),
+        (0.5, 0.5, 0.5),
+        (1.0, 1.0, 1.0),
+        (-0.2, 0.3, -0.1),
+    ] {
         let x = RectCoords {
             a: a.min + fa * (a.max - a.min),
             b: b.min + fb * (b.max - b.min),

@@ -122,7 +122,17 @@ impl PyTable {
         eccentricity: PyReadonlyArray1<'py, f64>,
         exact_fallback: bool,
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let inputs = Inputs::new(&law, [&radius, &density, &radius2, &density2, &speed, &eccentricity])?;
+        let inputs = Inputs::new(
+            &law,
+            [
+                &radius,
+                &density,
+                &radius2,
+                &density2,
+                &speed,
+                &eccentricity,
+            ],
+        )?;
         let model = self.table.model();
         let mut out = Outputs::new(inputs.n);
         for i in 0..inputs.n {
@@ -155,7 +165,10 @@ struct Inputs<'a> {
 }
 
 impl<'a> Inputs<'a> {
-    fn new(law: &'a [PyReadonlyArray1<'a, f64>], cols: [&'a PyReadonlyArray1<'a, f64>; 6]) -> PyResult<Self> {
+    fn new(
+        law: &'a [PyReadonlyArray1<'a, f64>],
+        cols: [&'a PyReadonlyArray1<'a, f64>; 6],
+    ) -> PyResult<Self> {
         let law: Vec<&[f64]> = law
             .iter()
             .map(|a| a.as_slice())
@@ -248,7 +261,17 @@ fn exact<'py>(
     eccentricity: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
     let model = model_of(model)?;
-    let inputs = Inputs::new(&law, [&radius, &density, &radius2, &density2, &speed, &eccentricity])?;
+    let inputs = Inputs::new(
+        &law,
+        [
+            &radius,
+            &density,
+            &radius2,
+            &density2,
+            &speed,
+            &eccentricity,
+        ],
+    )?;
     let mut out = Outputs::new(inputs.n);
     for i in 0..inputs.n {
         let (law, pair, impact) = inputs.case(model, i)?;
@@ -307,14 +330,23 @@ fn resolve_collisions<'py>(
     mor: Vec<PyReadonlyArray1<'py, f64>>,
     time_scale: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-    let slice = |a: &PyReadonlyArray1<'py, f64>| a.as_slice().map_err(value_error).map(<[f64]>::to_vec);
+    let slice =
+        |a: &PyReadonlyArray1<'py, f64>| a.as_slice().map_err(value_error).map(<[f64]>::to_vec);
     let (x1, v1, x2, v2) = (slice(&x1)?, slice(&v1)?, slice(&x2)?, slice(&v2)?);
-    let (m1, m2, l, t) = (slice(&m1)?, slice(&m2)?, slice(&contact)?, slice(&time_scale)?);
+    let (m1, m2, l, t) = (
+        slice(&m1)?,
+        slice(&m2)?,
+        slice(&contact)?,
+        slice(&time_scale)?,
+    );
     let mor: Vec<Vec<f64>> = mor.iter().map(slice).collect::<Result<_, _>>()?;
     let n = m1.len();
     if mor.len() != 5
         || [&x1, &v1, &x2, &v2].iter().any(|c| c.len() != 3 * n)
-        || [&m2, &l, &t].iter().chain(mor.iter().collect::<Vec<_>>().iter()).any(|c| c.len() != n)
+        || [&m2, &l, &t]
+            .iter()
+            .chain(mor.iter().collect::<Vec<_>>().iter())
+            .any(|c| c.len() != n)
     {
         return Err(PyValueError::new_err(
             "collide needs n×3 positions and velocities and n masses, distances and MoRs",

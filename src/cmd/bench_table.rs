@@ -62,7 +62,8 @@ fn box_impacts(table: &Table, n: usize, seed: u64) -> Result<Vec<Case>> {
             bail!("the table answers almost none of the impacts of its own box");
         }
         let mut draw = |r: [f64; 2]| rng.log_uniform(r);
-        let case = emdstar_tablegen::check::physical_impact(table, &mut draw).map_err(|e| anyhow!(e))?;
+        let case =
+            emdstar_tablegen::check::physical_impact(table, &mut draw).map_err(|e| anyhow!(e))?;
         if table.lookup(&case.0, &case.1, &case.2).is_ok() {
             out.push(case);
         }
@@ -145,7 +146,9 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
     for source in &sources {
         let table = super::table::load(source)?;
         let bytes = match source.strip_prefix("default:") {
-            Some(m) => emdstar_table::default_table_bytes(m.parse().map_err(|e: String| anyhow!(e))?).len(),
+            Some(m) => {
+                emdstar_table::default_table_bytes(m.parse().map_err(|e: String| anyhow!(e))?).len()
+            }
             None => std::fs::metadata(source)?.len() as usize,
         };
         let n = args.impacts;
@@ -182,8 +185,13 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
                 black_box(emdstar_mor::solve(model, black_box(&scaled[i])).ok());
             }));
         }
-        let [(box_ns, box_spread), (gas_ns, gas_spread), (one_ns, one_spread), (pair_ns, pair_spread), (exact_ns, exact_spread)] =
-            rounds.each_ref().map(|r| best(r));
+        let [
+            (box_ns, box_spread),
+            (gas_ns, gas_spread),
+            (one_ns, one_spread),
+            (pair_ns, pair_spread),
+            (exact_ns, exact_spread),
+        ] = rounds.each_ref().map(|r| best(r));
         let line = json!({
             "model": model.name(),
             "table": source,

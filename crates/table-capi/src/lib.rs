@@ -277,7 +277,10 @@ pub unsafe extern "C" fn emdstar_table_open(path: *const c_char) -> *mut Emdstar
 /// # Safety
 /// `data` must be NULL or point to `len` readable bytes.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn emdstar_table_open_bytes(data: *const u8, len: usize) -> *mut EmdstarTable {
+pub unsafe extern "C" fn emdstar_table_open_bytes(
+    data: *const u8,
+    len: usize,
+) -> *mut EmdstarTable {
     make(|| {
         if data.is_null() {
             return Err(input_err("data is NULL"));

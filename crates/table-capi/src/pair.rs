@@ -1,8 +1,8 @@
 //! Pair handles: one law and one pair of bodies, checked once, for many lookups.
 
 use crate::{
-    EmdstarMor, EmdstarSource, EmdstarStatus, EmdstarTable, Failure, TableRef, guarded,
-    input_err, make, put, table_err, table_of,
+    EmdstarMor, EmdstarSource, EmdstarStatus, EmdstarTable, Failure, TableRef, guarded, input_err,
+    make, put, table_err, table_of,
 };
 use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, PairLaw, PairProperties, Sphere, ViscoelasticHertz, scale,
@@ -40,7 +40,8 @@ fn new_pair(
         let t = unsafe { table_of(table) }?.clone();
         let [r1, m1, r2, m2] = bodies;
         let pair = pair_of(r1, m1, r2, m2)?;
-        let law = PairLaw::same_material(&law.map_err(input_err)?, pair.r_eff).map_err(input_err)?;
+        let law =
+            PairLaw::same_material(&law.map_err(input_err)?, pair.r_eff).map_err(input_err)?;
         t.expect_model(law.model()).map_err(table_err)?;
         Ok(EmdstarPair {
             map: PairMap::new(&law, &pair).map_err(table_err)?,

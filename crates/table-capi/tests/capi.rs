@@ -143,7 +143,10 @@ fn c_example_looks_up_falls_back_and_collides() {
     );
     // The collision conserves momentum (equal masses: v1x + v2x = 0 before and after).
     assert!(value(&text, "momentum x after = ").abs() < 1e-12, "{text}");
-    assert!(text.contains("bad file: NULL (cannot read the table file"), "{text}");
+    assert!(
+        text.contains("bad file: NULL (cannot read the table file"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -162,7 +165,10 @@ fn cpp_example_through_the_raii_header() {
     let eps_n = value(&text, "eps_n = ");
     assert!(eps_n > 0.0 && eps_n < 1.0, "{text}");
     assert!(text.contains("out of box: status 1"), "{text}");
-    assert!(text.contains("with fallback: source 1, fallbacks 1"), "{text}");
+    assert!(
+        text.contains("with fallback: source 1, fallbacks 1"),
+        "{text}"
+    );
     // The ball leaves the floor upwards, slower than it came, its tangential velocity
     // unchanged (frictionless wall).
     let vz = value(&text, "bounce: v_z = ");
@@ -201,7 +207,12 @@ fn the_c_example_leaks_nothing_under_valgrind() {
     if !(have("gcc", "valgrind check") && have("valgrind", "valgrind check")) {
         return;
     }
-    let exe = compile("gcc", "c_valgrind", &[examples().join("c/lookup.c")], &["-g"]);
+    let exe = compile(
+        "gcc",
+        "c_valgrind",
+        &[examples().join("c/lookup.c")],
+        &["-g"],
+    );
     // Open, lookups, the failure paths (out of box, bad file) and close: no definite or
     // indirect leak and no invalid access. (The parsed default table, shared for the
     // life of the process, is still reachable by design.)

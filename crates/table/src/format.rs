@@ -70,7 +70,10 @@ fn piece_members(name: &str, p: &PieceParts, terms: &Terms) -> Vec<(String, Arra
         ),
         (
             format!("{name}_tree"),
-            Array::i64(vec![p.tree.len(), 2], p.tree.iter().flatten().copied().collect()),
+            Array::i64(
+                vec![p.tree.len(), 2],
+                p.tree.iter().flatten().copied().collect(),
+            ),
         ),
         (
             format!("{name}_split"),
@@ -120,18 +123,12 @@ impl Table {
                     vec![g.g.min, g.g.max, g.m.min, g.m.max, g.c.min, g.c.max],
                 ),
             ),
-            (
-                "b_knee".into(),
-                Array::f64(vec![], vec![self.b_map.knee]),
-            ),
+            ("b_knee".into(), Array::f64(vec![], vec![self.b_map.knee])),
             (
                 "degree".into(),
                 Array::i64(vec![], vec![self.degree as i64]),
             ),
-            (
-                "tolerance".into(),
-                Array::f64(vec![], vec![info.tolerance]),
-            ),
+            ("tolerance".into(), Array::f64(vec![], vec![info.tolerance])),
             (
                 "estimated_error".into(),
                 Array::f64(vec![NQ], info.estimated_error.to_vec()),
@@ -211,7 +208,9 @@ impl Table {
                 Data::F64(v) if shape.is_none_or(|s| a.shape == s) => Ok(v.clone()),
                 _ => Err(TableError::Corrupt(format!(
                     "{name} should be a float64 array{}, found shape {:?}",
-                    shape.map(|s| format!(" of shape {s:?}")).unwrap_or_default(),
+                    shape
+                        .map(|s| format!(" of shape {s:?}"))
+                        .unwrap_or_default(),
                     a.shape
                 ))),
             }
@@ -245,7 +244,11 @@ impl Table {
         }
         let degree = match ints("degree")? {
             (v, s) if s.is_empty() && (1..=16).contains(&v[0]) => v[0] as usize,
-            _ => return Err(TableError::Corrupt("degree must be one integer in 1..=16".into())),
+            _ => {
+                return Err(TableError::Corrupt(
+                    "degree must be one integer in 1..=16".into(),
+                ));
+            }
         };
         let mut pieces = Vec::with_capacity(4);
         for (name, active) in PIECES {

@@ -132,11 +132,7 @@ impl Piece {
             }
             nodes.push(Node {
                 split: s,
-                axis: if axis == LEAF {
-                    LEAF_AXIS
-                } else {
-                    axis as u8
-                },
+                axis: if axis == LEAF { LEAF_AXIS } else { axis as u8 },
                 next: next as u32,
             });
         }

@@ -296,7 +296,12 @@ mod tests {
 
     #[test]
     fn horner_matches_a_direct_sum_of_chebyshev_products() {
-        for (degree, max) in [(5, [5, 5, 5]), (4, [0, 4, 4]), (3, [3, 3, 0]), (6, [0, 6, 0])] {
+        for (degree, max) in [
+            (5, [5, 5, 5]),
+            (4, [0, 4, 4]),
+            (3, [3, 3, 0]),
+            (6, [0, 6, 0]),
+        ] {
             let terms = Terms::new(degree, max);
             let cheb: Vec<[f64; NQ]> = (0..terms.len())
                 .map(|k| std::array::from_fn(|q| ((k * 7 + q * 3) % 11) as f64 / 11.0 - 0.4))

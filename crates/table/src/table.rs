@@ -273,7 +273,11 @@ impl Table {
 
     /// MoR and time scale of an impact of the pair of `map`.
     #[inline]
-    pub fn lookup_pair(&self, map: &PairMap, impact: &Impact) -> Result<PhysicalLookup, TableError> {
+    pub fn lookup_pair(
+        &self,
+        map: &PairMap,
+        impact: &Impact,
+    ) -> Result<PhysicalLookup, TableError> {
         self.expect_model(map.law.model())?;
         let (x, time) = map.coords(&self.bounds, impact)?;
         Ok(PhysicalLookup {

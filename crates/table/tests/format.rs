@@ -23,7 +23,10 @@ fn coef(p: usize, k: usize, q: usize) -> f64 {
 
 fn terms(piece: usize) -> Terms {
     let active = PIECES[piece].1;
-    Terms::new(DEGREE, std::array::from_fn(|k| if active[k] { DEGREE } else { 0 }))
+    Terms::new(
+        DEGREE,
+        std::array::from_fn(|k| if active[k] { DEGREE } else { 0 }),
+    )
 }
 
 fn bounds() -> RectBounds {
@@ -106,19 +109,39 @@ fn lookups_evaluate_the_patch_polynomial_of_their_leaf() {
     let t = table();
     let r = bounds().axes();
     let (a_mid, c_mid) = (0.5 * (r[0].min + r[0].max), 0.5 * (r[2].min + r[2].max));
-    for (a, b, c) in [(0.3, 2.0, -3.0), (4.0, 7.5, 1.0), (4.4, 0.5, -9.0), (1.0, 9.0, 2.0)] {
+    for (a, b, c) in [
+        (0.3, 2.0, -3.0),
+        (4.0, 7.5, 1.0),
+        (4.4, 0.5, -9.0),
+        (1.0, 9.0, 2.0),
+    ] {
         let x = RectCoords { a, b, c };
         let got = t.logs_at(&x).unwrap();
         let tb = local(b, r[1].min, r[1].max);
         let want = if a < a_mid {
-            chebyshev_sum(0, 0, [local(a, r[0].min, a_mid), tb, local(c, r[2].min, r[2].max)])
+            chebyshev_sum(
+                0,
+                0,
+                [local(a, r[0].min, a_mid), tb, local(c, r[2].min, r[2].max)],
+            )
         } else if c < c_mid {
-            chebyshev_sum(0, 1, [local(a, a_mid, r[0].max), tb, local(c, r[2].min, c_mid)])
+            chebyshev_sum(
+                0,
+                1,
+                [local(a, a_mid, r[0].max), tb, local(c, r[2].min, c_mid)],
+            )
         } else {
-            chebyshev_sum(0, 2, [local(a, a_mid, r[0].max), tb, local(c, c_mid, r[2].max)])
+            chebyshev_sum(
+                0,
+                2,
+                [local(a, a_mid, r[0].max), tb, local(c, c_mid, r[2].max)],
+            )
         };
         for q in 0..NQ {
-            assert!((got[q] - want[q]).abs() < 1e-13, "{x:?} q{q}: {got:?} vs {want:?}");
+            assert!(
+                (got[q] - want[q]).abs() < 1e-13,
+                "{x:?} q{q}: {got:?} vs {want:?}"
+            );
         }
     }
     assert_eq!(t.pieces()[0].patch_count(), 3);
@@ -166,19 +189,63 @@ fn points_beyond_the_box_are_rejected_not_clamped() {
     let t = table();
     let [ra, rb, rc] = t.rect();
     for (x, axis) in [
-        (RectCoords { a: ra.max + 1e-9, b: 1.0, c: 0.0 }, "a"),
-        (RectCoords { a: 1.0, b: -1e-9, c: 0.0 }, "b"),
-        (RectCoords { a: 1.0, b: rb.max * 1.001, c: 0.0 }, "b"),
-        (RectCoords { a: 1.0, b: 1.0, c: rc.max + 0.1 }, "c"),
-        (RectCoords { a: f64::NAN, b: 1.0, c: 0.0 }, "a"),
+        (
+            RectCoords {
+                a: ra.max + 1e-9,
+                b: 1.0,
+                c: 0.0,
+            },
+            "a",
+        ),
+        (
+            RectCoords {
+                a: 1.0,
+                b: -1e-9,
+                c: 0.0,
+            },
+            "b",
+        ),
+        (
+            RectCoords {
+                a: 1.0,
+                b: rb.max * 1.001,
+                c: 0.0,
+            },
+            "b",
+        ),
+        (
+            RectCoords {
+                a: 1.0,
+                b: 1.0,
+                c: rc.max + 0.1,
+            },
+            "c",
+        ),
+        (
+            RectCoords {
+                a: f64::NAN,
+                b: 1.0,
+                c: 0.0,
+            },
+            "a",
+        ),
     ] {
         match t.logs_at(&x) {
             Err(TableError::OutOfBox { axis: got, .. }) => assert_eq!(got, axis),
             other => panic!("{x:?}: expected OutOfBox, got {other:?}"),
         }
     }
-    let err = t.logs_at(&RectCoords { a: 1.0, b: -1.0, c: 0.0 }).unwrap_err();
-    assert!(err.to_string().contains("outside the table's box: b = -1"), "{err}");
+    let err = t
+        .logs_at(&RectCoords {
+            a: 1.0,
+            b: -1.0,
+            c: 0.0,
+        })
+        .unwrap_err();
+    assert!(
+        err.to_string().contains("outside the table's box: b = -1"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -255,7 +322,11 @@ mod rejections {
         )
         .unwrap();
         let err = t
-            .lookup(&law, &pair, &Impact::from_speed_eccentricity(1.0, 0.5).unwrap())
+            .lookup(
+                &law,
+                &pair,
+                &Impact::from_speed_eccentricity(1.0, 0.5).unwrap(),
+            )
             .unwrap_err();
         assert_eq!(
             err.to_string(),
@@ -269,7 +340,10 @@ mod rejections {
         let bytes = table().to_bytes();
         for cut in [bytes.len() - 1, bytes.len() / 2, 100] {
             let msg = message(Table::from_bytes(&bytes[..cut]));
-            assert!(msg.starts_with("the table file is truncated"), "{cut}: {msg}");
+            assert!(
+                msg.starts_with("the table file is truncated"),
+                "{cut}: {msg}"
+            );
         }
         let msg = message(Table::from_bytes(b"hello"));
         assert!(msg.starts_with("not an emdstar MoR table"), "{msg}");
@@ -287,7 +361,10 @@ mod rejections {
         let mut bad = bytes.clone();
         bad[i + 3] ^= 0x10;
         let msg = message(Table::from_bytes(&bad));
-        assert!(msg.starts_with("checksum mismatch") && msg.contains("CRC-32"), "{msg}");
+        assert!(
+            msg.starts_with("checksum mismatch") && msg.contains("CRC-32"),
+            "{msg}"
+        );
         let edited = rewrite(&bytes, |name, a| {
             if name == "main_coef"
                 && let Data::F64(v) = &mut a.data
@@ -313,14 +390,20 @@ mod rejections {
             }
         }));
         let msg = message(Table::from_bytes(&nan));
-        assert!(msg.contains("main: patch 0 holds a non-finite coefficient"), "{msg}");
+        assert!(
+            msg.contains("main: patch 0 holds a non-finite coefficient"),
+            "{msg}"
+        );
         let shape = reseal(&rewrite(&bytes, |name, a| {
             if name == "elastic_split" {
                 a.shape = vec![a.len(), 1];
             }
         }));
         let msg = message(Table::from_bytes(&shape));
-        assert!(msg.contains("elastic_split should be a float64 array"), "{msg}");
+        assert!(
+            msg.contains("elastic_split should be a float64 array"),
+            "{msg}"
+        );
     }
 
     #[test]

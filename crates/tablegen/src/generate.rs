@@ -15,8 +15,7 @@ use crate::spec::Spec;
 use emdstar_contact::{Model, RectCoords, ScaledParams};
 use emdstar_table::npz::{Array, Data, read_npz, write_npz};
 use emdstar_table::{
-    LEAF, Mor, NQ, PIECES, PieceParts, Table, TableInfo, TableParts, Terms, mor_to_logs,
-    piece_box,
+    LEAF, Mor, NQ, PIECES, PieceParts, Table, TableInfo, TableParts, Terms, mor_to_logs, piece_box,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -361,7 +360,11 @@ pub fn refine(
         let mut next = Vec::new();
         for ((u, node, bx, depth), f) in frontier.into_iter().zip(fits) {
             let central = units[u].piece >= 2;
-            let limit = if central { CENTRAL_DEPTH } else { spec.max_depth };
+            let limit = if central {
+                CENTRAL_DEPTH
+            } else {
+                spec.max_depth
+            };
             let worst = f.error.iter().fold(0.0f64, |m, x| m.max(*x));
             let accept = match &f.cheb {
                 Some(_) => worst <= spec.tolerance || depth >= spec.max_depth,
@@ -414,11 +417,7 @@ fn term_max(spec: &Spec, piece: usize) -> [usize; 3] {
 pub fn assemble(spec: &Spec, trees: Vec<UnitTree>) -> Result<Table, String> {
     let all = units(spec);
     if trees.len() != all.len() {
-        return Err(format!(
-            "expected {} units, got {}",
-            all.len(),
-            trees.len()
-        ));
+        return Err(format!("expected {} units, got {}", all.len(), trees.len()));
     }
     let mut pieces: Vec<PieceParts> = Vec::new();
     let mut error = [0.0f64; NQ];
@@ -531,7 +530,11 @@ pub fn build_shard(
             "tree",
             Array::i64(
                 vec![trees.iter().map(|t| t.tree.len()).sum(), 2],
-                trees.iter().flat_map(|t| t.tree.iter().flatten()).copied().collect(),
+                trees
+                    .iter()
+                    .flat_map(|t| t.tree.iter().flatten())
+                    .copied()
+                    .collect(),
             ),
         ),
         (
@@ -545,7 +548,11 @@ pub fn build_shard(
             "coef",
             Array::f64(
                 vec![trees.iter().map(|t| t.cheb.len()).sum(), NQ],
-                trees.iter().flat_map(|t| t.cheb.iter().flatten()).copied().collect(),
+                trees
+                    .iter()
+                    .flat_map(|t| t.cheb.iter().flatten())
+                    .copied()
+                    .collect(),
             ),
         ),
         (
@@ -629,7 +636,13 @@ pub fn merge(parts: &[Vec<u8>]) -> Result<Table, String> {
             c0 += nc;
             trees.push(t);
         }
-        pieces.push((shard[0], shard[1], range[0] as usize, range[1] as usize, trees));
+        pieces.push((
+            shard[0],
+            shard[1],
+            range[0] as usize,
+            range[1] as usize,
+            trees,
+        ));
     }
     let spec = Spec::parse(spec_text.as_deref().ok_or("no parts given")?)?;
     pieces.sort_by_key(|p| p.0);

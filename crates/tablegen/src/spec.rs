@@ -122,7 +122,9 @@ impl Spec {
         }
         let b_knee = raw.b_knee.unwrap_or(0.0);
         if !(b_knee.is_finite() && b_knee >= 0.0) {
-            return Err(format!("b_knee = {b_knee} must be a distance >= 0 (0: no map)"));
+            return Err(format!(
+                "b_knee = {b_knee} must be a distance >= 0 (0: no map)"
+            ));
         }
         let max_depth = raw.max_depth.unwrap_or(14);
         if max_depth > 30 {
@@ -220,8 +222,10 @@ mod tests {
 
     #[test]
     fn presets_and_explicit_ranges_agree() {
-        let a = Spec::parse("model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4")
-            .unwrap();
+        let a = Spec::parse(
+            "model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4",
+        )
+        .unwrap();
         let b = Spec::parse(
             "model='linear'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4\n[box]\nstiffness=[1e3,1e6]\n\
              radius=[0.001,0.1]\ndensity=[250.0,3250.0]\ndamping=[0.01,1.25]\n\

@@ -68,7 +68,11 @@ fn the_near_central_extension_is_refused_where_it_does_not_hold() {
     .unwrap();
     let table = build(&spec, &exact_solver, false).unwrap();
     let [ax, bx, cx] = table.rect();
-    let bound = table.info().estimated_error.iter().fold(0.0f64, |m, e| m.max(*e));
+    let bound = table
+        .info()
+        .estimated_error
+        .iter()
+        .fold(0.0f64, |m, e| m.max(*e));
     let (mut refused, mut answered) = (0, 0);
     for j in 0..8 {
         for k in 0..8 {

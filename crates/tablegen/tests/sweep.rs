@@ -81,7 +81,11 @@ fn table_patches_fit_exact_solves_and_files_reload() {
         seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
         lo + (hi - lo) * ((seed >> 11) as f64 / (1u64 << 53) as f64)
     };
-    let bound = table.info().estimated_error.iter().fold(0.0f64, |m, e| m.max(*e));
+    let bound = table
+        .info()
+        .estimated_error
+        .iter()
+        .fold(0.0f64, |m, e| m.max(*e));
     assert!(bound > 0.0 && bound <= 1e-5, "{bound}");
     for _ in 0..20 {
         let x = emdstar_contact::RectCoords {
