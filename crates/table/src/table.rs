@@ -617,6 +617,34 @@ where
         }
     }
 
+    /// Table lookup of a physical impact of the pair of `map`, or the exact solve when
+    /// it lies outside the box.
+    pub fn lookup_pair(
+        &self,
+        map: &PairMap,
+        impact: &Impact,
+    ) -> Result<(PhysicalLookup, Source), TableError> {
+        match self.table.lookup_pair(map, impact) {
+            Ok(hit) => Ok((hit, Source::Table)),
+            Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) => {
+                self.fallbacks
+                    .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let s = emdstar_contact::scale(map.law(), map.pair(), impact)?;
+                let mor =
+                    (self.solve)(self.table.model, &s.params).map_err(TableError::Fallback)?;
+                Ok((
+                    PhysicalLookup {
+                        mor,
+                        time: s.time,
+                        length: s.length,
+                    },
+                    Source::ExactSolve,
+                ))
+            }
+            Err(e) => Err(e),
+        }
+    }
+
     /// Number of exact solves so far.
     pub fn fallbacks(&self) -> u64 {
         self.fallbacks.load(std::sync::atomic::Ordering::Relaxed)
