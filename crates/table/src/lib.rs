@@ -79,6 +79,7 @@
 //! ```
 
 mod error;
+mod fastmath;
 mod format;
 pub mod npz;
 mod piece;

@@ -11,13 +11,13 @@ use emdstar_contact::{
 /// The MoR from the four stored (log) quantities ln(1−ε_r), ln(−ε_ṙ), ln ε_φ, ln ε_t.
 #[inline]
 pub fn mor_from_logs(q: [f64; NQ]) -> Mor {
-    let one_minus_eps_r = q[0].exp();
+    let [one_minus_eps_r, eps_n, eps_phi, eps_t] = crate::fastmath::exp4(q);
     Mor {
         eps_r: 1.0 - one_minus_eps_r,
         one_minus_eps_r,
-        eps_rdot: -q[1].exp(),
-        eps_phi: q[2].exp(),
-        eps_t: q[3].exp(),
+        eps_rdot: -eps_n,
+        eps_phi,
+        eps_t,
     }
 }
 
