@@ -54,14 +54,77 @@ pub struct Piece {
     parts: PieceParts,
     lo: [f64; 3],
     hi: [f64; 3],
-    scale: [f64; 3],
-    roots: Vec<u32>,
+    /// Cells of the start grid per axis and their number per unit length.
+    grid: [usize; 3],
+    grid_scale: [f64; 3],
+    /// Per start-grid cell, the deepest node whose box holds the whole cell: a lookup
+    /// starts there, one load instead of the top levels of its tree.
+    start: Vec<u32>,
     nodes: Vec<Node>,
     patches: Vec<Patch>,
     /// Patch boxes [lo, hi] per axis.
     boxes: Vec<[[f64; 2]; 3]>,
     terms: Terms,
     mono: Vec<[f64; NQ]>,
+}
+
+/// Start-grid cells per top cell along an axis at most (2^5), and start-grid cells in
+/// all at most.
+const GRID_REFINE: usize = 5;
+const GRID_MAX: usize = 1 << 15;
+
+/// The start grid of a piece: each top cell cut into 2^r equal parts along its axes
+/// (r as large as [`GRID_MAX`] allows), and for each part the deepest node whose box
+/// holds it. Splits within a tiny margin of a part's faces stop the descent, so a
+/// lookup that rounding puts into the neighbouring part still compares against them.
+fn start_grid(
+    cells: &[usize; 3],
+    roots: &[u32],
+    nodes: &[Node],
+    lo: [f64; 3],
+    hi: [f64; 3],
+    active: [bool; 3],
+) -> ([usize; 3], Vec<u32>) {
+    let dims = active.iter().filter(|a| **a).count().max(1);
+    let top: usize = cells.iter().product();
+    let mut r = 0;
+    while r < GRID_REFINE && top << (dims * (r + 1)) <= GRID_MAX {
+        r += 1;
+    }
+    let grid: [usize; 3] = std::array::from_fn(|k| if active[k] { cells[k] << r } else { 1 });
+    let width: [f64; 3] = std::array::from_fn(|k| (hi[k] - lo[k]) / grid[k] as f64);
+    let mut start = Vec::with_capacity(grid.iter().product());
+    for i in 0..grid[0] {
+        for j in 0..grid[1] {
+            for k in 0..grid[2] {
+                let idx = [i, j, k];
+                // (Along a missing axis the index is 0 and stays 0.)
+                let root = roots[((i >> r) * cells[1] + (j >> r)) * cells[2] + (k >> r)];
+                let mut n = root as usize;
+                loop {
+                    let node = nodes[n];
+                    if node.axis == LEAF_AXIS {
+                        break;
+                    }
+                    let a = node.axis as usize;
+                    let (cell_lo, cell_hi) = (
+                        lo[a] + width[a] * idx[a] as f64,
+                        lo[a] + width[a] * (idx[a] + 1) as f64,
+                    );
+                    let margin = 1e-9 * width[a];
+                    if node.split >= cell_hi + margin {
+                        n = node.next as usize;
+                    } else if node.split <= cell_lo - margin {
+                        n = node.next as usize + 1;
+                    } else {
+                        break;
+                    }
+                }
+                start.push(n as u32);
+            }
+        }
+    }
+    (grid, start)
 }
 
 /// [`Terms::eval`] compiled with 256-bit AVX registers: the four quantities of a
@@ -229,9 +292,10 @@ impl Piece {
                 }),
             })
             .collect();
-        let scale = std::array::from_fn(|k| {
+        let (grid, start) = start_grid(&parts.cells, &roots, &nodes, lo, hi, active);
+        let grid_scale = std::array::from_fn(|k| {
             if active[k] {
-                parts.cells[k] as f64 / (hi[k] - lo[k])
+                grid[k] as f64 / (hi[k] - lo[k])
             } else {
                 0.0
             }
@@ -240,8 +304,9 @@ impl Piece {
             parts,
             lo,
             hi,
-            scale,
-            roots,
+            grid,
+            grid_scale,
+            start,
             nodes,
             patches,
             boxes,
@@ -268,12 +333,12 @@ impl Piece {
     /// The patch holding `x` and the local coordinates there.
     #[inline(always)]
     fn locate(&self, x: [f64; 3]) -> (usize, [f64; 3]) {
-        let c = self.parts.cells;
+        let g = self.grid;
         let idx: [usize; 3] = std::array::from_fn(|k| {
             // x ≥ lo up to rounding; `as` saturates, so a hair below lo gives cell 0.
-            (((x[k] - self.lo[k]) * self.scale[k]) as usize).min(c[k] - 1)
+            (((x[k] - self.lo[k]) * self.grid_scale[k]) as usize).min(g[k] - 1)
         });
-        let mut n = self.roots[(idx[0] * c[1] + idx[1]) * c[2] + idx[2]] as usize;
+        let mut n = self.start[(idx[0] * g[1] + idx[1]) * g[2] + idx[2]] as usize;
         let mut node = self.nodes[n];
         while node.axis != LEAF_AXIS {
             n = node.next as usize + (x[node.axis as usize] >= node.split) as usize;
