@@ -10,6 +10,25 @@
 /// Number of stored quantities per point (the four logs of the MoR).
 pub const NQ: usize = 4;
 
+/// A term's coefficients of the four quantities, in float64 or float32.
+pub trait Coef: Copy {
+    fn wide(&self) -> [f64; NQ];
+}
+
+impl Coef for [f64; NQ] {
+    #[inline(always)]
+    fn wide(&self) -> [f64; NQ] {
+        *self
+    }
+}
+
+impl Coef for [f32; NQ] {
+    #[inline(always)]
+    fn wide(&self) -> [f64; NQ] {
+        self.map(f64::from)
+    }
+}
+
 /// The term set of total degree `degree` with per-axis limits `max`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Terms {
@@ -110,15 +129,15 @@ impl Terms {
     /// time; other sets of up to [`FAST_TERMS`] terms form the monomials first and sum
     /// them in four independent accumulators; larger ones use the general Horner.
     #[inline(always)]
-    pub fn eval(&self, coefs: &[[f64; NQ]], t: [f64; 3]) -> [f64; NQ] {
+    pub fn eval<K: Coef>(&self, coefs: &[K], t: [f64; 3]) -> [f64; NQ] {
         macro_rules! fixed {
             ($($n:literal),*) => {
                 match (self.degree, self.max) {
                     $(
-                        ($n, [$n, $n, $n]) => return eval_fixed::<$n, $n, $n, $n>(coefs, t),
-                        ($n, [$n, $n, 0]) => return eval_fixed::<$n, $n, $n, 0>(coefs, t),
-                        ($n, [0, $n, $n]) => return eval_fixed::<$n, 0, $n, $n>(coefs, t),
-                        ($n, [0, $n, 0]) => return eval_fixed::<$n, 0, $n, 0>(coefs, t),
+                        ($n, [$n, $n, $n]) => return eval_fixed::<K, $n, $n, $n, $n>(coefs, t),
+                        ($n, [$n, $n, 0]) => return eval_fixed::<K, $n, $n, $n, 0>(coefs, t),
+                        ($n, [0, $n, $n]) => return eval_fixed::<K, $n, 0, $n, $n>(coefs, t),
+                        ($n, [0, $n, 0]) => return eval_fixed::<K, $n, 0, $n, 0>(coefs, t),
                     )*
                     _ => {}
                 }
@@ -150,12 +169,14 @@ impl Terms {
         let full = nt / 4 * 4;
         for (cs, ms) in coefs[..full].chunks_exact(4).zip(m[..full].chunks_exact(4)) {
             for l in 0..4 {
+                let c = cs[l].wide();
                 for q in 0..NQ {
-                    acc[l][q] += cs[l][q] * ms[l];
+                    acc[l][q] += c[q] * ms[l];
                 }
             }
         }
         for (l, (c, w)) in coefs[full..].iter().zip(&m[full..nt]).enumerate() {
+            let c = c.wide();
             for q in 0..NQ {
                 acc[l][q] += c[q] * w;
             }
@@ -165,7 +186,7 @@ impl Terms {
 
     /// The same polynomial by nested Horner (k, then j, then i): a second route for
     /// the tests and for term sets beyond [`FAST_TERMS`].
-    pub fn horner(&self, coefs: &[[f64; NQ]], t: [f64; 3]) -> [f64; NQ] {
+    pub fn horner<K: Coef>(&self, coefs: &[K], t: [f64; 3]) -> [f64; NQ] {
         horner_runs(&self.runs, coefs, t)
     }
 }
@@ -173,8 +194,8 @@ impl Terms {
 /// Nested Horner for the set (N, [A, B, C]): every loop bound is known at compile
 /// time.
 #[inline(always)]
-fn eval_fixed<const N: usize, const A: usize, const B: usize, const C: usize>(
-    coefs: &[[f64; NQ]],
+fn eval_fixed<K: Coef, const N: usize, const A: usize, const B: usize, const C: usize>(
+    coefs: &[K],
     t: [f64; 3],
 ) -> [f64; NQ] {
     let [x, y, z] = t;
@@ -193,7 +214,7 @@ fn eval_fixed<const N: usize, const A: usize, const B: usize, const C: usize>(
             let nk = (if C < N - i - j { C } else { N - i - j }) + 1;
             offset -= nk;
             let line = &coefs[offset..offset + nk];
-            let mut r = line[nk - 1];
+            let mut r = line[nk - 1].wide();
             let mut k = nk - 1;
             while k > 0 {
                 k -= 1;
@@ -243,7 +264,8 @@ fn chebyshev_power_matrix(n_max: usize) -> Vec<Vec<f64>> {
 }
 
 #[inline(always)]
-fn fmadd(acc: [f64; NQ], x: f64, c: &[f64; NQ]) -> [f64; NQ] {
+fn fmadd<K: Coef>(acc: [f64; NQ], x: f64, c: &K) -> [f64; NQ] {
+    let c = c.wide();
     [
         acc[0] * x + c[0],
         acc[1] * x + c[1],
@@ -253,7 +275,7 @@ fn fmadd(acc: [f64; NQ], x: f64, c: &[f64; NQ]) -> [f64; NQ] {
 }
 
 #[inline(always)]
-fn horner_runs(runs: &[(usize, usize, usize)], coefs: &[[f64; NQ]], t: [f64; 3]) -> [f64; NQ] {
+fn horner_runs<K: Coef>(runs: &[(usize, usize, usize)], coefs: &[K], t: [f64; 3]) -> [f64; NQ] {
     let [x, y, z] = t;
     // Walk the runs backwards: for fixed i the j-polynomial is built by Horner in y from
     // its highest j down, each j's k-polynomial by Horner in z.
@@ -271,7 +293,7 @@ fn horner_runs(runs: &[(usize, usize, usize)], coefs: &[[f64; NQ]], t: [f64; 3])
         }
         let start = end - nk;
         let line = &coefs[start..end];
-        let mut r = line[nk - 1];
+        let mut r = line[nk - 1].wide();
         for c in line[..nk - 1].iter().rev() {
             r = fmadd(r, z, c);
         }
