@@ -178,7 +178,7 @@ impl Piece {
         let max = std::array::from_fn(|k| if active[k] { degree } else { 0 });
         let terms = Terms::new(degree, max);
         let nt = terms.len();
-        if nt == 0 || !parts.cheb.len().is_multiple_of(nt) {
+        if nt == 0 || parts.cheb.len() % nt != 0 {
             return Err(bad(format!(
                 "{} coefficient rows are not a whole number of patches of {nt} terms",
                 parts.cheb.len()

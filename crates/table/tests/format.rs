@@ -408,7 +408,8 @@ mod rejections {
 
     #[test]
     fn malformed_trees() {
-        let cases: [(&str, fn(&mut emdstar_table::TableParts)); 5] = [
+        type Edit = fn(&mut emdstar_table::TableParts);
+        let cases: [(&str, Edit); 5] = [
             ("is not reachable", |p| p.main.tree[0] = [LEAF, 0]),
             ("has children", |p| p.main.tree[2] = [2, 1]),
             ("outside its box", |p| p.main.split[2] = 1e6),

@@ -265,8 +265,8 @@ fn fit(spec: &Spec, solve: &Solver, piece: usize, bx: &[[f64; 2]; 3]) -> Result<
                     let w = if j == 0 || j == m - 1 { 0.5 } else { 1.0 }
                         * (std::f64::consts::PI * (kk * j) as f64 / np as f64).cos();
                     let v = coef[base + j * stride[k]];
-                    for q in 0..NQ {
-                        s[q] += w * v[q];
+                    for (s, v) in s.iter_mut().zip(v) {
+                        *s += w * v;
                     }
                 }
                 let f = if kk == 0 || kk == m - 1 { 1.0 } else { 2.0 } / np as f64;
@@ -293,8 +293,8 @@ fn fit(spec: &Spec, solve: &Solver, piece: usize, bx: &[[f64; 2]; 3]) -> Result<
                 }
                 let c = coef[i * stride[0] + j * stride[1] + k * stride[2]];
                 let size = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                for q in 0..NQ {
-                    error[q] += c[q].abs();
+                for (e, x) in error.iter_mut().zip(c) {
+                    *e += x.abs();
                 }
                 let sum = (i + j + k) as f64;
                 for (a, idx) in [i, j, k].into_iter().enumerate() {
@@ -378,8 +378,8 @@ pub fn refine(
                 match f.cheb {
                     Some(c) => {
                         t.cheb.extend(c);
-                        for q in 0..NQ {
-                            t.error[q] = t.error[q].max(f.error[q]);
+                        for (e, x) in t.error.iter_mut().zip(f.error) {
+                            *e = e.max(x);
                         }
                     }
                     None => {
@@ -447,8 +447,8 @@ pub fn assemble(spec: &Spec, trees: Vec<UnitTree>) -> Result<Table, String> {
             }));
             p.split.extend(&t.split);
             p.cheb.extend(&t.cheb);
-            for q in 0..NQ {
-                error[q] = error[q].max(t.error[q]);
+            for (e, x) in error.iter_mut().zip(t.error) {
+                *e = e.max(x);
             }
         }
         pieces.push(p);
