@@ -126,7 +126,7 @@ class Table:
         time_scale (T, s: the contact lasts eps_t * T) and, with the fallback, source.
         """
         shape, law, geometry = _columns(self.model, params, radius2, density2)
-        cols = self._t.lookup(law, *geometry, bool(exact_fallback))
+        cols = self._t.lookup(law, list(geometry), bool(exact_fallback))
         return _result(shape, cols, exact_fallback)
 
     def __repr__(self):
@@ -136,7 +136,7 @@ class Table:
 def mor(*, model: str, radius2=None, density2=None, **params):
     """Exact MoR arrays (one ODE solve per impact); same keywords as ``Table.lookup``."""
     shape, law, geometry = _columns(model, params, radius2, density2)
-    return _result(shape, _core.exact(model, law, *geometry), False)
+    return _result(shape, _core.exact(model, law, list(geometry)), False)
 
 
 def mor_scaled(*, model: str, l_tilde, c_phi, c_dis):

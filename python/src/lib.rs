@@ -14,21 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Arc;
 
-#[derive(Clone)]
-enum TableRef {
-    Static(&'static Table),
-    Owned(Arc<Table>),
-}
-
-impl std::ops::Deref for TableRef {
-    type Target = Table;
-    fn deref(&self) -> &Table {
-        match self {
-            Self::Static(t) => t,
-            Self::Owned(t) => t,
-        }
-    }
-}
+use emdstar_table::SharedTable as TableRef;
 
 fn table_error(e: TableError) -> PyErr {
     match e {
@@ -106,33 +92,17 @@ impl PyTable {
         Ok(d)
     }
 
-    /// MoR arrays (1−ε_r, ε_ṙ, ε_φ, ε_t, T, source) of impacts given as equal-length
-    /// arrays: the law's two or three parameters, the two spheres (radius, density),
-    /// speed and eccentricity.
-    #[allow(clippy::too_many_arguments)]
+    /// MoR arrays (1−ε_r, ε_r, ε_ṙ, ε_φ, ε_t, T, source) of impacts given as
+    /// equal-length arrays: the law's two or three parameters, and the geometry
+    /// (radius, density, radius2, density2, speed, eccentricity).
     fn lookup<'py>(
         &self,
         py: Python<'py>,
         law: Vec<PyReadonlyArray1<'py, f64>>,
-        radius: PyReadonlyArray1<'py, f64>,
-        density: PyReadonlyArray1<'py, f64>,
-        radius2: PyReadonlyArray1<'py, f64>,
-        density2: PyReadonlyArray1<'py, f64>,
-        speed: PyReadonlyArray1<'py, f64>,
-        eccentricity: PyReadonlyArray1<'py, f64>,
+        geometry: Vec<PyReadonlyArray1<'py, f64>>,
         exact_fallback: bool,
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
-        let inputs = Inputs::new(
-            &law,
-            [
-                &radius,
-                &density,
-                &radius2,
-                &density2,
-                &speed,
-                &eccentricity,
-            ],
-        )?;
+        let inputs = Inputs::new(&law, &geometry)?;
         let model = self.table.model();
         let mut out = Outputs::new(inputs.n);
         for i in 0..inputs.n {
@@ -165,20 +135,25 @@ struct Inputs<'a> {
 }
 
 impl<'a> Inputs<'a> {
+    /// `law`: the law's parameters; `geometry`: radius, density, radius2, density2,
+    /// speed, eccentricity.
     fn new(
         law: &'a [PyReadonlyArray1<'a, f64>],
-        cols: [&'a PyReadonlyArray1<'a, f64>; 6],
+        geometry: &'a [PyReadonlyArray1<'a, f64>],
     ) -> PyResult<Self> {
-        let law: Vec<&[f64]> = law
-            .iter()
-            .map(|a| a.as_slice())
-            .collect::<Result<_, _>>()
-            .map_err(value_error)?;
-        let cols = cols
-            .map(|a| a.as_slice())
-            .into_iter()
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(value_error)?;
+        let slices = |a: &'a [PyReadonlyArray1<'a, f64>]| -> PyResult<Vec<&'a [f64]>> {
+            a.iter()
+                .map(|a| a.as_slice())
+                .collect::<Result<_, _>>()
+                .map_err(value_error)
+        };
+        let law = slices(law)?;
+        let cols = slices(geometry)?;
+        if cols.len() != 6 {
+            return Err(PyValueError::new_err(
+                "geometry needs radius, density, radius2, density2, speed, eccentricity",
+            ));
+        }
         let n = cols[0].len();
         if law.iter().chain(&cols).any(|c| c.len() != n) {
             return Err(PyValueError::new_err("the input arrays differ in length"));
@@ -248,30 +223,14 @@ impl Outputs {
 
 /// Exact MoR arrays of impacts (same inputs as `Table.lookup`), one ODE solve each.
 #[pyfunction]
-#[allow(clippy::too_many_arguments)]
 fn exact<'py>(
     py: Python<'py>,
     model: &str,
     law: Vec<PyReadonlyArray1<'py, f64>>,
-    radius: PyReadonlyArray1<'py, f64>,
-    density: PyReadonlyArray1<'py, f64>,
-    radius2: PyReadonlyArray1<'py, f64>,
-    density2: PyReadonlyArray1<'py, f64>,
-    speed: PyReadonlyArray1<'py, f64>,
-    eccentricity: PyReadonlyArray1<'py, f64>,
+    geometry: Vec<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
     let model = model_of(model)?;
-    let inputs = Inputs::new(
-        &law,
-        [
-            &radius,
-            &density,
-            &radius2,
-            &density2,
-            &speed,
-            &eccentricity,
-        ],
-    )?;
+    let inputs = Inputs::new(&law, &geometry)?;
     let mut out = Outputs::new(inputs.n);
     for i in 0..inputs.n {
         let (law, pair, impact) = inputs.case(model, i)?;

@@ -27,7 +27,7 @@ use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, ScaledParams, Sphere,
     ViscoelasticHertz,
 };
-use emdstar_table::{Mor, Table, TableError};
+use emdstar_table::{Mor, SharedTable, Table, TableError};
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -141,21 +141,7 @@ pub struct EmdstarTable {
 
 /// A default table (shared for the whole process) or one read from a file (shared
 /// with the pairs built on it, so closing the table first is safe).
-#[derive(Clone)]
-enum TableRef {
-    Static(&'static Table),
-    Owned(Arc<Table>),
-}
-
-impl std::ops::Deref for TableRef {
-    type Target = Table;
-    fn deref(&self) -> &Table {
-        match self {
-            Self::Static(t) => t,
-            Self::Owned(t) => t,
-        }
-    }
-}
+type TableRef = SharedTable;
 
 thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());

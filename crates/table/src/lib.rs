@@ -97,6 +97,6 @@ pub use format::{FORMAT_VERSION, QUANTITIES, TableInfo, fnv1a64};
 pub use piece::{LEAF, Piece, PieceParts};
 pub use poly::{NQ, Terms};
 pub use table::{
-    BMap, PIECES, PairLookup, PairMap, PhysicalLookup, Source, Table, TableParts, WithFallback,
+    BMap, PIECES, PairLookup, PairMap, PhysicalLookup, SharedTable, Source, Table, TableParts, WithFallback,
     mor_from_logs, mor_to_logs, piece_box,
 };

@@ -573,6 +573,24 @@ impl<'t> PairLookup<'t> {
     }
 }
 
+/// A table shared without copying: a `'static` one (such as an embedded default) or
+/// one loaded at run time, behind an `Arc`. Cloning shares it.
+#[derive(Debug, Clone)]
+pub enum SharedTable {
+    Static(&'static Table),
+    Owned(std::sync::Arc<Table>),
+}
+
+impl std::ops::Deref for SharedTable {
+    type Target = Table;
+    fn deref(&self) -> &Table {
+        match self {
+            Self::Static(t) => t,
+            Self::Owned(t) => t,
+        }
+    }
+}
+
 /// Where a [`WithFallback`] answer came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Source {
