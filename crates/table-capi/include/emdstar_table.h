@@ -111,6 +111,13 @@ extern "C" {
 // `path` must be NULL or a NUL-terminated string.
 struct EmdstarTable *emdstar_table_open(const char *path);
 
+// Reads a table from `len` bytes at `data` (e.g. a table embedded in the caller's own
+// binary); the bytes are parsed, not kept. NULL on failure.
+//
+// # Safety
+// `data` must be NULL or point to `len` readable bytes.
+struct EmdstarTable *emdstar_table_open_bytes(const uint8_t *data, size_t len);
+
 // Opens the default table of `model`, embedded in the library: parsed once per
 // process, then shared by every handle (no copy). NULL on failure.
 struct EmdstarTable *emdstar_table_open_default(enum EmdstarModel model);

@@ -80,7 +80,7 @@ const GRID_REFINE: usize = 5;
 const GRID_MAX: usize = 1 << 15;
 
 /// The start grid of a piece: each top cell cut into 2^r equal parts along its axes
-/// (r as large as [`GRID_MAX`] allows), and for each part the deepest node whose box
+/// (r as large as [`GRID_MAX`] and the tree's size allow), and for each part the deepest node whose box
 /// holds it. Splits within a tiny margin of a part's faces stop the descent, so a
 /// lookup that rounding puts into the neighbouring part still compares against them.
 fn start_grid(
@@ -93,8 +93,10 @@ fn start_grid(
 ) -> ([usize; 3], Vec<u32>) {
     let dims = active.iter().filter(|a| **a).count().max(1);
     let top: usize = cells.iter().product();
+    // No finer than about eight grid cells per patch: beyond, it only costs memory.
+    let limit = GRID_MAX.min(8 * nodes.len().max(1));
     let mut r = 0;
-    while r < GRID_REFINE && top << (dims * (r + 1)) <= GRID_MAX {
+    while r < GRID_REFINE && top << (dims * (r + 1)) <= limit {
         r += 1;
     }
     let grid: [usize; 3] = std::array::from_fn(|k| if active[k] { cells[k] << r } else { 1 });

@@ -38,6 +38,8 @@ pub struct Terms {
     pub powers: Vec<[usize; 3]>,
     /// For each (i, j) run of the storage order: (i, j, number of k terms).
     runs: Vec<(usize, usize, usize)>,
+    /// Position of term (i, j, k) at (i·(n+1) + j)·(n+1) + k (usize::MAX if absent).
+    slot: Vec<usize>,
 }
 
 impl Terms {
@@ -51,11 +53,17 @@ impl Terms {
                 powers.extend((0..nk).map(|k| [i, j, k]));
             }
         }
+        let m = degree + 1;
+        let mut slot = vec![usize::MAX; m * m * m];
+        for (k, p) in powers.iter().enumerate() {
+            slot[(p[0] * m + p[1]) * m + p[2]] = k;
+        }
         Self {
             degree,
             max,
             powers,
             runs,
+            slot,
         }
     }
 
@@ -80,7 +88,11 @@ impl Terms {
 
     /// Position of the term with exponents `p`, if it belongs to the set.
     pub fn index(&self, p: [usize; 3]) -> Option<usize> {
-        self.powers.iter().position(|q| *q == p)
+        let m = self.degree + 1;
+        if p.iter().any(|&e| e >= m) {
+            return None;
+        }
+        Some(self.slot[(p[0] * m + p[1]) * m + p[2]]).filter(|&k| k != usize::MAX)
     }
 
     /// Converts Chebyshev coefficients (in storage order) to monomial ones. The set is
@@ -90,12 +102,6 @@ impl Terms {
         let n = self.degree;
         let t = chebyshev_power_matrix(n);
         let mut out = vec![[0.0; NQ]; self.len()];
-        let index: std::collections::HashMap<[usize; 3], usize> = self
-            .powers
-            .iter()
-            .enumerate()
-            .map(|(k, p)| (*p, k))
-            .collect();
         for (c, p) in cheb.iter().zip(&self.powers) {
             for i in 0..=p[0] {
                 let wi = t[p[0]][i];
@@ -112,7 +118,7 @@ impl Terms {
                         if w == 0.0 {
                             continue;
                         }
-                        let slot = &mut out[index[&[i, j, k]]];
+                        let slot = &mut out[self.index([i, j, k]).expect("closed set")];
                         for q in 0..NQ {
                             slot[q] += w * c[q];
                         }
