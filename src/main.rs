@@ -35,7 +35,10 @@ fn main() -> ExitCode {
         Command::Check(args) => cmd::check::run(&args),
         Command::Table(args) => cmd::table::run(&args),
         Command::Pair(args) => cmd::pair::run(&args),
-        Command::Run(args) => cmd::run::run(&args),
+        Command::Run(args) => match cmd::run::run(&args) {
+            Ok(code) => return code,
+            Err(e) => Err(e),
+        },
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Validate(args) => match cmd::validate::run(&args) {
             Ok(true) => Ok(()),

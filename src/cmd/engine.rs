@@ -1,4 +1,5 @@
-//! What `pair` and `run` share: the engine choice and the MD options.
+//! What `pair` and `run` share: the engine choice and its options, and building the
+//! engine a config and those options describe.
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -10,7 +11,7 @@ use std::path::Path;
 
 /// The simulation engine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Engine {
+pub enum EngineKind {
     /// Force-based DEM (time steps).
     Md,
     /// Classic event-driven MD with the force law's central restitution ε(v_n).
@@ -21,13 +22,13 @@ pub enum Engine {
     Hybrid,
 }
 
-/// Parses `--engine`; names the engines that are planned but not built yet.
-pub fn parse_engine(s: &str) -> Result<Engine, String> {
+/// Parses `--engine`.
+pub fn parse_engine(s: &str) -> Result<EngineKind, String> {
     match s {
-        "md" => Ok(Engine::Md),
-        "emd" => Ok(Engine::Emd),
-        "emdstar" => Ok(Engine::EmdStar),
-        "hybrid" => Ok(Engine::Hybrid),
+        "md" => Ok(EngineKind::Md),
+        "emd" => Ok(EngineKind::Emd),
+        "emdstar" => Ok(EngineKind::EmdStar),
+        "hybrid" => Ok(EngineKind::Hybrid),
         other => Err(format!(
             "unknown engine '{other}': the engines are 'md', 'emd', 'emdstar' and 'hybrid'"
         )),
@@ -59,15 +60,16 @@ pub fn load(path: &Path) -> Result<(Config, System)> {
     Ok((config, system))
 }
 
-/// The MD options and the number of steps to reach t_end. Without an explicit dt the
-/// step is `default_fraction` × the shortest expected contact time; either way it is
-/// then shortened so that t_end is a whole number of steps.
+/// The MD options (the command line over the config's `[md]`). Without an explicit dt
+/// the step is `default_fraction` × the shortest contact time expected up to the
+/// config's `t_end`, shortened so that the config's `t_end` is a whole number of steps
+/// (a run stopped earlier or resumed later keeps this step).
 pub fn md_options(
     config: &Config,
     system: &System,
     args: &MdArgs,
     default_fraction: f64,
-) -> Result<(MdOptions, u64)> {
+) -> Result<MdOptions> {
     let section = config.md.clone().unwrap_or_default();
     let contact_end: ContactEnd = match args.contact_end.as_ref().or(section.contact_end.as_ref()) {
         Some(s) => s.parse().map_err(anyhow::Error::msg)?,
@@ -90,12 +92,11 @@ pub fn md_options(
     if steps > 1e13 {
         bail!("t_end / dt = {steps:e} steps is too many; raise dt or lower t_end");
     }
-    let opts = MdOptions {
+    Ok(MdOptions {
         dt: t_end / steps,
         contact_end,
         skin: args.skin.or(section.skin),
-    };
-    Ok((opts, steps as u64))
+    })
 }
 
 /// A progress bar of `len` units drawn with `template` (hidden with --quiet).

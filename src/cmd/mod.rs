@@ -1,5 +1,6 @@
 //! One module per subcommand. Each exposes `XArgs` (clap) and `run(&XArgs) -> anyhow::Result<()>`.
 
+pub mod any_engine;
 pub mod bench;
 pub mod bench_edmd;
 pub mod bench_table;
@@ -12,5 +13,7 @@ pub mod lammps;
 pub mod mor;
 pub mod pair;
 pub mod run;
+pub mod run_loop;
+pub mod stop;
 pub mod table;
 pub mod validate;

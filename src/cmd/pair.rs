@@ -1,9 +1,9 @@
 //! `emdstar pair`: a few particles to t_end, printing the final state.
 
-use super::engine::{Engine, MdArgs, load, md_options, parse_engine};
+use super::any_engine::{AnyEngine, EngineArgs};
+use super::engine::load;
 use anyhow::Result;
 use clap::Args;
-use emdstar_dem::Md;
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -26,53 +26,55 @@ pub const PAIR_DT_FRACTION: f64 = 1.0 / 2000.0;
 pub struct PairArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// The engine: md, emd or emdstar.
-    #[arg(long, value_parser = parse_engine, default_value = "md")]
-    pub engine: Engine,
     #[command(flatten)]
-    pub md: MdArgs,
-    #[command(flatten)]
-    pub edmd: super::edmd_engine::EdmdArgs,
-    /// Print JSON: {"engine", "t", "particles": [{"position", "velocity"}, ...]}.
+    pub engine: EngineArgs,
+    /// Print JSON: {"engine", "t", "particles": [{"position", "velocity"}, ...], and for
+    /// the event-driven engines "stats"}.
     #[arg(long)]
     pub json: bool,
 }
 
 pub fn run(args: &PairArgs) -> Result<()> {
     let (config, system) = load(&args.config)?;
-    match args.engine {
-        Engine::Emd | Engine::EmdStar => {
-            super::edmd_engine::pair(&config, system, args.engine, &args.edmd, args.json)?;
+    let mut engine = AnyEngine::build(&args.engine, &config, system, PAIR_DT_FRACTION)?;
+    engine
+        .sim_mut()
+        .advance_to(config.t_end)
+        .map_err(|e| anyhow::anyhow!(e))?;
+    let sim = engine.sim();
+    let p = sim.particles();
+    if args.json {
+        let particles: Vec<_> = (0..p.len())
+            .map(|i| json!({"position": p.position[i], "velocity": p.velocity[i]}))
+            .collect();
+        let mut out = json!({"engine": sim.engine(), "t": sim.time(), "particles": particles});
+        if let Some(stats) = engine.summary_fields(1.0, 0, 1).get("stats") {
+            out["stats"] = stats.clone();
         }
-        Engine::Hybrid => {
-            anyhow::bail!("the hybrid engine runs gases: use `emdstar run CONFIG --engine hybrid`")
+        println!("{out}");
+    } else {
+        match sim.time_step() {
+            Some(dt) => println!(
+                "engine {}, t = {} s, dt = {dt:e} s, {} steps",
+                sim.engine(),
+                sim.time(),
+                sim.steps_done()
+            ),
+            None => println!("engine {}, t = {} s", sim.engine(), sim.time()),
         }
-        Engine::Md => {
-            let (opts, steps) = md_options(&config, &system, &args.md, PAIR_DT_FRACTION)?;
-            let mut md = Md::new(system, opts, config.t_end)?;
-            md.advance(steps)?;
-            let p = md.particles_in_config_order();
-            if args.json {
-                let particles: Vec<_> = (0..p.len())
-                    .map(|i| json!({"position": p.position[i], "velocity": p.velocity[i]}))
-                    .collect();
-                let out = json!({"engine": "md", "t": md.time(), "particles": particles});
-                println!("{out}");
-            } else {
-                println!(
-                    "engine md, t = {} s, dt = {:e} s, {} steps",
-                    md.time(),
-                    opts.dt,
-                    steps
-                );
-                for i in 0..p.len() {
-                    println!(
-                        "particle {i}: position {:?} m, velocity {:?} m/s",
-                        p.position[i], p.velocity[i]
-                    );
-                }
-            }
+        for i in 0..p.len() {
+            println!(
+                "particle {i}: position {:?} m, velocity {:?} m/s",
+                p.position[i], p.velocity[i]
+            );
         }
+    }
+    let fallbacks = engine.mor_fallbacks();
+    if fallbacks > 0 {
+        eprintln!(
+            "note: {fallbacks} impacts lay outside the MoR table's box and were solved exactly \
+             (`--mor table` makes them errors)"
+        );
     }
     Ok(())
 }

@@ -1,44 +1,68 @@
-//! `emdstar run`: simulate a gas, writing a trajectory and a thermo log.
+//! `emdstar run`: simulate a gas with any engine, writing a trajectory, a thermo log
+//! and checkpoints, and printing a summary.
 
-use super::engine::{
-    Engine, MdArgs, drift_fields, load, md_options, parse_engine, progress_bar, with_fields,
-};
+use super::any_engine::{AnyEngine, EngineArgs};
+use super::engine::{drift_fields, load, progress_bar, with_fields};
+use super::run_loop::{Plan, Ticks, drive};
+use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use emdstar_dem::{DEFAULT_DT_FRACTION, Md};
-use emdstar_system::{Thermo, ThermoLog, XyzWriter};
+use emdstar_dem::DEFAULT_DT_FRACTION;
+use emdstar_system::{Checkpoint, Config, ThermoLog, XyzWriter};
 use serde_json::json;
-use std::path::PathBuf;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
-/// Simulate a gas: progress bar, trajectory, thermo log and a summary JSON.
+/// Simulate a gas: progress bar, trajectory, thermo log, checkpoints and a summary JSON.
 ///
-/// Simulates the system of CONFIG up to t_end. Writes an extended-XYZ trajectory (for
-/// OVITO) and a thermo log, shows a progress bar on a terminal, and prints a summary
-/// JSON: wall time, particle-steps per second, energy and momentum drift.
+/// Simulates the system of CONFIG up to t_end with the chosen engine. Writes an
+/// extended-XYZ trajectory (for OVITO) and a thermo log, shows a progress bar on a
+/// terminal, and prints a summary JSON: wall time, rates, energy and momentum drift,
+/// the engine's counters.
 ///
 /// Files default to CONFIG's stem + .xyz / .log in the current directory ([output] in
-/// the config or --trajectory/--log override them); frames are written every t_end/20
-/// and log lines every t_end/100 unless [output] says otherwise.
+/// the config or --trajectory/--log override them; --trajectory none writes none);
+/// frames are written every t_end/20 and log lines every t_end/100 of the config's
+/// t_end unless [output] says otherwise. The log is written line by line, so it is
+/// readable while the run goes on.
+///
+/// Restarts: --checkpoint FILE writes the whole state when the run ends (and every
+/// [output] restart_interval); --resume FILE continues a run from its checkpoint, with
+/// the same config and engine options, appending to its trajectory and log. A run
+/// stopped and resumed ends in bitwise the same state as one that ran through. With
+/// --t-end a run stops earlier or goes on later than the config's t_end.
+///
+/// Ctrl-C (SIGINT) or SIGTERM stop the run at the next step or event: the log and
+/// trajectory are closed whole, a checkpoint is written (to --checkpoint, or next to
+/// the trajectory), and the summary says "interrupted"; the exit code is 130 or 143.
+///
+/// Example:
+///   emdstar run examples/configs/cooling_hertz_gas.toml --engine emdstar
+///   emdstar run gas.toml --engine md --t-end 0.5 --checkpoint half.ckpt
+///   emdstar run gas.toml --engine md --resume half.ckpt
 #[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
 pub struct RunArgs {
     /// The TOML config.
     pub config: PathBuf,
-    /// The engine: md, emd, emdstar or hybrid.
-    #[arg(long, value_parser = parse_engine, default_value = "md")]
-    pub engine: Engine,
     #[command(flatten)]
-    pub md: MdArgs,
-    #[command(flatten)]
-    pub edmd: super::edmd_engine::EdmdArgs,
-    #[command(flatten)]
-    pub hybrid: super::hybrid_engine::HybridArgs,
-    /// Trajectory file (extended XYZ).
+    pub engine: EngineArgs,
+    /// Trajectory file (extended XYZ), or "none".
     #[arg(long, value_name = "PATH")]
     pub trajectory: Option<PathBuf>,
     /// Thermo log file.
     #[arg(long, value_name = "PATH")]
     pub log: Option<PathBuf>,
+    /// Stop at this time (s) instead of the config's t_end (which still sets the
+    /// default output intervals and the time step).
+    #[arg(long, value_name = "T")]
+    pub t_end: Option<f64>,
+    /// Write a checkpoint here when the run ends (and every [output] restart_interval).
+    #[arg(long, value_name = "FILE")]
+    pub checkpoint: Option<PathBuf>,
+    /// Continue the run saved in this checkpoint.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
     /// Worker threads [default: all cores]; results do not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -47,7 +71,7 @@ pub struct RunArgs {
     pub quiet: bool,
 }
 
-pub fn run(args: &RunArgs) -> Result<()> {
+pub fn run(args: &RunArgs) -> Result<ExitCode> {
     let mut pool = rayon::ThreadPoolBuilder::new();
     if let Some(n) = args.threads {
         if n == 0 {
@@ -56,157 +80,209 @@ pub fn run(args: &RunArgs) -> Result<()> {
         pool = pool.num_threads(n);
     }
     let pool = pool.build().context("starting the worker threads")?;
-    pool.install(|| match args.engine {
-        Engine::Md => run_md(args, pool.current_num_threads()),
-        Engine::Emd | Engine::EmdStar => run_edmd(args),
-        Engine::Hybrid => super::hybrid_engine::run(args),
-    })
+    let threads = pool.current_num_threads();
+    pool.install(|| simulate(args, threads))
 }
 
-fn run_edmd(args: &RunArgs) -> Result<()> {
-    let (config, system) = load(&args.config)?;
-    let outputs = run_outputs(args, &config);
-    super::edmd_engine::run(&config, system, args.engine, &args.edmd, &outputs)
-}
-
-/// The output paths and intervals of a run (the command line over [output] over the
-/// defaults).
-pub(super) fn run_outputs(
-    args: &RunArgs,
-    config: &emdstar_system::Config,
-) -> super::edmd_engine::RunOutputs {
-    let output = config.output.clone().unwrap_or_default();
-    let stem = args
-        .config
-        .file_stem()
-        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
-    super::edmd_engine::RunOutputs {
-        trajectory: args
-            .trajectory
-            .clone()
-            .or(output.trajectory.map(PathBuf::from))
-            .unwrap_or_else(|| format!("{stem}.xyz").into()),
-        log: args
-            .log
-            .clone()
-            .or(output.log.map(PathBuf::from))
-            .unwrap_or_else(|| format!("{stem}.log").into()),
-        trajectory_interval: output.trajectory_interval.unwrap_or(config.t_end / 20.0),
-        log_interval: output.log_interval.unwrap_or(config.t_end / 100.0),
-        quiet: args.quiet,
+/// A positive, finite interval of `[output]`, or the default.
+fn interval(value: Option<f64>, default: f64, name: &str) -> Result<f64> {
+    let x = value.unwrap_or(default);
+    if !(x.is_finite() && x > 0.0) {
+        bail!("output.{name} = {x} must be a finite number greater than zero");
     }
+    Ok(x)
 }
 
-fn run_md(args: &RunArgs, threads: usize) -> Result<()> {
-    let (config, system) = load(&args.config)?;
-    let (opts, steps) = md_options(&config, &system, &args.md, DEFAULT_DT_FRACTION)?;
-    let output = config.output.clone().unwrap_or_default();
-    let stem = args
-        .config
+/// `--path` over the config's `[output]` over CONFIG's stem with `extension`.
+fn output_path(
+    arg: &Option<PathBuf>,
+    config_value: &Option<String>,
+    config: &Path,
+    extension: &str,
+) -> PathBuf {
+    let stem = config
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().into_owned());
-    let traj_path = args
-        .trajectory
-        .clone()
-        .or(output.trajectory.map(PathBuf::from))
-        .unwrap_or_else(|| format!("{stem}.xyz").into());
-    let log_path = args
-        .log
-        .clone()
-        .or(output.log.map(PathBuf::from))
-        .unwrap_or_else(|| format!("{stem}.log").into());
-    let every = |interval: Option<f64>, parts: f64, name: &str| -> Result<u64> {
-        let interval = interval.unwrap_or(config.t_end / parts);
-        if !(interval.is_finite() && interval > 0.0) {
-            bail!("output.{name} = {interval} must be a finite number greater than zero");
-        }
-        Ok(((interval / opts.dt).round() as u64).clamp(1, steps))
-    };
-    let traj_every = every(output.trajectory_interval, 20.0, "trajectory_interval")?;
-    let log_every = every(output.log_interval, 100.0, "log_interval")?;
+    arg.clone()
+        .or(config_value.as_ref().map(PathBuf::from))
+        .unwrap_or_else(|| format!("{stem}.{extension}").into())
+}
 
+/// Restores `engine` from the checkpoint at `path`, refusing one of another engine,
+/// options or config.
+fn resume(engine: &mut AnyEngine, path: &Path, config: &Config) -> Result<f64> {
+    let ckpt = Checkpoint::read(path)?;
+    let sim = engine.sim();
+    if ckpt.engine != sim.engine() {
+        bail!(
+            "{} was written by the {} engine; resume it with --engine {} (this run uses {})",
+            path.display(),
+            ckpt.engine,
+            ckpt.engine,
+            sim.engine()
+        );
+    }
+    if ckpt.options != engine.options_tag() {
+        bail!(
+            "{} was written with the MoR source '{}', this run uses '{}'; give the same --mor \
+             and --table as the run that wrote it",
+            path.display(),
+            ckpt.options,
+            engine.options_tag()
+        );
+    }
+    if ckpt.config_digest != config.digest() {
+        bail!(
+            "{} belongs to another system than this config describes (the particles, \
+             material, box, walls, gravity or [md] differ); resume it with the config it was \
+             written from (only t_end and [output] may change)",
+            path.display()
+        );
+    }
+    engine
+        .sim_mut()
+        .restore_state(&ckpt.state)
+        .map_err(|e| anyhow::anyhow!("restoring {}: {e}", path.display()))?;
+    Ok(ckpt.time)
+}
+
+fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
+    let (config, system) = load(&args.config)?;
     let n = system.particles.len();
-    let mut md = Md::new(system, opts, config.t_end)?;
-    let mut traj = XyzWriter::create(&traj_path)?;
-    let mut log = ThermoLog::create(&log_path)?;
-    let first = md.thermo();
-    write_outputs(&md, &first, (&mut traj, true), (&mut log, true))?;
-
+    let total_mass = system.particles.total_mass();
+    let mut engine = AnyEngine::build(&args.engine, &config, system, DEFAULT_DT_FRACTION)?;
+    let resumed_at = match &args.resume {
+        Some(path) => Some(resume(&mut engine, path, &config)?),
+        None => None,
+    };
+    let t_end = args.t_end.unwrap_or(config.t_end);
+    let t_now = engine.sim().time();
+    if !(t_end.is_finite() && t_end > t_now) {
+        bail!(
+            "t_end = {t_end} s must lie after the start of the run (t = {t_now} s){}",
+            if resumed_at.is_some() {
+                "; give a later --t-end"
+            } else {
+                ""
+            }
+        );
+    }
+    let output = config.output.clone().unwrap_or_default();
+    let step = engine.sim().time_step();
+    let fresh = resumed_at.is_none();
+    let traj_path = output_path(&args.trajectory, &output.trajectory, &args.config, "xyz");
+    let trajectory = if traj_path == Path::new("none") {
+        None
+    } else {
+        let every = interval(
+            output.trajectory_interval,
+            config.t_end / 20.0,
+            "trajectory_interval",
+        )?;
+        let writer = if fresh {
+            XyzWriter::create(&traj_path)?
+        } else {
+            XyzWriter::append(&traj_path)?
+        };
+        Some((
+            traj_path.clone(),
+            writer,
+            Ticks::new(every, step, t_now, fresh),
+        ))
+    };
+    let log_path = output_path(&args.log, &output.log, &args.config, "log");
+    let log_every = interval(output.log_interval, config.t_end / 100.0, "log_interval")?;
+    let log = if fresh {
+        ThermoLog::create(&log_path)?
+    } else {
+        ThermoLog::append(&log_path)?
+    };
+    let restart_every = output
+        .restart_interval
+        .map(|x| interval(Some(x), x, "restart_interval"))
+        .transpose()?;
+    let checkpoint_path = args
+        .checkpoint
+        .clone()
+        .or_else(|| restart_every.map(|_| traj_path.with_extension("ckpt")));
+    let mut plan = Plan {
+        t_end,
+        trajectory,
+        log: (
+            log_path.clone(),
+            log,
+            Ticks::new(log_every, step, t_now, fresh),
+        ),
+        checkpoint: checkpoint_path.clone().map(|p| {
+            (
+                p,
+                restart_every.map(|every| Ticks::new(every, step, t_now, false)),
+            )
+        }),
+        config_digest: config.digest(),
+        fresh,
+    };
     let bar = progress_bar(
         args.quiet,
-        steps,
-        "{bar:40} {pos}/{len} steps, {elapsed} elapsed, eta {eta} {msg}",
+        1000,
+        "{bar:40} {percent}% of the run, {elapsed} elapsed, eta {eta} {msg}",
     );
-    let progress_every = (steps / 200).max(1);
-    let start = Instant::now();
-    let mut last = first;
-    while md.steps() < steps {
-        let done = md.steps();
-        let next = [
-            next_multiple(done, traj_every),
-            next_multiple(done, log_every),
-            next_multiple(done, progress_every),
-            steps,
-        ]
-        .into_iter()
-        .min()
-        .expect("non-empty");
-        md.advance(next - done)?;
-        bar.set_position(md.steps());
-        let at_traj = md.steps() % traj_every == 0 || md.steps() == steps;
-        let at_log = md.steps() % log_every == 0 || md.steps() == steps;
-        if at_traj || at_log {
-            last = md.thermo();
-            bar.set_message(format!(
-                "T = {:.3e} J, contacts {}",
-                last.granular_temperature, last.contacts
-            ));
-            write_outputs(&md, &last, (&mut traj, at_traj), (&mut log, at_log))?;
-        }
-    }
-    let wall = start.elapsed().as_secs_f64();
+    let stop = StopFlags::install()?;
+    let outcome = drive(&mut engine, &mut plan, &bar, &stop)?;
     bar.finish_and_clear();
-    traj.flush()?;
-    log.flush()?;
-
-    let total_mass = md.system().particles.total_mass();
-    let summary = with_fields(
-        json!({
-            "engine": "md",
-            "particles": n,
-            "t": md.time(),
-            "steps": md.steps(),
-            "dt": opts.dt,
-            "skin": md.skin(),
-            "neighbour_rebuilds": md.rebuilds(),
-            "threads": threads,
-            "wall_time_s": wall,
-            "particle_steps_per_s": n as f64 * steps as f64 / wall,
-            "trajectory": traj_path,
-            "log": log_path,
-        }),
-        drift_fields(&first, &last, total_mass),
+    let mut outcome = outcome;
+    if let Some(signal) = outcome.interrupted
+        && outcome.checkpoint_written.is_none()
+    {
+        // Stopped without --checkpoint: save next to the trajectory (or the log).
+        let base = if traj_path == Path::new("none") {
+            &log_path
+        } else {
+            &traj_path
+        };
+        let path = base.with_extension("ckpt");
+        super::run_loop::write_checkpoint(&engine, &path, plan.config_digest)?;
+        eprintln!(
+            "{}: stopped at t = {} s; resume with `--resume {}`",
+            signal.name(),
+            engine.sim().time(),
+            path.display()
+        );
+        outcome.checkpoint_written = Some(path);
+    }
+    let fallbacks = engine.mor_fallbacks();
+    if fallbacks > 0 {
+        eprintln!(
+            "note: {fallbacks} impacts lay outside the MoR table's box and were solved exactly \
+             (`--mor table` makes them errors)"
+        );
+    }
+    let mut summary = json!({
+        "engine": engine.sim().engine(),
+        "particles": n,
+        "t": engine.sim().time(),
+        "wall_time_s": outcome.wall_seconds,
+        "trajectory": plan.trajectory.as_ref().map(|(p, _, _)| p.clone()),
+        "log": log_path,
+        "interrupted": outcome.interrupted.is_some(),
+        "resumed_from": resumed_at,
+        "checkpoint": outcome.checkpoint_written,
+    });
+    summary = with_fields(
+        summary,
+        engine.summary_fields(outcome.wall_seconds, outcome.work, threads),
+    );
+    if !outcome.mode_counts.is_empty() {
+        summary = with_fields(summary, json!({ "mode_counts": outcome.mode_counts }));
+    }
+    summary = with_fields(summary, json!({ "mor_fallbacks": fallbacks }));
+    summary = with_fields(
+        summary,
+        drift_fields(&outcome.first, &outcome.last, total_mass),
     );
     println!("{}", serde_json::to_string_pretty(&summary)?);
-    Ok(())
-}
-
-fn next_multiple(done: u64, every: u64) -> u64 {
-    (done / every + 1) * every
-}
-
-fn write_outputs(
-    md: &Md,
-    th: &Thermo,
-    (traj, frame): (&mut XyzWriter, bool),
-    (log, line): (&mut ThermoLog, bool),
-) -> Result<()> {
-    if line {
-        log.write(th)?;
-    }
-    if frame {
-        let s = md.system();
-        traj.write_frame(th.t, &s.particles, s.domain.sim_box.as_ref())?;
-    }
-    Ok(())
+    Ok(match outcome.interrupted {
+        Some(signal) => ExitCode::from(signal.exit_code()),
+        None => ExitCode::SUCCESS,
+    })
 }

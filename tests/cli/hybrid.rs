@@ -109,13 +109,24 @@ fn hybrid_bad_options_get_clear_errors() {
         "overlap",
     ]);
     assert!(err.contains("contact_end"), "{err}");
-    let err = emdstar_error(&[
-        "pair",
-        "tests/md/configs/oblique_linear.toml",
-        "--engine",
-        "hybrid",
-    ]);
-    assert!(err.contains("run"), "{err}");
+}
+
+#[test]
+fn hybrid_pair_conserves_momentum_and_the_elastic_energy() {
+    let config = "tests/md/configs/oblique_linear.toml";
+    let v = crate::emdstar_json(&["pair", config, "--engine", "hybrid", "--json"]);
+    assert_eq!(v["engine"], "hybrid");
+    let p = v["particles"].as_array().unwrap();
+    let vel = |i: usize, k: usize| p[i]["velocity"][k].as_f64().unwrap();
+    // Equal masses, initial velocities (1.25, ±2.5, 0): total (2.5, 0, 0), |v|² 15.625.
+    for (k, total) in [2.5, 0.0, 0.0].into_iter().enumerate() {
+        assert!((vel(0, k) + vel(1, k) - total).abs() < 1e-12, "{v}");
+    }
+    let e: f64 = (0..2)
+        .flat_map(|i| (0..3).map(move |k| (i, k)))
+        .map(|(i, k)| vel(i, k) * vel(i, k))
+        .sum();
+    assert!((e - 15.625).abs() < 1e-6 * 15.625, "{e}");
 }
 
 #[test]

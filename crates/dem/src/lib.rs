@@ -48,6 +48,7 @@ mod engine;
 mod forces;
 mod neighbour;
 mod options;
+mod simulation;
 
 pub use engine::{Md, check_and_wrap};
 pub use forces::{touch_correction, unclipped_force};

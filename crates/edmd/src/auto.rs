@@ -19,16 +19,6 @@ pub enum Engine<Q: EventQueue = CalendarQueue> {
     Epochs(EventEngine<Epochs, Q>),
 }
 
-/// `$body` with `$e` bound to the engine of whichever broad phase runs.
-macro_rules! on_engine {
-    ($self:expr, $e:ident => $body:expr) => {
-        match $self {
-            Engine::Crossings($e) => $body,
-            Engine::Epochs($e) => $body,
-        }
-    };
-}
-
 impl<Q: EventQueue> Engine<Q> {
     /// Checks the particles against their domain and builds an engine at time 0 with
     /// every first event predicted, on the broad phase [`BroadPhaseKind::Auto`]
@@ -171,5 +161,10 @@ impl<Q: EventQueue> Engine<Q> {
     /// Masses, by particle number.
     pub fn masses(&self) -> Vec<f64> {
         on_engine!(self, e => e.masses())
+    }
+
+    /// The collision rule.
+    pub fn physics(&self) -> &Physics {
+        on_engine!(self, e => e.physics())
     }
 }

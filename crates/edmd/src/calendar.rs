@@ -13,7 +13,7 @@ const OVERFLOW: u32 = u32::MAX - 2;
 const NEVER: u32 = u32::MAX - 3;
 
 /// The calendar queue.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct CalendarQueue {
     /// Each id's key and place, in one record (one cache miss per id touched).
     node: Vec<Node>,
@@ -31,7 +31,7 @@ pub struct CalendarQueue {
 }
 
 /// An id's key, where it is filed and its list links or heap slot.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(32))]
 struct Node {
     key: f64,

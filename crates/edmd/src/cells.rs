@@ -36,7 +36,7 @@ pub fn cells_per_axis(size: [f64; 3], min_width: f64) -> [usize; 3] {
 
 /// The geometry of a cell grid: cuboid cells over `[lo, lo + size]`, periodic or
 /// closed along each axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CellShape {
     pub lo: [f64; 3],
     pub size: [f64; 3],
@@ -77,7 +77,7 @@ impl CellShape {
 /// A cell grid with a linked list of particles per cell: O(1) insertion, removal and
 /// moves, for particles that change cell one event at a time. (The static grids of
 /// neighbour lists bin all particles at once instead: `emdstar_system::LinkedCells`.)
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct LinkedCells {
     pub shape: CellShape,
     head: Vec<u32>,

@@ -43,8 +43,9 @@ pub enum EngineError {
     #[error("matrix of restitution: {0}")]
     Solve(#[from] SolveError),
     #[error(
-        "collision parameters {what} lie outside the table's box; use `--mor exact` (or a \
-         table that covers them) to solve such collisions exactly"
+        "collision parameters {what} lie outside the table's box; `--mor table-or-exact` (the \
+         default) solves such collisions exactly and counts them, `--mor exact` solves every \
+         collision exactly, or give a table that covers them"
     )]
     OutsideTable { what: String },
 }

@@ -38,6 +38,16 @@
 //!   particle or a wall falls back to the eMD rule (exception a). All are counted in
 //!   [`Stats`].
 
+/// `$body` with `$e` bound to the engine of whichever broad phase runs.
+macro_rules! on_engine {
+    ($self:expr, $e:ident => $body:expr) => {
+        match $self {
+            $crate::Engine::Crossings($e) => $body,
+            $crate::Engine::Epochs($e) => $body,
+        }
+    };
+}
+
 mod auto;
 pub mod bouncing;
 pub mod broad_phase;
@@ -50,6 +60,7 @@ mod error;
 mod physics;
 pub mod queue;
 pub mod rules;
+mod simulation;
 mod state;
 mod stats;
 mod sweep;

@@ -24,7 +24,7 @@ pub trait EventQueue {
 /// An indexed 4-ary min-heap: O(log N) `set`, O(1) `peek`. Keys are stored in the
 /// heap array next to their ids, so sifting touches one contiguous array, and the four
 /// children of a node share a cache line (half the depth of a binary heap).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct IndexedHeap {
     /// (key, id) at each heap slot.
     heap: Vec<(f64, u32)>,

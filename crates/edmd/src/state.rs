@@ -9,11 +9,12 @@ use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_system::{SimBox, Wall};
+use emdstar_system::{Domain, SimBox};
+use serde::{Deserialize, Serialize};
 
 /// A particle's kinematics (the line neighbour scans read) and own events in one
 /// 128-byte block: an event's own particle costs one miss (adjacent-line prefetch).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
 #[repr(C, align(128))]
 pub(crate) struct Slot {
     pub kin: Kin,
@@ -22,7 +23,7 @@ pub(crate) struct Slot {
 
 /// A particle's position and velocity, valid at time `stamp` (delayed update), and
 /// its radius: the data every pair test reads, packed into one cache line.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[repr(C, align(64))]
 pub(crate) struct Kin {
     pub pos: [f64; 3],
@@ -32,7 +33,7 @@ pub(crate) struct Kin {
 }
 
 /// A particle's own next events (the queue holds the earliest of them).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 #[repr(C, align(64))]
 pub(crate) struct EventRec {
     /// Earliest predicted collision, with a particle or (`n + w`) wall w.
@@ -96,6 +97,7 @@ pub(crate) fn min_image_in(d: [f64; 3], period: [f64; 3]) -> [f64; 3] {
 
 /// Everything of an event engine but its broad phase: what a [`crate::BroadPhase`]
 /// works on (opaque outside this crate).
+#[derive(Serialize, Deserialize)]
 pub struct State<Q: EventQueue> {
     /// Per-particle kinematics and own events, one 128-byte block each.
     pub(crate) slot: Vec<Slot>,
@@ -114,15 +116,21 @@ pub struct State<Q: EventQueue> {
     pub(crate) region: SimBox,
     /// The box's period along each axis, 0 along closed axes.
     pub(crate) period: [f64; 3],
-    pub(crate) walls: Vec<Wall>,
-    pub(crate) gravity: [f64; 3],
+    /// The walls (unit normals) and gravity; the box as given (`None`: free space).
+    pub(crate) domain: Domain,
     pub(crate) has_gravity: bool,
+    /// Not saved: a restored engine keeps the physics it was built with.
+    #[serde(skip, default = "unset_physics")]
     pub(crate) physics: Physics,
+    /// A cache of exact values (rebuilt on demand).
+    #[serde(skip)]
     pub(crate) hertz: HertzRestitution,
     pub(crate) stats: Stats,
     /// Consecutive events at one instant (an inelastic collapse never ends).
     pub(crate) zero_streak: u64,
-    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions.
+    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions
+    /// (none between events).
+    #[serde(skip)]
     pub(crate) probe: Option<RotationProbe<Saved>>,
 }
 
@@ -139,7 +147,7 @@ impl<Q: EventQueue> State<Q> {
         let dt = t - self.slot[j].kin.stamp;
         let (p, v) = (self.slot[j].kin.pos, self.slot[j].kin.vel);
         if self.has_gravity {
-            let g = self.gravity;
+            let g = self.domain.gravity;
             (
                 std::array::from_fn(|k| p[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
                 std::array::from_fn(|k| v[k] + g[k] * dt),
@@ -267,16 +275,16 @@ impl<Q: EventQueue> State<Q> {
     pub(crate) fn predict_walls(&mut self, i: usize) {
         let now = self.time;
         let n = self.len();
-        for w in 0..self.walls.len() {
+        for w in 0..self.domain.walls.len() {
             if self.in_shared_transient(i, n + w) {
                 continue;
             }
-            let wall = self.walls[w];
+            let wall = self.domain.walls[w];
             let h = dot(wall.normal, sub(self.slot[i].kin.pos, wall.point));
             let dt = crate::detect::sphere_wall(
                 h,
                 dot(wall.normal, self.slot[i].kin.vel),
-                dot(wall.normal, self.gravity),
+                dot(wall.normal, self.domain.gravity),
                 self.slot[i].kin.radius,
             );
             if now + dt < self.slot[i].ev.coll_time {
@@ -324,6 +332,12 @@ impl<Q: EventQueue> State<Q> {
             self.schedule(i);
         }
     }
+}
+
+/// The physics of a state just read from a checkpoint, until the engine's own is put
+/// back.
+fn unset_physics() -> Physics {
+    Physics::HardSpheres { restitution: 1.0 }
 }
 
 /// Reorders `v` so that new index k holds old element `order[k]`.

@@ -2,7 +2,7 @@
 //! separations at impact (Bannerman et al. 2014, Fig. 3).
 
 /// Event and exception counts.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     /// Every event taken from the queue.
     pub events: u64,

@@ -13,6 +13,7 @@
 
 use crate::cells::{NONE, cells_per_axis};
 use emdstar_system::SimBox;
+use serde::{Deserialize, Serialize};
 
 /// ⌊x⌋ as an integer for |x| < 2³⁰, saturating beyond (boxes beyond the grid are
 /// clamped or wrapped by the caller). Without a libm call or a float-to-integer
@@ -31,7 +32,7 @@ fn floor_to_int(x: f64) -> i64 {
 }
 
 /// A box's cells along one axis: the first (wrapped into the grid) and how many.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub(crate) struct Span {
     first: u32,
     count: u32,
@@ -51,7 +52,7 @@ const SMALL_RUN_PAIRS: [[usize; 2]; 3] = [[0, 1], [0, 2], [1, 2]];
 const CELL_ROOM: usize = 8;
 
 /// A cell's room in the rebuild's array, in one aligned half cache line.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
 #[repr(C, align(32))]
 struct Room([u32; CELL_ROOM]);
 
@@ -92,7 +93,7 @@ impl Filing {
 }
 
 /// The epoch grid: cells filed by swept box, rebuilt every epoch.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub(crate) struct SweepGrid {
     lo: [f64; 3],
     periodic: [bool; 3],
@@ -114,6 +115,7 @@ pub(crate) struct SweepGrid {
     seen: Vec<u32>,
     query: u32,
     /// Scratch: the cells of a query, a crowded cell's entries.
+    #[serde(skip)]
     scratch: Vec<u32>,
 }
 

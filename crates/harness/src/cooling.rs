@@ -9,13 +9,13 @@
 //! T = Σ m (v − v_cm)²/(3N) in J, as in `emdstar_system::Particles::granular_temperature`.
 
 use crate::engines::{
-    ENGINE_STYLES, EventKind, default_md_dt, event_engine, lattice_gas, md_engine,
+    AnyEngine, AnyKind, ENGINE_STYLES, EventKind, default_md_dt, lattice_gas, sample_at,
 };
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
 use crate::stats::{fit_rms, linear_fit};
 use crate::{HarnessError, Result};
 use emdstar_contact::ForceLaw;
-use emdstar_system::{Particles, System};
+use emdstar_system::System;
 use serde::Serialize;
 use std::path::Path;
 
@@ -72,16 +72,6 @@ pub struct Cooling {
     pub agreement: Vec<Vec<f64>>,
 }
 
-fn temperature(mass: &[f64], position: Vec<[f64; 3]>, velocity: Vec<[f64; 3]>) -> f64 {
-    Particles {
-        position,
-        velocity,
-        mass: mass.to_vec(),
-        ..Default::default()
-    }
-    .granular_temperature()
-}
-
 /// Fits T = T₀(1 + t/t₀)^(−p) over t₀ ∈ [1e-3, 1e3]·t_end.
 pub fn fit_power(times: &[f64], temps: &[f64]) -> PowerFit {
     let t_end = times.last().copied().unwrap_or(1.0);
@@ -132,43 +122,30 @@ pub fn run(s: &CoolingSettings, progress: &dyn Fn(&str)) -> Result<Cooling> {
         ));
     }
     let system = build(s)?;
-    let mass = system.particles.mass.clone();
     let times: Vec<f64> = (0..s.samples)
         .map(|k| s.t_end * k as f64 / (s.samples - 1) as f64)
         .collect();
     let md_dt = default_md_dt(&system, s.t_end)?;
     let mut curves = Vec::new();
 
-    let start = std::time::Instant::now();
-    let mut md = md_engine(system.clone(), md_dt, s.t_end)?;
-    let mut temps = Vec::new();
-    for &t in &times {
-        let steps = ((t - md.time()) / md_dt).round().max(0.0) as u64;
-        md.advance(steps)?;
-        temps.push(md.system().particles.granular_temperature());
-        progress("MD");
-    }
-    curves.push(Curve {
-        engine: "MD".into(),
-        temperature: temps,
-        collisions: 0,
-        wall_seconds: start.elapsed().as_secs_f64(),
-    });
-
-    for kind in [EventKind::Emd, EventKind::EmdStarTable] {
+    let kinds = [
+        AnyKind::Md { dt: md_dt },
+        AnyKind::Event(EventKind::Emd),
+        AnyKind::Event(EventKind::EmdStarTable),
+    ];
+    for kind in kinds {
         let start = std::time::Instant::now();
-        let mut e = event_engine(&system, kind)?;
+        let mut engine = AnyEngine::new(&system, kind, s.t_end)?;
         let mut temps = Vec::new();
-        for &t in &times {
-            e.run_until(t)?;
-            e.sync();
-            temps.push(temperature(&mass, e.positions(), e.settled_velocities()));
+        sample_at(engine.sim(), times.iter().copied(), |_, sim| {
+            temps.push(sim.thermo().granular_temperature);
             progress(kind.name());
-        }
+            Ok(())
+        })?;
         curves.push(Curve {
             engine: kind.name().into(),
             temperature: temps,
-            collisions: e.stats().pair_collisions,
+            collisions: engine.collisions(),
             wall_seconds: start.elapsed().as_secs_f64(),
         });
     }

@@ -13,8 +13,8 @@
 //! χ = (1 − η/2) / (1 − η)³.
 
 use crate::engines::{
-    ENGINE_STYLES, EventKind, default_md_dt, event_engine, lattice_gas, md_engine, md_state,
-    on_independent_gases,
+    AnyEngine, AnyKind, ENGINE_STYLES, EventKind, default_md_dt, lattice_gas, on_independent_gases,
+    sample_at,
 };
 use crate::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
@@ -340,35 +340,28 @@ pub fn run(s: &DiffusionSettings, progress: &(dyn Fn(&str) + Sync)) -> Result<Di
     let md_dt = default_md_dt(system, t_end)?;
 
     let mut engines = Vec::new();
-    let start = std::time::Instant::now();
-    let mut md = md_engine(system.clone(), md_dt, t_end)?;
-    let mut track = Tracker::new(sim_box, &system.particles.position);
-    for k in 1..=total {
-        let steps = ((k as f64 * interval - md.time()) / md_dt).round().max(0.0) as u64;
-        md.advance(steps)?;
-        track.observe(&md_state(&md).0, k >= first_kept)?;
-        progress("MD");
-    }
-    let wall = start.elapsed().as_secs_f64();
-    engines.push(analyse("MD", &track.samples, &lags, range, None, wall));
-
-    for kind in [EventKind::Emd, EventKind::EmdStarTable] {
+    let kinds = [
+        AnyKind::Md { dt: md_dt },
+        AnyKind::Event(EventKind::Emd),
+        AnyKind::Event(EventKind::EmdStarTable),
+    ];
+    for kind in kinds {
         let start = std::time::Instant::now();
-        let mut e = event_engine(system, kind)?;
+        let mut engine = AnyEngine::new(system, kind, t_end)?;
         let mut track = Tracker::new(sim_box, &system.particles.position);
-        for k in 1..=total {
-            e.run_until(k as f64 * interval)?;
-            e.sync();
-            track.observe(&e.positions(), k >= first_kept)?;
+        let times = (1..=total).map(|k| k as f64 * interval);
+        sample_at(engine.sim(), times, |k, sim| {
+            track.observe(&sim.particles().position, k + 1 >= first_kept)?;
             progress(kind.name());
-        }
+            Ok(())
+        })?;
         let wall = start.elapsed().as_secs_f64();
         engines.push(analyse(
             kind.name(),
             &track.samples,
             &lags,
             range,
-            Some(e.stats()),
+            engine.event_stats(),
             wall,
         ));
     }

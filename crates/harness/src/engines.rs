@@ -6,7 +6,9 @@ use emdstar_contact::{ForceLaw, Model};
 use emdstar_dem::{DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics};
-use emdstar_system::{Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, System};
+use emdstar_system::{
+    Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, Simulation, System,
+};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -140,6 +142,80 @@ pub fn event_engine(system: &System, kind: EventKind) -> Result<Engine> {
 pub fn event_state(engine: &mut Engine) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     engine.sync();
     (engine.positions(), engine.settled_velocities())
+}
+
+/// MD (with its time step) or one of the event-driven engines, as the scenarios that
+/// compare engines on one gas run them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AnyKind {
+    Md { dt: f64 },
+    Event(EventKind),
+}
+
+impl AnyKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Md { .. } => "MD",
+            Self::Event(kind) => kind.name(),
+        }
+    }
+}
+
+/// An engine of a comparison: MD or an event engine.
+pub enum AnyEngine {
+    Md(Box<Md>),
+    Event(Box<Engine>),
+}
+
+impl AnyEngine {
+    /// The engine of `kind` on `system` up to `t_end`.
+    pub fn new(system: &System, kind: AnyKind, t_end: f64) -> Result<Self> {
+        Ok(match kind {
+            AnyKind::Md { dt } => Self::Md(Box::new(md_engine(system.clone(), dt, t_end)?)),
+            AnyKind::Event(kind) => Self::Event(Box::new(event_engine(system, kind)?)),
+        })
+    }
+
+    /// The engine behind the simulation interface.
+    pub fn sim(&mut self) -> &mut dyn Simulation {
+        match self {
+            Self::Md(e) => e.as_mut(),
+            Self::Event(e) => e.as_mut(),
+        }
+    }
+
+    /// Pair collisions executed (0 for MD, which has contacts instead).
+    pub fn collisions(&self) -> u64 {
+        match self {
+            Self::Md(_) => 0,
+            Self::Event(e) => e.stats().pair_collisions,
+        }
+    }
+
+    /// The event engine's counters, if it is one.
+    pub fn event_stats(&self) -> Option<&emdstar_edmd::Stats> {
+        match self {
+            Self::Md(_) => None,
+            Self::Event(e) => Some(e.stats()),
+        }
+    }
+}
+
+/// Advances `sim` to each of `times` in turn and calls `observe(k, sim)` there, after
+/// synchronising its stored state (as these scenarios have always sampled every
+/// engine, so that their figures stay reproducible).
+pub fn sample_at(
+    sim: &mut dyn Simulation,
+    times: impl IntoIterator<Item = f64>,
+    mut observe: impl FnMut(usize, &dyn Simulation) -> Result<()>,
+) -> Result<()> {
+    for (k, t) in times.into_iter().enumerate() {
+        sim.advance_to(t)
+            .map_err(|e| HarnessError::Invalid(e.to_string()))?;
+        sim.synchronise();
+        observe(k, sim)?;
+    }
+    Ok(())
 }
 
 /// An MD engine with time step `dt` (s), contacts ending at F = 0, default skin.

@@ -7,10 +7,12 @@
 //! checked at the cadence of the list rebuilds, on the link cells of the list path
 //! (the same φ), without synchronising or re-predicting anything.
 
-use crate::engine::{Hybrid, norm};
+use crate::engine::Hybrid;
 use crate::list::{any_dense, region};
 use crate::options::{HybridError, Mode};
+use emdstar_contact::vec3::{norm, sub};
 use emdstar_edmd::cells::{LinkedCells, NONE, auto_cell_width};
+use emdstar_edmd::detect::sphere_sphere;
 
 impl Hybrid {
     /// The width of the event cells, as the eMD* engine chooses it: at least the
@@ -67,6 +69,10 @@ impl Hybrid {
             ),
             None => self.earliest_in(i, now, grid.neighbourhood(c).iter()),
         };
+        let (found, blocked) = found;
+        if blocked && let Some(probe) = &mut self.probe {
+            probe.blocked = true;
+        }
         let (best, best_j) = self.earliest_wall(i, now, found);
         self.keep_collision(i, best, best_j);
         self.predict_crossing(i, now);
@@ -74,17 +80,25 @@ impl Hybrid {
     }
 
     /// The earliest collision of `i` (synchronised at `now`) with the particles of
-    /// `cells` (each with the shift of its periodic image): (time, partner or NONE).
+    /// `cells` (each with the shift of its periodic image): (time, partner or NONE),
+    /// and whether a particle met blocks the rotation of a running exception-(a) probe
+    /// that `i` is a party of (the cells hold every particle within contact of `i`;
+    /// none is TD on this path).
     #[inline(always)]
     fn earliest_in(
         &self,
         i: usize,
         now: f64,
         cells: impl Iterator<Item = (u32, [f64; 3])>,
-    ) -> (f64, u32) {
+    ) -> ((f64, u32), bool) {
         let grid = self.grid.as_ref().expect("on the cell path");
         let p = &self.system.particles;
         let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
+        let probe = self
+            .probe
+            .and_then(|probe| Some((probe, probe.slot_of(i)?)));
+        let min_image = |d| self.system.domain.min_image(d);
+        let mut blocked = false;
         let mut best = f64::INFINITY;
         let mut best_j = NONE;
         for (cell, s) in cells {
@@ -92,7 +106,13 @@ impl Hybrid {
             while j != NONE {
                 let ju = j as usize;
                 if ju != i && !self.in_shared_transient(i, ju) {
-                    let dt = self.pair_time((xi, vi, ri), ju, s, now);
+                    let (xj, vj) = self.state_at(ju, now);
+                    let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
+                    let sigma = ri + p.radius[ju];
+                    if let Some((probe, slot)) = &probe {
+                        blocked |= probe.blocks(*slot, ju, r, xj, sigma, min_image);
+                    }
+                    let dt = sphere_sphere(r, sub(vi, vj), sigma);
                     if now + dt < best {
                         best = now + dt;
                         best_j = j;
@@ -101,7 +121,7 @@ impl Hybrid {
                 j = grid.next(j);
             }
         }
-        (best, best_j)
+        ((best, best_j), blocked)
     }
 
     /// The earliest crossing of a face of its cell by ED particle `i` (synchronised
@@ -123,7 +143,7 @@ impl Hybrid {
     /// at a periodic face) and is tested against the layer of cells that became its
     /// neighbours; its earlier prediction stands otherwise.
     pub(crate) fn crossing(&mut self, i: usize, t: f64) {
-        self.stats.crossings += 1;
+        self.stats.ed.crossings += 1;
         self.sync(i, t);
         let face = self.ed[i].cross_face as usize;
         let (axis, dir) = (face / 2, if face % 2 == 1 { 1 } else { -1 });
@@ -142,7 +162,8 @@ impl Hybrid {
                     grid.interior_layer(base, axis, dir).map(|c| (c, [0.0; 3])),
                 ),
                 None => self.earliest_in(i, t, grid.new_layer(c, axis, dir).iter()),
-            };
+            }
+            .0;
             if j != NONE && best < self.ed[i].coll_time {
                 self.keep_collision(i, best, j);
             }
@@ -151,9 +172,9 @@ impl Hybrid {
         self.schedule(i);
     }
 
-    /// After an eMD* position jump of `i` (synchronised): wraps it into the box and
-    /// moves it to the cell it now lies in.
-    pub(crate) fn place(&mut self, i: usize) {
+    /// After an eMD* position jump of `i` (synchronised): on the cell path, wraps it
+    /// into the box and moves it to the cell it now lies in.
+    pub(crate) fn file_in_cell(&mut self, i: usize) {
         if let Some(grid) = self.grid.as_mut() {
             let x = self.system.particles.position[i];
             let x = self.system.domain.sim_box.map_or(x, |b| b.wrap(x));
@@ -161,47 +182,6 @@ impl Hybrid {
             let c = grid.coords_of(x);
             grid.relocate(i, c);
         }
-    }
-
-    /// Exception (a) on the cell path (see `rotation_blocked`): would displacing the
-    /// parties push any of them deeper into a third particle or a wall other than
-    /// `own_wall`? (No particle is TD here.)
-    pub(crate) fn rotation_blocked_in_cells(
-        &self,
-        parties: &[(usize, [f64; 3])],
-        own_wall: Option<usize>,
-        t: f64,
-    ) -> bool {
-        let grid = self.grid.as_ref().expect("on the cell path");
-        let p = &self.system.particles;
-        let sim_box = self.system.domain.sim_box;
-        let min_image = |d: [f64; 3]| sim_box.map_or(d, |b| b.min_image(d));
-        for &(q, d) in parties {
-            let x_old = p.position[q];
-            let x_new: [f64; 3] = std::array::from_fn(|k| x_old[k] + d[k]);
-            let c = grid.coords_of(sim_box.map_or(x_new, |b| b.wrap(x_new)));
-            for cell in grid.neighbourhood(c).as_slice() {
-                let mut k = grid.first(*cell);
-                while k != NONE {
-                    let ku = k as usize;
-                    k = grid.next(k);
-                    if parties.iter().any(|&(o, _)| o == ku) {
-                        continue;
-                    }
-                    let xk = self.state_at(ku, t).0;
-                    let contact = p.radius[q] + p.radius[ku];
-                    let d_new = norm(min_image(std::array::from_fn(|c| x_new[c] - xk[c])));
-                    let d_old = norm(min_image(std::array::from_fn(|c| x_old[c] - xk[c])));
-                    if d_new < contact && d_new < d_old {
-                        return true;
-                    }
-                }
-            }
-            if self.wall_blocks(p.radius[q], x_old, x_new, own_wall) {
-                return true;
-            }
-        }
-        false
     }
 
     /// The mode check on the cell path, due when the particles may have moved one event

@@ -1,12 +1,14 @@
 //! The hybrid engine: state, the step loop, rebuilds and mode decisions, thermo.
 
 use crate::ed::EdRec;
+use crate::host::Saved;
 use crate::list::{DenseScratch, FullList, local_volume_fractions, region, volume_fractions_on};
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use emdstar_dem::{MdError, check_and_wrap, prepare_system};
 use emdstar_edmd::cells::LinkedCells;
-use emdstar_edmd::rules::MorSource;
-use emdstar_edmd::{CalendarQueue, EventQueue, Materials};
+use emdstar_edmd::collision::RotationProbe;
+use emdstar_edmd::rules::{HertzRestitution, MorSource};
+use emdstar_edmd::{CalendarQueue, EventQueue, Interference, Materials, Physics};
 use emdstar_system::System;
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
@@ -23,7 +25,13 @@ pub struct Hybrid {
     pub(crate) contact_acc: Vec<[f64; 3]>,
     pub(crate) new_acc: Vec<[f64; 3]>,
     pub(crate) materials: Materials,
-    pub(crate) mor: Box<dyn MorSource>,
+    /// The collision rule of the ED particles (eMD*) and its cache.
+    pub(crate) physics: Physics,
+    pub(crate) hertz: HertzRestitution,
+    /// The time of the ED event being executed.
+    pub(crate) now: f64,
+    /// eMD*: exception (a) of the E^φ being executed, checked by the predictions.
+    pub(crate) probe: Option<RotationProbe<Saved>>,
     pub(crate) ed: Vec<EdRec>,
     /// Each ED particle's earliest event (+∞ for the others).
     pub(crate) heap: CalendarQueue,
@@ -105,8 +113,15 @@ impl Hybrid {
             inv_mass,
             contact_acc: vec![[0.0; 3]; n],
             new_acc: vec![[0.0; 3]; n],
+            physics: Physics::EmdStar {
+                materials: materials.clone(),
+                mor,
+                interference: Interference::HitOnly,
+            },
             materials,
-            mor,
+            hertz: HertzRestitution::default(),
+            now: 0.0,
+            probe: None,
             ed: vec![EdRec::default(); n],
             heap: CalendarQueue::new(n),
             list: FullList::default(),
@@ -146,6 +161,14 @@ impl Hybrid {
     /// Counters.
     pub fn stats(&self) -> &HybridStats {
         &self.stats
+    }
+
+    /// The name of the source of the matrix of restitution ("table+exact", …).
+    pub fn mor_name(&self) -> &'static str {
+        match &self.physics {
+            Physics::EmdStar { mor, .. } => mor.name(),
+            _ => "",
+        }
     }
 
     /// The options in use.

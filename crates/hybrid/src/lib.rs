@@ -133,8 +133,10 @@
 mod cells;
 mod ed;
 mod engine;
+mod host;
 mod list;
 mod options;
+mod simulation;
 mod td;
 mod thermo;
 

@@ -67,22 +67,10 @@ pub struct HybridStats {
     pub rebuilds: u64,
     /// Mode checks on the cell path that found nothing to switch (no rebuild).
     pub cell_passes: u64,
-    /// Cell crossings on the cell path (not counted in `events`).
-    pub crossings: u64,
-    /// ED events taken from the queue (stale ones included).
-    pub events: u64,
-    /// eMD* pair collisions (E^φ events and eMD fallbacks).
-    pub pair_collisions: u64,
-    /// ED wall collisions.
-    pub wall_collisions: u64,
-    /// E^v events at their scheduled time.
-    pub velocity_events: u64,
-    /// eMD* exception (a): rotation impossible, eMD rule used.
-    pub exception_rotation: u64,
-    /// eMD* exception (b): a collision with a particle in its transient.
-    pub exception_interference: u64,
-    /// MoR from the exact solver because the table did not cover the impact.
-    pub mor_fallbacks: u64,
+    /// The ED events, counted as the event engine counts them (collisions, E^v
+    /// events, exceptions, fallbacks; `events` leaves out the cell crossings, which
+    /// `crossings` counts).
+    pub ed: emdstar_edmd::Stats,
     /// ED → TD switches (all causes).
     pub to_time: u64,
     /// TD → ED switches.

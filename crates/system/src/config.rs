@@ -35,6 +35,7 @@
 //! # trajectory_interval = 0.01     # s
 //! # log = "run.log"
 //! # log_interval = 0.001           # s
+//! # restart_interval = 0.1         # s: a checkpoint this often (with `run --checkpoint`)
 //! # [md]                           # options of the MD engine only
 //! # dt = 1e-5                      # s (default: a fraction of the contact time)
 //! # contact_end = "force"          # or "overlap" (LAMMPS)
@@ -51,10 +52,10 @@ use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
 use crate::system::System;
 use emdstar_contact::{ForceLaw, LinearDashpot, Model, Sphere, ViscoelasticHertz};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// The whole config file.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
     /// End time in s.
@@ -75,7 +76,7 @@ pub struct Config {
 }
 
 /// `[material]`: the force law and the density.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
     pub model: String,
@@ -88,7 +89,7 @@ pub struct MaterialConfig {
 }
 
 /// One `[[particles]]` entry.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleConfig {
     pub radius: f64,
@@ -99,7 +100,7 @@ pub struct ParticleConfig {
 }
 
 /// `[box]`.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoxConfig {
     pub size: [f64; 3],
@@ -114,7 +115,7 @@ fn all_periodic() -> [bool; 3] {
 }
 
 /// One `[[walls]]` entry.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallConfig {
     pub normal: [f64; 3],
@@ -122,17 +123,19 @@ pub struct WallConfig {
 }
 
 /// `[output]`: file names and intervals (the CLI may override them).
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputConfig {
     pub trajectory: Option<String>,
     pub trajectory_interval: Option<f64>,
     pub log: Option<String>,
     pub log_interval: Option<f64>,
+    /// Time between checkpoints in s (none by default).
+    pub restart_interval: Option<f64>,
 }
 
 /// `[md]`: options of the force-based engine; the command line overrides them.
-#[derive(Debug, Clone, Default, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MdConfig {
     /// Time step in s.
@@ -158,6 +161,19 @@ impl Config {
             source,
         })?;
         Self::from_toml(&text)
+    }
+
+    /// A digest of the physical system the config describes (everything but `t_end`
+    /// and `[output]`): a checkpoint records it, and a run resumed from it under
+    /// another config is refused.
+    pub fn digest(&self) -> u64 {
+        let physics = Self {
+            t_end: 0.0,
+            output: None,
+            ..self.clone()
+        };
+        let text = toml::to_string(&physics).expect("a parsed config serialises");
+        u64::from(crc32fast::hash(text.as_bytes())) | (text.len() as u64) << 32
     }
 
     /// Builds and validates the system the config describes.

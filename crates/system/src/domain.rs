@@ -7,7 +7,7 @@ use crate::state::Particles;
 use emdstar_contact::vec3::{norm, sub};
 
 /// The surroundings of the particles.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Domain {
     /// `None` means free space.
     pub sim_box: Option<SimBox>,

@@ -35,6 +35,9 @@ pub enum SystemError {
         position: [f64; 3],
         why: String,
     },
+    /// A checkpoint could not be read or does not belong to this run.
+    #[error("checkpoint: {0}")]
+    Checkpoint(String),
     /// A file could not be written.
     #[error("{path}: {source}")]
     Io {

@@ -7,11 +7,11 @@ use crate::geometry::SimBox;
 use crate::state::{Particles, Species};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// How a generated gas is placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Arrangement {
     /// Simple cubic lattice filling the box.
@@ -23,7 +23,7 @@ pub enum Arrangement {
 }
 
 /// `[gas]`: `count` equal spheres with Maxwell velocities.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GasConfig {
     pub count: usize,

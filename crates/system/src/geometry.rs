@@ -4,7 +4,7 @@
 ///
 /// Along a closed axis particles must stay inside (walls keep them there); along a
 /// periodic axis positions wrap and distances follow the minimum-image convention.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SimBox {
     pub lo: [f64; 3],
     pub size: [f64; 3],
@@ -78,7 +78,7 @@ pub fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
 ///
 /// Particles live on the side the unit `normal` points to; a sphere of radius R at
 /// signed distance d = n·(x − point) overlaps the wall by ξ = R − d.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Wall {
     pub normal: [f64; 3],
     pub point: [f64; 3],

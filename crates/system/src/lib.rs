@@ -10,21 +10,26 @@
 //! - generated gases ([`GasConfig`]: simple cubic, fcc or random placement, Maxwell
 //!   velocities);
 //! - [`CellGrid`] for neighbour searches;
+//! - [`Simulation`], the one interface of every engine, and [`Checkpoint`] files of
+//!   their saved states;
 //! - writers: extended XYZ trajectories for OVITO and a thermo log.
 
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
+mod checkpoint;
 mod config;
 mod domain;
 mod error;
 mod gas;
 mod geometry;
 mod interactions;
+mod simulation;
 mod state;
 mod system;
 mod writers;
 
+pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, write_atomically};
 pub use config::{
     BoxConfig, Config, MaterialConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
 };
@@ -33,6 +38,7 @@ pub use error::{Result, SystemError};
 pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
 pub use geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 pub use interactions::{Interaction, Interactions};
+pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
 pub use system::System;
 pub use writers::{Thermo, ThermoLog, XyzWriter};

@@ -3,7 +3,7 @@
 use emdstar_contact::Sphere;
 
 /// One kind of sphere: every particle of a species has its radius and mass.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Species {
     /// Radius in m.
     pub radius: f64,
@@ -27,7 +27,7 @@ impl Species {
 /// without an indirection; [`Particles::push`] keeps them consistent. `id` is the
 /// particle's number in the config (engines may reorder particles for locality and use
 /// it to report in the original order).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Particles {
     pub position: Vec<[f64; 3]>,
     pub velocity: Vec<[f64; 3]>,

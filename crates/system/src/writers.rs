@@ -4,7 +4,7 @@ use crate::error::{Result, SystemError};
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 fn io_error(path: &str) -> impl Fn(std::io::Error) -> SystemError + '_ {
@@ -14,22 +14,49 @@ fn io_error(path: &str) -> impl Fn(std::io::Error) -> SystemError + '_ {
     }
 }
 
+/// Opens `path` for writing: truncated, or (`append`) extended at its end.
+fn open(path: &Path, append: bool) -> Result<(File, String)> {
+    let name = path.display().to_string();
+    let file = std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .append(append)
+        .truncate(!append)
+        .open(path)
+        .map_err(io_error(&name))?;
+    Ok((file, name))
+}
+
 /// Writes frames in extended XYZ, which OVITO reads with the columns
 /// `id species pos velo radius` and the `Lattice`, `Origin`, `pbc` and `Time` fields.
 ///
 /// In free space the lattice is the particles' bounding box (grown by the largest
-/// radius) and `pbc="F F F"`.
+/// radius) and `pbc="F F F"`. Each frame is formatted in memory and written at once,
+/// so that a killed run leaves whole frames only (up to the last write).
 pub struct XyzWriter {
-    out: BufWriter<File>,
+    out: File,
+    frame: Vec<u8>,
     path: String,
 }
 
 impl XyzWriter {
     /// Creates (truncates) the file.
     pub fn create(path: &Path) -> Result<Self> {
-        let name = path.display().to_string();
-        let out = BufWriter::new(File::create(path).map_err(io_error(&name))?);
-        Ok(Self { out, path: name })
+        Self::open(path, false)
+    }
+
+    /// Opens the file to add frames at its end (a resumed run).
+    pub fn append(path: &Path) -> Result<Self> {
+        Self::open(path, true)
+    }
+
+    fn open(path: &Path, append: bool) -> Result<Self> {
+        let (out, path) = open(path, append)?;
+        Ok(Self {
+            out,
+            frame: Vec::new(),
+            path,
+        })
     }
 
     /// Appends one frame at time `t`.
@@ -49,7 +76,8 @@ impl XyzWriter {
         };
         let tf = |b: bool| if b { "T" } else { "F" };
         let err = io_error(&self.path);
-        let w = &mut self.out;
+        let w = &mut self.frame;
+        w.clear();
         writeln!(w, "{}", particles.len()).map_err(&err)?;
         writeln!(
             w,
@@ -83,12 +111,12 @@ impl XyzWriter {
             )
             .map_err(&err)?;
         }
-        Ok(())
+        self.out.write_all(&self.frame).map_err(&err)
     }
 
-    /// Flushes buffered frames to disk.
+    /// Writes what the operating system still buffers to the disk.
     pub fn flush(&mut self) -> Result<()> {
-        self.out.flush().map_err(io_error(&self.path))
+        self.out.sync_data().map_err(io_error(&self.path))
     }
 }
 
@@ -118,17 +146,17 @@ impl Thermo {
     }
 }
 
-/// A whitespace-separated thermo log with a commented header line.
+/// A whitespace-separated thermo log with a commented header line. Every line goes
+/// to the file as it is written (nothing waits in a buffer).
 pub struct ThermoLog {
-    out: BufWriter<File>,
+    out: File,
     path: String,
 }
 
 impl ThermoLog {
     /// Creates (truncates) the file and writes the header.
     pub fn create(path: &Path) -> Result<Self> {
-        let name = path.display().to_string();
-        let mut out = BufWriter::new(File::create(path).map_err(io_error(&name))?);
+        let (mut out, name) = open(path, false)?;
         writeln!(
             out,
             "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
@@ -138,11 +166,16 @@ impl ThermoLog {
         Ok(Self { out, path: name })
     }
 
+    /// Opens the log to add lines at its end (a resumed run).
+    pub fn append(path: &Path) -> Result<Self> {
+        let (out, path) = open(path, true)?;
+        Ok(Self { out, path })
+    }
+
     /// Appends one line.
     pub fn write(&mut self, th: &Thermo) -> Result<()> {
-        writeln!(
-            self.out,
-            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {}",
+        let line = format!(
+            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {}\n",
             th.t,
             th.step,
             th.kinetic_energy,
@@ -153,12 +186,14 @@ impl ThermoLog {
             th.momentum[1],
             th.momentum[2],
             th.contacts
-        )
-        .map_err(io_error(&self.path))
+        );
+        self.out
+            .write_all(line.as_bytes())
+            .map_err(io_error(&self.path))
     }
 
-    /// Flushes buffered lines to disk.
+    /// Writes what the operating system still buffers to the disk.
     pub fn flush(&mut self) -> Result<()> {
-        self.out.flush().map_err(io_error(&self.path))
+        self.out.sync_data().map_err(io_error(&self.path))
     }
 }

@@ -11,7 +11,7 @@ use emdstar_contact::vec3::sub;
 use emdstar_system::SimBox;
 
 /// Cell crossings on a linked-cell grid.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Crossings {
     pub(crate) grid: LinkedCells,
 }
@@ -101,7 +101,9 @@ impl Crossings {
     fn predict_axis_crossing<Q: EventQueue>(&self, s: &mut State<Q>, i: usize, axis: usize) {
         let (x, v) = (s.slot[i].kin.pos[axis], s.slot[i].kin.vel[axis]);
         let c = self.grid.coords[i][axis];
-        let (dt, up) = self.grid.axis_crossing(axis, c, x, v, s.gravity[axis]);
+        let (dt, up) = self
+            .grid
+            .axis_crossing(axis, c, x, v, s.domain.gravity[axis]);
         let time = s.time;
         let ev = &mut s.slot[i].ev;
         ev.cross[axis] = time + dt;

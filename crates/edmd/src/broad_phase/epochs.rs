@@ -23,7 +23,7 @@ use emdstar_system::SimBox;
 
 /// A particle's state at the start of an epoch and the end of its box: what a pair
 /// test reads, in one cache line.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(64))]
 struct Motion {
     pos: [f64; 3],
@@ -33,7 +33,7 @@ struct Motion {
 }
 
 /// The epoch broad phase's grid and state.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Epochs {
     pub(crate) grid: SweepGrid,
     /// End of the running epoch.
@@ -48,7 +48,8 @@ pub struct Epochs {
     partner: Vec<u32>,
     /// The rebuild's best pair per particle.
     best: Vec<(f64, u32)>,
-    /// The rebuild's candidate pairs.
+    /// The rebuild's candidate pairs (scratch).
+    #[serde(skip)]
     pairs: Vec<[u32; 2]>,
     /// The cells whose Morton order the particles are re-sorted in (those the
     /// crossing broad phase would use).

@@ -183,7 +183,7 @@ impl<Q: EventQueue> Prepared<Q> {
         // An impossible packing fraction first: it would also show as an overlap.
         let region = region_of(particles, domain.sim_box, max_contact)?;
         domain.check(particles)?;
-        let Domain { walls, gravity, .. } = domain;
+        let gravity = domain.gravity;
         let n = particles.len();
         let cell_width = if min_width > 0.0 {
             max_contact.max(min_width)
@@ -224,8 +224,7 @@ impl<Q: EventQueue> Prepared<Q> {
                     0.0
                 }
             }),
-            walls,
-            gravity,
+            domain,
             has_gravity,
             physics,
             hertz: HertzRestitution::default(),
@@ -252,7 +251,7 @@ impl<Q: EventQueue> Prepared<Q> {
         let volume = s.region.size.iter().product::<f64>();
         let radii: Vec<f64> = s.slot.iter().map(|slot| slot.kin.radius).collect();
         let dilute = sphere_volume(&radii) < BroadPhaseKind::AUTO_EPOCHS_BELOW * volume;
-        self.epochs_fit() && dilute && confined(&s.region, &s.walls)
+        self.epochs_fit() && dilute && confined(&s.region, &s.domain.walls)
     }
 
     /// Whether epochs can run here at all (no gravity, a region they fit).

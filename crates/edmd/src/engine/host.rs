@@ -66,12 +66,12 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
 
     #[inline]
     fn gravity(&self) -> [f64; 3] {
-        self.state.gravity
+        self.state.domain.gravity
     }
 
     #[inline]
     fn walls(&self) -> &[Wall] {
-        &self.state.walls
+        &self.state.domain.walls
     }
 
     #[inline]

@@ -6,6 +6,7 @@
 pub(crate) mod build;
 mod host;
 mod readout;
+mod snapshot;
 #[cfg(test)]
 mod tests;
 
@@ -40,6 +41,7 @@ pub enum Event {
 /// The event-driven engine for hard spheres, eMD and eMD* on one broad phase `B`.
 /// The default queue is the calendar queue (O(1) per event); [`crate::IndexedHeap`]
 /// gives the same event order. [`crate::Engine`] chooses the broad phase at run time.
+#[derive(serde::Serialize, serde::Deserialize)]
 pub struct EventEngine<B, Q: EventQueue = CalendarQueue> {
     state: State<Q>,
     broad: B,
@@ -66,6 +68,11 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Event and exception counters.
     pub fn stats(&self) -> &Stats {
         &self.state.stats
+    }
+
+    /// The collision rule.
+    pub fn physics(&self) -> &crate::physics::Physics {
+        &self.state.physics
     }
 
     /// Full prediction for particle `i` at the current time: all neighbours, walls and

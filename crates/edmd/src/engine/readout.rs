@@ -6,7 +6,7 @@ use crate::broad_phase::BroadPhase;
 use crate::collision::transient_gravity;
 use crate::queue::EventQueue;
 use emdstar_contact::vec3::dot;
-use emdstar_system::Particles;
+use emdstar_system::{Domain, Particles, Thermo};
 
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Brings every particle to the current time (for output and measurements).
@@ -46,7 +46,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         if ev.pending_time.is_finite() {
             let early = ev.pending_time - s.time;
             let v = s.pending_vel[i];
-            let g = transient_gravity(s.gravity, &s.walls, s.len(), ev.partner);
+            let g = transient_gravity(s.domain.gravity, &s.domain.walls, s.len(), ev.partner);
             std::array::from_fn(|k| v[k] - g[k] * early)
         } else {
             s.state_at(i, s.time).1
@@ -96,5 +96,54 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
 
     pub fn masses(&self) -> Vec<f64> {
         self.in_original_order(|i| self.state.mass[i])
+    }
+}
+
+impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
+    /// The particles now, by original particle number, without moving any stored
+    /// state: positions where each particle is now (wrapped into the box), velocities
+    /// with pending E^v velocities applied.
+    pub fn particles_now(&self) -> Particles {
+        let s = &self.state;
+        let n = self.len();
+        let position = self.in_original_order(|i| s.wrap(s.state_at(i, s.time).0));
+        let velocity = self.in_original_order(|i| self.settled_velocity(i));
+        let radius = self.in_original_order(|i| s.slot[i].kin.radius);
+        let mass = self.in_original_order(|i| s.mass[i]);
+        let species = self.in_original_order(|i| s.species[i]);
+        Particles {
+            position,
+            velocity,
+            species,
+            radius,
+            mass,
+            id: (0..n as u32).collect(),
+        }
+    }
+
+    /// Energies, temperature and momentum now, pending E^v velocities applied (see
+    /// [`EventEngine::particles_now`]). The potential energy is −Σ m g·x; contacts are
+    /// instantaneous, so none is counted.
+    pub fn thermo(&self) -> Thermo {
+        let p = self.particles_now();
+        let g = self.state.domain.gravity;
+        let mut potential = 0.0;
+        for (m, x) in p.mass.iter().zip(&p.position) {
+            potential -= m * dot(g, *x);
+        }
+        Thermo {
+            t: self.state.time,
+            step: self.state.stats.events,
+            kinetic_energy: p.kinetic_energy(),
+            potential_energy: potential,
+            granular_temperature: p.granular_temperature(),
+            momentum: p.momentum(),
+            contacts: 0,
+        }
+    }
+
+    /// The box, walls (unit normals) and gravity.
+    pub fn domain(&self) -> &Domain {
+        &self.state.domain
     }
 }

@@ -7,6 +7,7 @@
 use crate::common::{
     dilute_gas, elastic_spheres, emdstar_reference, hybrid_with, max_difference, md, step, system,
 };
+use emdstar_edmd::Stats;
 use emdstar_hybrid::{HybridOptions, Mode};
 use emdstar_system::System;
 
@@ -27,11 +28,28 @@ fn a_dilute_gas_on_the_cell_path_equals_the_emdstar_engine() {
     // One list build at the start; afterwards only cells and cheap mode checks.
     assert_eq!(s.rebuilds, 1, "{s:?}");
     assert!(s.cell_passes >= 5, "too few mode checks to test: {s:?}");
-    assert!(s.crossings > 10 * 216, "too few crossings to test: {s:?}");
+    assert!(
+        s.ed.crossings > 10 * 216,
+        "too few crossings to test: {s:?}"
+    );
 
     let (reference, es) = emdstar_reference(&sys, t_end);
     assert!(es.pair_collisions > 100, "too few collisions to test");
-    assert_eq!(s.pair_collisions, es.pair_collisions);
+    // Both run the same collision rules: every counter of the collisions agrees.
+    let counts = |s: &Stats| {
+        (
+            s.pair_collisions,
+            s.wall_collisions,
+            s.velocity_events,
+            s.exception_rotation,
+            s.exception_interference,
+            s.interference_resolved,
+            s.mor_fallbacks,
+        )
+    };
+    eprintln!("hybrid {:?}, event engine {:?}", counts(&s.ed), counts(&es));
+    assert!(es.exceptions() > 0, "no exception to compare: {es:?}");
+    assert_eq!(counts(&s.ed), counts(&es));
     let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
     eprintln!(
         "cell path: {} collisions, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {s:?}",
@@ -98,7 +116,7 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     assert!(s.rebuilds > back, "{back} {s:?}");
     assert!(s.td_particle_steps > 0 && s.to_event >= 2 * 216);
     // Every contact was MD's: no event-driven collision, no late guard switch.
-    assert_eq!((s.pair_collisions, s.late_conversions), (0, 0), "{s:?}");
+    assert_eq!((s.ed.pair_collisions, s.late_conversions), (0, 0), "{s:?}");
     let (dx, dv) = max_difference(&h.particles(), &m.particles_in_config_order(), &sys);
     let (eh, em) = (h.thermo().total_energy(), m.thermo().total_energy());
     eprintln!("contracting vs MD: |dx| = {dx:e} m, |dv| = {dv:e} m/s, E {eh} {em}");
@@ -166,12 +184,23 @@ fn walls_and_gravity_on_the_cell_path_match_the_list_path() {
     eprintln!("gravity: cells {sc:?}\n list {sl:?}");
     assert_eq!(c.count(Mode::Event), 150);
     assert_eq!(l.count(Mode::Event), 150);
-    assert!(sc.crossings > 5 * 150 && sc.rebuilds == 1, "{sc:?}");
-    assert!(sl.crossings == 0 && sl.rebuilds > 10, "{sl:?}");
-    assert!(sc.wall_collisions > 50 && sc.pair_collisions > 20, "{sc:?}");
+    assert!(sc.ed.crossings > 5 * 150 && sc.rebuilds == 1, "{sc:?}");
+    assert!(sl.ed.crossings == 0 && sl.rebuilds > 10, "{sl:?}");
+    assert!(
+        sc.ed.wall_collisions > 50 && sc.ed.pair_collisions > 20,
+        "{sc:?}"
+    );
     assert_eq!(
-        (sc.pair_collisions, sc.wall_collisions, sc.velocity_events),
-        (sl.pair_collisions, sl.wall_collisions, sl.velocity_events)
+        (
+            sc.ed.pair_collisions,
+            sc.ed.wall_collisions,
+            sc.ed.velocity_events
+        ),
+        (
+            sl.ed.pair_collisions,
+            sl.ed.wall_collisions,
+            sl.ed.velocity_events
+        )
     );
     let (dx, dv) = max_difference(&c.particles(), &l.particles(), &sys);
     eprintln!("gravity: cells vs list |dx| = {dx:e} m, |dv| = {dv:e} m/s");
@@ -196,7 +225,7 @@ fn particles_settling_on_the_floor_leave_the_cell_path_through_the_event_budget(
     let s = *h.stats();
     let th = h.thermo();
     eprintln!("settling: {s:?}, P {:?}", th.momentum);
-    assert!(s.crossings > 0 && s.cell_passes > 0, "{s:?}");
+    assert!(s.ed.crossings > 0 && s.cell_passes > 0, "{s:?}");
     assert!(s.budget_conversions > 0 && s.rebuilds > 1, "{s:?}");
     assert!(s.to_time > 0 && s.td_particle_steps > 0, "{s:?}");
     assert_eq!(s.late_conversions, 0);

@@ -48,7 +48,7 @@ fn an_event_driven_collision_equals_the_exact_two_body_solution() {
     h.advance(steps).unwrap();
     let got = h.particles();
     assert_eq!(h.count(Mode::Event), 2);
-    assert_eq!(h.stats().pair_collisions, 1);
+    assert_eq!(h.stats().ed.pair_collisions, 1);
     assert_eq!(h.stats().td_particle_steps, 0);
 
     // Reference: touch time from the free flight, exact collision, free flight on.
@@ -91,7 +91,7 @@ fn a_dilute_gas_runs_fully_event_driven_and_equals_the_emdstar_engine() {
 
     let (reference, es) = emdstar_reference(&sys, t_end);
     assert!(es.pair_collisions > 20, "too few collisions to test");
-    assert_eq!(h.stats().pair_collisions, es.pair_collisions);
+    assert_eq!(h.stats().ed.pair_collisions, es.pair_collisions);
     let (dx, dv) = max_difference(&h.particles(), &reference, &sys);
     eprintln!(
         "dilute: {} collisions, {} wall, |dx| = {dx:e} m, |dv| = {dv:e} m/s, {:?}",
@@ -135,7 +135,7 @@ fn a_dense_gas_runs_fully_time_driven_and_equals_md() {
     m.advance(steps).unwrap();
     assert_eq!(h.count(Mode::Time), 64);
     assert_eq!(h.stats().to_event, 0);
-    assert_eq!(h.stats().events, 0);
+    assert_eq!(h.stats().ed.events, 0);
     let th = m.thermo();
     // Collisions happened: the damped contacts took energy out.
     let e0 = sys.particles.kinetic_energy();
@@ -274,7 +274,7 @@ fn a_dense_cluster_that_dilutes_switches_to_events_conserving_energy_and_momentu
         "the particles must turn event-driven as the block dilutes"
     );
     assert!(
-        s.pair_collisions > 0,
+        s.ed.pair_collisions > 0,
         "some collisions must be event-driven"
     );
     assert!(m.thermo().contacts == 0 && h.thermo().contacts == 0);
@@ -323,8 +323,8 @@ fn both_modes_bounce_off_an_inclined_wall_under_gravity_like_md() {
         "incline: TD {dx_td:e} {dv_td:e}; ED {dx_ed:e} {dv_ed:e}; {:?}",
         ed.stats()
     );
-    assert_eq!(ed.stats().wall_collisions, 1);
-    assert_eq!(ed.stats().exception_rotation, 0);
+    assert_eq!(ed.stats().ed.wall_collisions, 1);
+    assert_eq!(ed.stats().ed.exception_rotation, 0);
     assert_eq!(ed.count(Mode::Event), 1);
     assert!(dx_td < 1e-12 && dv_td < 1e-12);
     // eMD* leaves out how gravity deforms the contact itself. With the wall carrying
@@ -428,7 +428,10 @@ seed = 9
     };
     let (a, sa) = run();
     let (b, sb) = run();
-    assert!(sa.pair_collisions > 0 && sa.td_particle_steps > 0, "{sa:?}");
+    assert!(
+        sa.ed.pair_collisions > 0 && sa.td_particle_steps > 0,
+        "{sa:?}"
+    );
     assert_eq!(sa, sb);
     assert_eq!(a, b);
 }

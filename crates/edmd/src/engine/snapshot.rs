@@ -1,0 +1,42 @@
+//! Saving an engine's whole state and putting it back (checkpoints).
+
+use super::EventEngine;
+use crate::broad_phase::BroadPhase;
+use crate::error::{EngineError, Result};
+use crate::queue::EventQueue;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+impl<B, Q> EventEngine<B, Q>
+where
+    B: BroadPhase + Serialize + DeserializeOwned,
+    Q: EventQueue + Serialize + DeserializeOwned,
+{
+    /// The whole state (everything but the physics, which the engine was built with),
+    /// in the checkpoint encoding.
+    pub fn save_state(&self) -> Vec<u8> {
+        postcard::to_allocvec(self).expect("an engine state serialises")
+    }
+
+    /// Replaces the state by one [`EventEngine::save_state`] gave, keeping this engine's
+    /// physics (the same config and options must have built both).
+    pub fn restore_state(&mut self, bytes: &[u8]) -> Result<()> {
+        let mut saved: Self = postcard::from_bytes(bytes).map_err(|e| {
+            EngineError::Invalid(format!(
+                "the checkpoint's event-engine state cannot be read ({e}); it was written by \
+                 another version or another engine"
+            ))
+        })?;
+        if saved.len() != self.len() {
+            return Err(EngineError::Invalid(format!(
+                "the checkpoint holds {} particles, the config {}: resume with the config \
+                 the checkpoint was written from",
+                saved.len(),
+                self.len()
+            )));
+        }
+        std::mem::swap(&mut saved.state.physics, &mut self.state.physics);
+        *self = saved;
+        Ok(())
+    }
+}
