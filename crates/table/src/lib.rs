@@ -82,6 +82,7 @@ mod error;
 mod fastmath;
 mod format;
 pub mod npz;
+mod physical;
 mod piece;
 mod poly;
 mod table;
@@ -94,9 +95,10 @@ pub use defaults::{default_table, default_table_bytes};
 pub use emdstar_contact::Mor;
 pub use error::TableError;
 pub use format::{FORMAT_VERSION, QUANTITIES, TableInfo, fnv1a64};
+pub use physical::{PairLookup, PairMap, Source, WithFallback};
 pub use piece::{LEAF, Piece, PieceParts};
 pub use poly::{NQ, Terms};
 pub use table::{
-    BMap, PIECES, PairLookup, PairMap, PhysicalLookup, SharedTable, Source, Table, TableParts, WithFallback,
-    mor_from_logs, mor_to_logs, piece_box,
+    BMap, PIECES, PhysicalLookup, SharedTable, Table, TableParts, mor_from_logs, mor_to_logs,
+    piece_box,
 };
