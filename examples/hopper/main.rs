@@ -165,7 +165,10 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
     if md {
         (opts.phi_time, opts.phi_event) = (0.0, 0.0);
     }
-    let mor = TableMorSource::default_for(system.material.model(), true).expect("table");
+    let mor = TableMorSource::new(
+        emdstar_table::default_table(system.material.model()).expect("table"),
+        true,
+    );
     let mut h = Hybrid::new(system, opts, Box::new(mor), t_end).expect("hopper set-up");
     let per_sample = (SAMPLE / dt).round() as u64;
     let samples = (t_end / SAMPLE).round() as u64;

@@ -14,10 +14,10 @@ use std::time::Instant;
 /// What to benchmark.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum BenchTarget {
-    /// The MD engine on a dilute Hertz gas (issue 4): R = 0.1 m, ρ = 1140 kg/m³,
+    /// The MD engine on a dilute Hertz gas: R = 0.1 m, ρ = 1140 kg/m³,
     /// Y = 1 GPa, ν = 0.4, A = 0, rms speed 1 m/s, simple cubic start.
     Md,
-    /// The event-driven engine (issue 5): elastic hard spheres (N = 32000, η = 0.10),
+    /// The event-driven engine: elastic hard spheres (N = 32000, η = 0.10),
     /// a dilute eMD* Hertz gas (N ≈ 10⁴, η = 0.01, Y = 1 GPa) against hard spheres
     /// of the same gas and, with --scaling, both rates for N from 10³ to 10⁶. Uses
     /// only the flags under "event-driven".
@@ -30,7 +30,7 @@ pub enum BenchTarget {
 ///
 /// Prints one JSON object per case and a summary.
 ///
-/// Example (the issue's figures, with LAMMPS side by side):
+/// Example (MD at two densities and thread counts, LAMMPS side by side):
 ///   emdstar bench md --eta 0.01 --eta 0.1 --threads 1 --threads 2 --repeat 3 --lammps tools/lammps/hertz_gas.in
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]

@@ -247,7 +247,10 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     let mor_source = || -> Result<Box<dyn MorSource>> {
         Ok(match a.mor {
             MorArg::Exact => Box::new(ExactMor),
-            MorArg::Table => Box::new(TableMorSource::default_for(Model::Hertz, true)?),
+            MorArg::Table => Box::new(TableMorSource::new(
+                emdstar_table::default_table(Model::Hertz)?,
+                true,
+            )),
         })
     };
     if !a.hard_spheres_only {

@@ -97,7 +97,10 @@ pub fn mor_source(system: &System, args: &EdmdArgs) -> Result<Box<dyn MorSource>
                 .with_context(|| format!("reading the MoR table {}", path.display()))?;
             Box::new(TableMorSource::from_table(table, fallback))
         }
-        (_, None) => Box::new(TableMorSource::default_for(model, fallback)?),
+        (_, None) => Box::new(TableMorSource::new(
+            emdstar_table::default_table(model)?,
+            fallback,
+        )),
     })
 }
 

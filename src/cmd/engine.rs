@@ -57,6 +57,13 @@ pub fn load(path: &Path) -> Result<(Config, System)> {
     let system = config
         .build()
         .with_context(|| format!("in {}", path.display()))?;
+    if let Some(reference) = system.species.first()
+        && let Some(note) = config
+            .material
+            .restitution_note(&system.material, reference)
+    {
+        eprintln!("{note}");
+    }
     Ok((config, system))
 }
 

@@ -6,16 +6,18 @@ use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, ParameterBox, RectBounds,
     ScaledParams, Sphere, ViscoelasticHertz, scale,
 };
-use emdstar_mor::{Mor, solve};
+use emdstar_mor::{Mor, solve, with_restitution};
 use serde_json::{Value, json};
+use std::path::PathBuf;
 
 /// Force model on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum ModelArg {
-    /// Linear spring-dashpot: F = kξ + γξ̇ (needs --stiffness, --damping).
+    /// Linear spring-dashpot: F = kξ + γξ̇ (needs --stiffness, and --damping or
+    /// --restitution).
     Linear,
     /// Viscoelastic Hertz: F = ρ_el ξ^{3/2} + (3/2)Aρ_el √ξ ξ̇ (needs --young, --poisson,
-    /// --dissipation).
+    /// and --dissipation or --restitution with --speed).
     Hertz,
 }
 
@@ -36,9 +38,20 @@ impl From<ModelArg> for Model {
 /// --radius2 is set, meeting at relative speed --speed with eccentricity --eccentricity
 /// = d/l) or the three scaled parameters with --scaled.
 ///
+/// The material's dissipation is either given (--damping γ, --dissipation A) or
+/// computed from --restitution E: the γ or A with which a central impact of these two
+/// spheres has normal restitution E (at normal speed --speed for Hertz, whose
+/// restitution falls with the speed), by the exact solver to 1e-10. The value used is
+/// printed ("damping" or "dissipation" in the JSON).
+///
+/// --restitution-curve prints the restitution of central impacts against the impact
+/// speed instead, so you see what a material gives over the speeds of your gas.
+///
 /// Examples:
 ///   emdstar mor --model linear --stiffness 2000 --damping 0 --radius 0.1 --density 1140 --speed 5 --eccentricity 0.3
 ///   emdstar mor --model hertz --young 1e9 --poisson 0.4 --dissipation 1e-4 --radius 0.01 --density 2500 --speed 1 --eccentricity 0.5 --json
+///   emdstar mor --model hertz --young 1e9 --poisson 0.4 --restitution 0.8 --radius 0.1 --density 1140 --speed 1 --eccentricity 0 --json
+///   emdstar mor --model hertz --young 1e9 --poisson 0.4 --restitution 0.8 --speed 1 --radius 0.1 --density 1140 --restitution-curve --plot eps.png
 ///   emdstar mor --model hertz --scaled 100 50 0.1
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment, allow_negative_numbers = true)]
@@ -61,6 +74,10 @@ pub struct MorArgs {
     /// Dissipative constant A in s (hertz), the A of Brilliantov et al. 1996.
     #[arg(long, value_name = "A")]
     pub dissipation: Option<f64>,
+    /// Coefficient of normal restitution E in (0, 1] of a central impact, instead of
+    /// --damping or --dissipation (hertz: at normal speed --speed).
+    #[arg(long, value_name = "E")]
+    pub restitution: Option<f64>,
     /// Sphere radius R in m (both spheres unless --radius2 is given).
     #[arg(long, value_name = "R")]
     pub radius: Option<f64>,
@@ -87,6 +104,20 @@ pub struct MorArgs {
     /// table's box are an error, never extrapolated.
     #[arg(long, value_name = "FILE|default")]
     pub table: Option<String>,
+    /// Print the normal restitution ε_n and the duration of central impacts against
+    /// the impact speed (exact solves) instead of one MoR.
+    #[arg(long)]
+    pub restitution_curve: bool,
+    /// Speed range of the curve in m/s [default: --speed/100 to 100·--speed, or 0.01
+    /// to 100].
+    #[arg(long, num_args = 2, value_names = ["LO", "HI"])]
+    pub curve_speeds: Option<Vec<f64>>,
+    /// Speeds on the curve, evenly spaced in log(speed).
+    #[arg(long, value_name = "N", default_value_t = 21)]
+    pub curve_points: usize,
+    /// Also draw the curve as a PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 }
 
 /// What was computed, in the shape of the JSON output.
@@ -98,19 +129,37 @@ struct Answer {
     mor: Mor,
     /// "exact" or "table".
     source: &'static str,
+    fitted: Option<Fitted>,
 }
 
 pub fn run(args: &MorArgs) -> Result<()> {
     let model = Model::from(args.model);
-    let (params, scales) = match &args.scaled {
+    if args.restitution_curve {
+        return super::restitution_curve::run(args, model);
+    }
+    for (flag, given) in [
+        ("--curve-speeds", args.curve_speeds.is_some()),
+        ("--plot", args.plot.is_some()),
+    ] {
+        if given {
+            bail!("{flag} belongs to --restitution-curve; add that flag or remove {flag}");
+        }
+    }
+    let (params, scales, fitted) = match &args.scaled {
         Some(v) => {
             reject_physical(args)?;
             let p = ScaledParams::new(v[0], v[1], v[2]).context("bad --scaled parameters")?;
-            (p, None)
+            (p, None, None)
         }
         None => {
-            let s = physical_scaling(args, model)?;
-            (s.params, Some((s.time, s.length)))
+            let (law, pair, fitted) = material(args, model)?;
+            let pair_law = PairLaw::same_material(&law, pair.r_eff)?;
+            let impact = Impact::from_speed_eccentricity(
+                required(args.speed, "--speed", model)?,
+                required(args.eccentricity, "--eccentricity", model)?,
+            )?;
+            let s = scale(&pair_law, &pair, &impact)?;
+            (s.params, Some((s.time, s.length)), fitted)
         }
     };
     let (mor, source) = match &args.table {
@@ -126,6 +175,7 @@ pub fn run(args: &MorArgs) -> Result<()> {
         scales,
         mor,
         source,
+        fitted,
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&answer.to_json())?);
@@ -163,6 +213,7 @@ fn reject_physical(args: &MorArgs) -> Result<()> {
         ("--young", args.young),
         ("--poisson", args.poisson),
         ("--dissipation", args.dissipation),
+        ("--restitution", args.restitution),
         ("--radius", args.radius),
         ("--radius2", args.radius2),
         ("--density", args.density),
@@ -179,10 +230,22 @@ fn required(value: Option<f64>, flag: &str, model: Model) -> Result<f64> {
     value.with_context(|| format!("--model {model} needs {flag}"))
 }
 
-fn physical_scaling(args: &MorArgs, model: Model) -> Result<emdstar_contact::ScaledImpact> {
-    let (needed, foreign): (&[&str], Vec<(&str, Option<f64>)>) = match model {
+/// A flag and its value, if given.
+type Flag = (&'static str, Option<f64>);
+
+/// The dissipation computed from --restitution: ("damping", γ) or ("dissipation", A).
+pub(super) type Fitted = (&'static str, f64);
+
+/// The material (its dissipation given, or computed from --restitution), the pair of
+/// spheres, and the dissipation computed, if it was.
+pub(super) fn material(
+    args: &MorArgs,
+    model: Model,
+) -> Result<(ForceLaw, PairProperties, Option<Fitted>)> {
+    let (elastic, dissipative, foreign): (&[&str], Flag, Vec<Flag>) = match model {
         Model::Linear => (
-            &["--stiffness", "--damping"],
+            &["--stiffness"],
+            ("--damping", args.damping),
             vec![
                 ("--young", args.young),
                 ("--poisson", args.poisson),
@@ -190,25 +253,35 @@ fn physical_scaling(args: &MorArgs, model: Model) -> Result<emdstar_contact::Sca
             ],
         ),
         Model::Hertz => (
-            &["--young", "--poisson", "--dissipation"],
+            &["--young", "--poisson"],
+            ("--dissipation", args.dissipation),
             vec![("--stiffness", args.stiffness), ("--damping", args.damping)],
         ),
     };
     if let Some((flag, _)) = foreign.iter().find(|(_, v)| v.is_some()) {
         bail!(
-            "{flag} does not belong to --model {model}, which takes {}",
-            needed.join(", ")
+            "{flag} does not belong to --model {model}, which takes {}, and {} or --restitution",
+            elastic.join(", "),
+            dissipative.0
         );
     }
+    let (flag, value) = dissipative;
+    let dissipation = match (value, args.restitution) {
+        (Some(_), Some(_)) => {
+            bail!("give either {flag} or --restitution, not both: --restitution computes {flag}")
+        }
+        (None, None) => bail!("--model {model} needs {flag} or --restitution"),
+        (v, _) => v.unwrap_or(0.0),
+    };
     let law = match model {
         Model::Linear => ForceLaw::Linear(LinearDashpot::new(
             required(args.stiffness, "--stiffness", model)?,
-            required(args.damping, "--damping", model)?,
+            dissipation,
         )?),
         Model::Hertz => ForceLaw::Hertz(ViscoelasticHertz::new(
             required(args.young, "--young", model)?,
             required(args.poisson, "--poisson", model)?,
-            required(args.dissipation, "--dissipation", model)?,
+            dissipation,
         )?),
     };
     let density = required(args.density, "--density", model)?;
@@ -219,12 +292,23 @@ fn physical_scaling(args: &MorArgs, model: Model) -> Result<emdstar_contact::Sca
         None => s1,
     };
     let pair = PairProperties::spheres(&s1, &s2);
-    let pair_law = PairLaw::same_material(&law, pair.r_eff)?;
-    let impact = Impact::from_speed_eccentricity(
-        required(args.speed, "--speed", model)?,
-        required(args.eccentricity, "--eccentricity", model)?,
-    )?;
-    Ok(scale(&pair_law, &pair, &impact)?)
+    let Some(e) = args.restitution else {
+        return Ok((law, pair, None));
+    };
+    // The linear dashpot's restitution does not depend on the speed.
+    let speed = match model {
+        Model::Linear => args.speed.unwrap_or(1.0),
+        Model::Hertz => args.speed.context(
+            "--restitution with --model hertz needs --speed: the restitution of viscoelastic \
+             spheres falls with the impact speed, so it is matched at one speed",
+        )?,
+    };
+    let law = with_restitution(&law, &pair, speed, e).context("bad --restitution")?;
+    let fitted = match law {
+        ForceLaw::Linear(l) => ("damping", l.damping),
+        ForceLaw::Hertz(h) => ("dissipation", h.dissipation),
+    };
+    Ok((law, pair, Some(fitted)))
 }
 
 impl Answer {
@@ -245,7 +329,7 @@ impl Answer {
             None => Value::Null,
         };
         let m = &self.mor;
-        json!({
+        let mut v = json!({
             "model": self.model.name(),
             "source": self.source,
             "scaled": {"l": self.params.l_tilde, "c_phi": self.params.c_phi,
@@ -253,7 +337,11 @@ impl Answer {
             "rect": rect,
             "mor": {"eps_r": m.eps_r, "one_minus_eps_r": m.one_minus_eps_r,
                     "eps_rdot": m.eps_rdot, "eps_phi": m.eps_phi, "eps_t": m.eps_t},
-        })
+        });
+        if let Some((name, value)) = self.fitted {
+            v[name] = json!(value);
+        }
+        v
     }
 
     fn summary(&self) -> String {
@@ -272,6 +360,13 @@ impl Answer {
             p.c_phi,
             p.c_dis
         );
+        match self.fitted {
+            Some(("damping", g)) => {
+                s += &format!("from --restitution  damping γ = {g:.10e} kg/s\n");
+            }
+            Some((_, a)) => s += &format!("from --restitution  dissipation A = {a:.10e} s\n"),
+            None => {}
+        }
         if let Some((t, x)) = self.scales {
             s += &format!("scales              T = {t:.6e} s   X = {x:.6e} m\n");
         }

@@ -3,11 +3,12 @@
 
 use super::any_engine::{AnyEngine, EngineArgs};
 use super::engine::{drift_fields, load, progress_bar, with_fields};
-use super::run_loop::{Plan, Ticks, drive};
+use super::run_loop::{Plan, Ticks, Trajectory, drive};
 use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::DEFAULT_DT_FRACTION;
+use emdstar_system::gsd::GsdWriter;
 use emdstar_system::{Checkpoint, Config, ThermoLog, XyzWriter};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -21,7 +22,9 @@ use std::process::ExitCode;
 /// the engine's counters.
 ///
 /// Files default to CONFIG's stem + .xyz / .log in the current directory ([output] in
-/// the config or --trajectory/--log override them; --trajectory none writes none);
+/// the config or --trajectory/--log override them; a trajectory ending in .gsd is
+/// written in the binary GSD format, which OVITO also reads and which takes a fifth of
+/// the space; --trajectory none writes none);
 /// frames are written every t_end/20 and log lines every t_end/100 of the config's
 /// t_end unless [output] says otherwise. The log is written line by line, so it is
 /// readable while the run goes on.
@@ -47,7 +50,7 @@ pub struct RunArgs {
     pub config: PathBuf,
     #[command(flatten)]
     pub engine: EngineArgs,
-    /// Trajectory file (extended XYZ), or "none".
+    /// Trajectory file: extended XYZ, or GSD for a name ending in .gsd, or "none".
     #[arg(long, value_name = "PATH")]
     pub trajectory: Option<PathBuf>,
     /// Thermo log file.
@@ -149,6 +152,7 @@ fn resume(engine: &mut AnyEngine, path: &Path, config: &Config) -> Result<f64> {
 fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     let (config, system) = load(&args.config)?;
     let n = system.particles.len();
+    let species = system.species.len();
     let total_mass = system.particles.total_mass();
     let mut engine = AnyEngine::build(&args.engine, &config, system, DEFAULT_DT_FRACTION)?;
     let resumed_at = match &args.resume {
@@ -179,10 +183,34 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
             config.t_end / 20.0,
             "trajectory_interval",
         )?;
-        let writer = if fresh {
-            XyzWriter::create(&traj_path)?
-        } else {
-            XyzWriter::append(&traj_path)?
+        let gsd = traj_path.extension().is_some_and(|e| e == "gsd");
+        let frames = ((t_end - t_now) / every).floor() + 2.0;
+        let bytes = frames * Trajectory::frame_bytes(gsd, n, species) as f64;
+        if n >= 100_000 || bytes > 1e8 {
+            eprintln!(
+                "trajectory {}: about {frames:.0} frames of {n} particles, {:.1} GB{}",
+                traj_path.display(),
+                bytes / 1e9,
+                if gsd {
+                    ""
+                } else {
+                    " of text; a .gsd file takes a fifth of that (OVITO reads both), \
+                     --trajectory none writes none"
+                }
+            );
+        }
+        let writer = match (gsd, fresh) {
+            (false, true) => Trajectory::Xyz(XyzWriter::create(&traj_path)?),
+            (false, false) => Trajectory::Xyz(XyzWriter::append(&traj_path)?),
+            (true, true) => Trajectory::Gsd {
+                writer: GsdWriter::create(&traj_path)?,
+                species,
+            },
+            (true, false) => bail!(
+                "a resumed run cannot add frames to the GSD file {}; give it a new one with \
+                 --trajectory (one file per part of the run), or an .xyz file",
+                traj_path.display()
+            ),
         };
         Some((
             traj_path.clone(),

@@ -6,7 +6,8 @@
 use super::any_engine::AnyEngine;
 use super::stop::{Stop, StopFlags};
 use anyhow::{Context, Result};
-use emdstar_system::{Checkpoint, Thermo, ThermoLog, XyzWriter};
+use emdstar_system::gsd::GsdWriter;
+use emdstar_system::{Checkpoint, Particles, SimBox, Thermo, ThermoLog, XyzWriter};
 use indicatif::ProgressBar;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -56,11 +57,46 @@ impl Ticks {
     }
 }
 
+/// A trajectory file: extended XYZ (text), or GSD (binary, chosen by the extension
+/// `.gsd`); OVITO reads both.
+pub enum Trajectory {
+    Xyz(XyzWriter),
+    Gsd { writer: GsdWriter, species: usize },
+}
+
+impl Trajectory {
+    /// Bytes one frame of `n` particles of `species` kinds takes, about.
+    pub fn frame_bytes(gsd: bool, n: usize, species: usize) -> u64 {
+        if gsd {
+            GsdWriter::frame_bytes(n, species)
+        } else {
+            // Nine columns in shortest round-trip notation.
+            200 * n as u64
+        }
+    }
+
+    fn write_frame(&mut self, t: f64, p: &Particles, sim_box: Option<&SimBox>) -> Result<()> {
+        match self {
+            Self::Xyz(w) => w.write_frame(t, p, sim_box)?,
+            Self::Gsd { writer, species } => writer.write_frame(t, p, *species, sim_box)?,
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<()> {
+        match self {
+            Self::Xyz(w) => w.flush()?,
+            Self::Gsd { writer, .. } => writer.flush()?,
+        }
+        Ok(())
+    }
+}
+
 /// The files of a run and when they are written.
 pub struct Plan {
     /// The time the run stops at (the nearest step for step engines).
     pub t_end: f64,
-    pub trajectory: Option<(PathBuf, XyzWriter, Ticks)>,
+    pub trajectory: Option<(PathBuf, Trajectory, Ticks)>,
     pub log: (PathBuf, ThermoLog, Ticks),
     /// Where checkpoints go, and (with `[output] restart_interval`) when.
     pub checkpoint: Option<(PathBuf, Option<Ticks>)>,

@@ -1,5 +1,6 @@
 //! Stopping a run cleanly on SIGINT (Ctrl-C) or SIGTERM (a batch scheduler's time
-//! limit): the handlers only raise a flag, which the run loop reads between steps.
+//! limit): the handlers only raise a flag, which the run loop reads between steps; a
+//! second signal ends the process at once.
 
 use anyhow::{Context, Result};
 use std::sync::Arc;
@@ -45,10 +46,13 @@ impl StopFlags {
         #[cfg(unix)]
         {
             use signal_hook::consts::{SIGINT, SIGTERM};
-            signal_hook::flag::register(SIGINT, Arc::clone(&flags.interrupt))
-                .context("installing the SIGINT handler")?;
-            signal_hook::flag::register(SIGTERM, Arc::clone(&flags.terminate))
-                .context("installing the SIGTERM handler")?;
+            use signal_hook::flag::{register, register_conditional_shutdown};
+            for (signal, flag) in [(SIGINT, &flags.interrupt), (SIGTERM, &flags.terminate)] {
+                // A second signal ends the process at once (the run did not stop).
+                register_conditional_shutdown(signal, 1, Arc::clone(flag))
+                    .and_then(|_| register(signal, Arc::clone(flag)))
+                    .context("installing the signal handlers")?;
+            }
         }
         Ok(flags)
     }

@@ -1,9 +1,11 @@
 //! End-to-end tests of the `emdstar` command line.
 
 mod edmd;
+mod examples;
 mod hybrid;
 mod md;
 mod mor;
+mod restitution;
 mod table;
 mod validate;
 

@@ -1,5 +1,5 @@
 //! `emdstar mor` against independent references: the analytic limits and the
-//! Schwager & Pöschel central-dashpot formulas (DESIGN.md).
+//! Schwager & Pöschel central-dashpot formulas (docs/physics.md, "Reference values").
 
 use crate::{emdstar_error, emdstar_json};
 use std::f64::consts::PI;

@@ -1,6 +1,6 @@
 //! Normal force laws of frictionless spheres, material by material and pair by pair.
 //!
-//! Sign conventions (DESIGN.md): overlap ξ = l − |r| > 0 in contact, ξ̇ = −ṙ > 0 while
+//! Sign conventions (docs/physics.md, "Pair quantities"): overlap ξ = l − |r| > 0 in contact, ξ̇ = −ṙ > 0 while
 //! approaching, and a positive force repels.
 
 use crate::error::{ContactError, Result, non_negative, positive};
@@ -301,7 +301,7 @@ mod tests {
     }
 
     #[test]
-    fn hertz_elastic_duration_is_the_design_value() {
+    fn hertz_elastic_duration_is_the_published_value() {
         assert_relative_eq!(
             hertz_elastic_scaled_duration(),
             3.218065,

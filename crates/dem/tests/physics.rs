@@ -115,7 +115,7 @@ fn central_wall_bounce_has_the_laws_restitution() {
     let eps = bounce(linear(gamma), 2.0);
     println!("linear wall bounce: ε = {eps:.6}, Schwager & Pöschel {exact:.6}");
     assert!((eps - exact).abs() < 2e-5);
-    // Hertz: DESIGN.md's published ε(δ = c_dis) for δ = 0.3 and 1.0.
+    // Hertz: the published ε(δ = c_dis) for δ = 0.3 and 1.0 (docs/physics.md, "Reference values").
     let v0: f64 = 1.5;
     let PairLaw::Hertz { rho_el, .. } = PairLaw::same_material(&hertz(0.0), RADIUS).unwrap() else {
         unreachable!()

@@ -20,7 +20,7 @@ pub struct BouncingBall {
     /// Gravitational acceleration towards the plate, in units of σ per time unit².
     pub gravity: f64,
     /// Impacts per sample (the paper follows each sample until it fails or for ever;
-    /// the issue asks for 1000).
+    /// 1000 by default).
     pub impacts: u32,
     /// Use Eq. (12) instead of Algorithm 2.
     pub naive: bool,
@@ -48,7 +48,7 @@ pub struct Sample {
     pub max_overlap: f64,
 }
 
-/// The ways a bouncing-ball run can fail (issue 5).
+/// The ways a bouncing-ball run can fail.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Failure {
     /// The event time was NaN: a negative discriminant that was not handled.
@@ -170,7 +170,8 @@ mod tests {
     /// Offsets whose residual stays ≥ 0 survive. The paper finds ≈ 50 % failing,
     /// the sign of δ being a coin flip. Here the residual after an impact is exactly 0
     /// for most offsets (x += v·dt + ½g·dt² lands on plate + σ/2), so fewer fail:
-    /// 25 % of 10⁶ offsets (issue 5 note); the mechanism is checked sample by sample.
+    /// 25 % of 10⁶ offsets (`emdstar check bouncing-ball`); the mechanism is checked
+    /// sample by sample.
     #[test]
     fn naive_ball_fails_exactly_when_round_off_leaves_it_overlapping() {
         let bb = BouncingBall {

@@ -65,14 +65,13 @@ enum TableRef {
 }
 
 impl TableMorSource {
-    /// The shipped default table of `model`.
-    pub fn default_for(model: Model, exact_fallback: bool) -> Result<Self> {
-        let table = emdstar_table::default_table(model)
-            .map_err(|e| EngineError::Invalid(format!("default {} table: {e}", model.name())))?;
-        Ok(Self {
+    /// A table that lives for the whole program, e.g. a shipped default table
+    /// (`emdstar_table::default_table` with that crate's `embedded-defaults` feature).
+    pub fn new(table: &'static Table, exact_fallback: bool) -> Self {
+        Self {
             table: TableRef::Static(table),
             exact_fallback,
-        })
+        }
     }
 
     /// A table read from a file.
@@ -274,7 +273,7 @@ mod tests {
             r_eff: 0.05,
         };
         // β = γ/(2 m_eff) = 0.25, ω0 = √1000: ε = exp(−β t_c) with
-        // t_c = (π − atan(2βω/(ω²−β²)))/ω (DESIGN.md, Schwager & Pöschel 2007).
+        // t_c = (π − atan(2βω/(ω²−β²)))/ω (docs/physics.md, Schwager & Pöschel 2007).
         let (beta, w0) = (0.25f64, 1000f64.sqrt());
         let w = (w0 * w0 - beta * beta).sqrt();
         let tc = (std::f64::consts::PI - (2.0 * beta * w / (w * w - beta * beta)).atan()) / w;

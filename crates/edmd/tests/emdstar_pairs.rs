@@ -165,13 +165,16 @@ fn emdstar_pair_collisions_equal_the_exact_solution() {
     eprintln!("largest eMD* pair error, exact MoR (relative to R and v): {worst:e}");
 }
 
-/// The default tables hold the MoR to 1e-6 over their physical boxes (issue 3's
-/// table check). The linear table stops short of the pass-through limit l̃ → 1 of
+/// The default tables hold the MoR to 1e-6 over their physical boxes (`emdstar table
+/// check`). The linear table stops short of the pass-through limit l̃ → 1 of
 /// near-central impacts (lω/v < 1.05): those are solved exactly and counted.
 #[test]
 fn emdstar_pair_collisions_with_tables_are_within_table_accuracy() {
     let table = |law: &ForceLaw| -> Box<dyn MorSource> {
-        Box::new(TableMorSource::default_for(law.model(), true).unwrap())
+        Box::new(TableMorSource::new(
+            emdstar_table::default_table(law.model()).unwrap(),
+            true,
+        ))
     };
     let worst = largest_pair_error(table, |_, _| true);
     assert!(worst < 1e-5, "largest relative error {worst:e}");
@@ -184,7 +187,12 @@ fn impacts_outside_the_table_are_errors_unless_the_exact_fallback_is_chosen() {
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e11, 0.3, 1e-6).unwrap());
     let sp = spheres(false);
     let (setup, _) = approach(sp, 1e-4, 0.5, 1e-6);
-    let table = |fallback| Box::new(TableMorSource::default_for(law.model(), fallback).unwrap());
+    let table = |fallback| {
+        Box::new(TableMorSource::new(
+            emdstar_table::default_table(law.model()).unwrap(),
+            fallback,
+        ))
+    };
     let mut strict: Engine = Engine::new(
         &setup,
         &Domain::default(),

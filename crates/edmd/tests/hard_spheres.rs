@@ -36,7 +36,7 @@ fn elastic_gas_conserves_energy_and_momentum() {
 }
 
 /// N = 1372 elastic hard spheres from an FCC start at ρσ³ = 0.5 and kT = 1: the mean
-/// free time is 0.13031 (the reference value of issue 5; the Enskog estimate with the
+/// free time is 0.13031 (the reference value of docs/physics.md; the Enskog estimate with the
 /// Carnahan–Starling contact value, 1/(4ρσ²g(σ)√(πkT/m)) = 0.1310, is 0.5 % above it).
 #[test]
 fn mean_free_time_matches_the_reference() {

@@ -43,7 +43,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let system = lattice_gas(&law, DENSITY, RADIUS, n, eta, RMS_SPEED, 1)?;
     let physics = Physics::EmdStar {
         materials: Materials::from_system(&system)?,
-        mor: Box::new(TableMorSource::default_for(system.material.model(), true)?),
+        mor: Box::new(TableMorSource::new(
+            emdstar_table::default_table(system.material.model())?,
+            true,
+        )),
         interference: Interference::HitOnly,
     };
     let width = env_number("CELL_WIDTH")?.unwrap_or(0.0);

@@ -42,6 +42,8 @@ pub fn material(law: &ForceLaw, density: f64) -> MaterialConfig {
         young: None,
         poisson: None,
         dissipation: None,
+        restitution: None,
+        restitution_speed: None,
         density: Some(density),
     };
     match law {
@@ -119,7 +121,10 @@ pub fn lattice_gas(
 fn mor_source(kind: EventKind, model: Model) -> Result<Box<dyn MorSource>> {
     Ok(match kind {
         EventKind::EmdStarExact => Box::new(ExactMor),
-        _ => Box::new(TableMorSource::default_for(model, true)?),
+        _ => Box::new(TableMorSource::new(
+            emdstar_table::default_table(model)?,
+            true,
+        )),
     })
 }
 

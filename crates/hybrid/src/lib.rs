@@ -1,7 +1,7 @@
 //! The hybrid engine of emdstar: force-based, time-driven MD (TD) where the gas is
 //! dense, eMD* events (ED) where it is dilute. After the HAET algorithm (Hybrid
-//! Algorithm of Event- and Time-driven methods, see `papers/haet-…` of the project
-//! notes), with one change that removes HAET's mismatch: ED collisions use the matrix
+//! Algorithm of Event- and Time-driven methods, cited in docs/physics.md), with one
+//! change that removes HAET's mismatch: ED collisions use the matrix
 //! of restitution of Müller & Pöschel 2013 (eMD*), whose trajectories agree with MD's.
 //!
 //! # Modes

@@ -4,12 +4,16 @@
 //!   returns the [`Mor`] {ε_r, 1−ε_r, ε_ṙ, ε_φ, ε_t} of Eqs. (16)-(21).
 //! - [`rule`] applies a MoR to two spheres in the laboratory frame, Sec. IV,
 //!   Eqs. (25)-(39), and splits it into the E^φ and E^v events of Sec. VI B.
+//! - [`inverse`] gives the dissipation (γ or A) of a material from the coefficient of
+//!   normal restitution of a central impact: restitution as input.
 //!
 //! Both are pure functions: no tables, no engines, no I/O.
 
 mod dop853;
+pub mod inverse;
 pub mod rule;
 mod solver;
 
 pub use emdstar_contact::Mor;
+pub use inverse::{InverseError, central_c_dis, with_restitution};
 pub use solver::{SolveError, SolveStats, SolverOptions, solve, solve_with};

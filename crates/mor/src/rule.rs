@@ -1,7 +1,7 @@
 //! The eMD* collision rule in the laboratory frame (Müller & Pöschel 2013, Sec. IV,
 //! Eqs. 25-39) and its split into one E^φ and two E^v events (Sec. VI B).
 //!
-//! Conventions (DESIGN.md): r = r₁ − r₂, the collision frame Σ has e_x = r̂ at contact,
+//! Conventions (docs/physics.md, "Collision rule"): r = r₁ − r₂, the collision frame Σ has e_x = r̂ at contact,
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 

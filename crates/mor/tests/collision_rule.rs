@@ -4,7 +4,7 @@
 //! The reference integrates both bodies' positions and velocities with `ode_solvers`'
 //! DOP853 (an independent implementation) under the clipped normal force, well past
 //! the end of the contact; the rule's state at t* + τ is moved on ballistically to the
-//! same time and compared. Errors are normalised by l and |v_rel| (DESIGN.md).
+//! same time and compared. Errors are normalised by l and |v_rel|.
 
 use emdstar_contact::{
     ForceLaw, LinearDashpot, PairLaw, PairProperties, Sphere, Vec3, ViscoelasticHertz,

@@ -10,6 +10,8 @@
 //! # young = 1e9                    # Pa   (hertz)
 //! # poisson = 0.4                  #      (hertz)
 //! # dissipation = 1e-3             # s: A of Brilliantov et al. (hertz)
+//! # restitution = 0.8              # instead of damping/dissipation: central ε_n
+//! # restitution_speed = 1.0        # m/s, where ε_n is matched (hertz only)
 //! density = 1140.0                 # kg/m³ (or give `mass` per particle / gas)
 //! [[particles]]                    # an explicit list ...
 //! radius = 0.1
@@ -51,7 +53,7 @@ use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
 use crate::system::System;
-use emdstar_contact::{ForceLaw, LinearDashpot, Model, Sphere, ViscoelasticHertz};
+use emdstar_contact::{ForceLaw, LinearDashpot, Model, PairProperties, Sphere, ViscoelasticHertz};
 use serde::{Deserialize, Serialize};
 
 /// The whole config file.
@@ -85,6 +87,11 @@ pub struct MaterialConfig {
     pub young: Option<f64>,
     pub poisson: Option<f64>,
     pub dissipation: Option<f64>,
+    /// Normal restitution of a central impact of two reference spheres, instead of
+    /// `damping` or `dissipation` (see [`MaterialConfig::force_law`]).
+    pub restitution: Option<f64>,
+    /// Normal impact speed in m/s at which `restitution` holds (Hertz only).
+    pub restitution_speed: Option<f64>,
     pub density: Option<f64>,
 }
 
@@ -178,7 +185,6 @@ impl Config {
 
     /// Builds and validates the system the config describes.
     pub fn build(&self) -> Result<System> {
-        let material = self.material.force_law()?;
         let gravity = finite3("gravity", self.gravity.unwrap_or([0.0; 3]))?;
         let walls = self
             .walls
@@ -225,6 +231,8 @@ impl Config {
                 gas::generate_gas(gas, &species, &b, &mut particles)?;
             }
         }
+        // species[0]: the [gas] sphere or the first [[particles]] entry.
+        let material = self.material.force_law(&species[0])?;
         let system = System {
             particles,
             species,
@@ -268,7 +276,12 @@ fn species_index(species: &mut Vec<Species>, s: Species) -> u32 {
 
 impl MaterialConfig {
     /// The force law, refusing keys that belong to the other model.
-    pub fn force_law(&self) -> Result<ForceLaw> {
+    ///
+    /// With `restitution = E` the dissipation (γ or A) is the one with which a central
+    /// impact of two `reference` spheres has normal restitution E (Hertz: at normal
+    /// speed `restitution_speed`), from the exact solver (`emdstar_mor::inverse`). Other
+    /// pairs of a mixture, and Hertz impacts at other speeds, get other restitutions.
+    pub fn force_law(&self, reference: &Species) -> Result<ForceLaw> {
         let model: Model = self.model.parse().map_err(SystemError::Invalid)?;
         let need = |name: &str, v: Option<f64>| {
             v.ok_or_else(|| {
@@ -283,14 +296,27 @@ impl MaterialConfig {
             }
             None => Ok(()),
         };
-        Ok(match model {
+        let dissipation = |name: &str, v: Option<f64>| match (v, self.restitution) {
+            (Some(_), Some(_)) => invalid!(
+                "give either material.{name} or material.restitution, not both: restitution \
+                 computes {name}"
+            ),
+            (v, _) => Ok(v.unwrap_or(0.0)),
+        };
+        let law = match model {
             Model::Linear => {
                 refuse("young", self.young)?;
                 refuse("poisson", self.poisson)?;
                 refuse("dissipation", self.dissipation)?;
+                if self.restitution_speed.is_some() {
+                    return invalid!(
+                        "material.restitution_speed does not belong to model = \"linear\": \
+                         the linear dashpot's restitution is the same at every speed; remove it"
+                    );
+                }
                 ForceLaw::Linear(LinearDashpot::new(
                     need("stiffness", self.stiffness)?,
-                    self.damping.unwrap_or(0.0),
+                    dissipation("damping", self.damping)?,
                 )?)
             }
             Model::Hertz => {
@@ -299,9 +325,53 @@ impl MaterialConfig {
                 ForceLaw::Hertz(ViscoelasticHertz::new(
                     need("young", self.young)?,
                     need("poisson", self.poisson)?,
-                    self.dissipation.unwrap_or(0.0),
+                    dissipation("dissipation", self.dissipation)?,
                 )?)
             }
+        };
+        let Some(e) = self.restitution else {
+            if self.restitution_speed.is_some() {
+                return invalid!(
+                    "material.restitution_speed needs material.restitution (or remove it)"
+                );
+            }
+            return Ok(law);
+        };
+        let speed = match model {
+            Model::Linear => 1.0,
+            Model::Hertz => self.restitution_speed.ok_or_else(|| {
+                SystemError::Invalid(
+                    "material.restitution needs material.restitution_speed (m/s) with \
+                     model = \"hertz\": the restitution of viscoelastic spheres falls with the \
+                     impact speed, so it is matched at one speed"
+                        .into(),
+                )
+            })?,
+        };
+        let sphere = Sphere::new(reference.radius, reference.mass)?;
+        let pair = PairProperties::spheres(&sphere, &sphere);
+        emdstar_mor::with_restitution(&law, &pair, speed, e)
+            .map_err(|err| SystemError::Invalid(format!("material.restitution: {err}")))
+    }
+
+    /// One line saying which dissipation `restitution` gave `law`, for the user; `None`
+    /// when the dissipation was given directly.
+    pub fn restitution_note(&self, law: &ForceLaw, reference: &Species) -> Option<String> {
+        let e = self.restitution?;
+        let pair = format!(
+            "central impacts of two spheres of radius {} m and mass {:.6e} kg",
+            reference.radius, reference.mass
+        );
+        Some(match law {
+            ForceLaw::Linear(l) => format!(
+                "material.restitution = {e}: damping = {:.10e} kg/s ({pair})",
+                l.damping
+            ),
+            ForceLaw::Hertz(h) => format!(
+                "material.restitution = {e} at {} m/s: dissipation = {:.10e} s ({pair})",
+                self.restitution_speed.unwrap_or(f64::NAN),
+                h.dissipation
+            ),
         })
     }
 }

@@ -4,7 +4,7 @@
 use crate::error::{Result, SystemError, invalid};
 use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
 use crate::state::Particles;
-use emdstar_contact::vec3::{norm, sub};
+use emdstar_contact::vec3::{norm, norm2, sub};
 
 /// The surroundings of the particles.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -66,6 +66,13 @@ impl Domain {
             if !x.iter().chain(&v).all(|c| c.is_finite()) {
                 return invalid!("particle {id}: position {x:?} and velocity {v:?} must be finite");
             }
+            // Every engine squares speeds (energies, impact speeds, event times).
+            if !(0.5 * p.mass[i] * norm2(v)).is_finite() {
+                return invalid!(
+                    "particle {id}: velocity {v:?} m/s is too large: its kinetic energy \
+                     overflows double precision; give speeds of a physical size"
+                );
+            }
             if let Some(b) = &self.sim_box
                 && let Some(k) = b.outside_closed_axis(x)
             {
@@ -95,6 +102,15 @@ impl Domain {
                     });
                 }
             }
+        }
+        let kinetic: f64 = (0..p.len())
+            .map(|i| 0.5 * p.mass[i] * norm2(p.velocity[i]))
+            .sum();
+        if !kinetic.is_finite() {
+            return invalid!(
+                "the particles' total kinetic energy overflows double precision; give speeds \
+                 of a physical size"
+            );
         }
         self.check_overlaps(p)
     }
@@ -135,5 +151,38 @@ impl Domain {
             }),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::state::Species;
+
+    fn two(v: [f64; 3]) -> Particles {
+        let s = [Species {
+            radius: 0.1,
+            mass: 2.0,
+        }];
+        let mut p = Particles::default();
+        p.push(&s, 0, [0.0; 3], v);
+        p.push(&s, 0, [1.0, 0.0, 0.0], [0.0; 3]);
+        p
+    }
+
+    #[test]
+    fn speeds_whose_energy_overflows_are_refused() {
+        let free = Domain::default();
+        assert!(free.check(&two([1e150, 0.0, 0.0])).is_ok());
+        let err = free.check(&two([1e300, 0.0, 0.0])).unwrap_err().to_string();
+        assert!(
+            err.contains("particle 0") && err.contains("too large"),
+            "{err}"
+        );
+        // Each particle's energy finite, their sum not.
+        let mut p = two([1.2e154, 0.0, 0.0]);
+        p.velocity[1] = [1.2e154, 0.0, 0.0];
+        let err = free.check(&p).unwrap_err().to_string();
+        assert!(err.contains("total kinetic energy"), "{err}");
     }
 }

@@ -23,6 +23,7 @@ mod domain;
 mod error;
 mod gas;
 mod geometry;
+pub mod gsd;
 mod interactions;
 mod simulation;
 mod state;

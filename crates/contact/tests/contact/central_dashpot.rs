@@ -1,11 +1,11 @@
 //! Central linear-dashpot impacts with the force-zero end (Schwager & Pöschel,
 //! Granular Matter 9, 465, 2007), in all four damping regimes, against the regime-wise
-//! table of DESIGN.md and against a plain RK4 integration of m ξ̈ = −(kξ + γξ̇).
+//! table of docs/physics.md ("Reference values") and against a plain RK4 integration of m ξ̈ = −(kξ + γξ̇).
 
 use emdstar_contact::LinearDashpot;
 use std::f64::consts::PI;
 
-/// The DESIGN.md table, regime by regime.
+/// The table of docs/physics.md, "Reference values", regime by regime.
 fn table(k: f64, gamma: f64, m: f64) -> (f64, f64) {
     let w0 = (k / m).sqrt();
     let beta = gamma / (2.0 * m);

@@ -1,5 +1,5 @@
 //! Müller & Pöschel 2013 print the bounds of the rectangularised coordinates for their
-//! Tab. I and Tab. II (text around Eqs. 46, 48, 56 and 59); DESIGN.md gives them to
+//! Tab. I and Tab. II (text around Eqs. 46, 48, 56 and 59); docs/physics.md gives them to
 //! four decimals. Both must come out of the boxes, not be typed in.
 
 use emdstar_contact::{ParameterBox, Range};
@@ -26,7 +26,7 @@ fn table_1_linear_dashpot() {
     assert_rounds_to(b.g.max, 1.95, 2);
     assert_rounds_to(b.m.min, -2.3, 1);
     assert_rounds_to(b.m.max, 14.83, 2);
-    // DESIGN.md, to four decimals.
+    // docs/physics.md, "Rectangularised coordinates", to four decimals.
     assert_range(b.g, -4.6051, 1.9485);
     assert_range(b.m, -2.3334, 14.8322);
     assert_range(b.c, -12.4719, 4.0005);

@@ -1,5 +1,5 @@
 //! Analytic limits: elastic durations, Schwager & Pöschel's dashpot, the Hertz restitution
-//! table and series of DESIGN.md, energy conservation, and the large-l̃ limit of ε_φ.
+//! table and series of docs/physics.md ("Reference values"), energy conservation, and the large-l̃ limit of ε_φ.
 
 use crate::common::*;
 use emdstar_contact::Model;
@@ -22,7 +22,7 @@ fn linear_elastic_central_impact_lasts_pi_and_keeps_its_energy() {
 
 #[test]
 fn hertz_elastic_central_duration_matches_the_gamma_formula() {
-    // τ̃ = (4/5)(5/4)^{2/5}·√π·Γ(2/5)/Γ(9/10) = 3.218065 (DESIGN.md), evaluated by
+    // τ̃ = (4/5)(5/4)^{2/5}·√π·Γ(2/5)/Γ(9/10) = 3.218065 (docs/physics.md), evaluated by
     // emdstar-contact (Lanczos Γ, tested there against known Γ values), not the solver.
     let exact = emdstar_contact::hertz_elastic_scaled_duration();
     assert!((exact - 3.218065).abs() < 5e-7);
@@ -37,7 +37,7 @@ fn hertz_elastic_central_duration_matches_the_gamma_formula() {
     }
 }
 
-/// Schwager & Pöschel, Granular Matter 9, 465 (2007), as tabulated in DESIGN.md, in scaled
+/// Schwager & Pöschel, Granular Matter 9, 465 (2007), as tabulated in docs/physics.md, in scaled
 /// units ω0 = 1, β = c_dis/2: (t_c, ε).
 fn schwager_poeschel(c_dis: f64) -> (f64, f64) {
     let omega0 = 1.0f64;
@@ -97,14 +97,7 @@ fn strongly_overdamped_central_impacts_stay_accurate() {
 
 #[test]
 fn hertz_central_restitution_matches_the_table_and_the_small_delta_series() {
-    let table = [
-        (0.1, 0.892859),
-        (0.3, 0.722085),
-        (0.5, 0.595252),
-        (1.0, 0.393931),
-        (2.0, 0.211646),
-    ];
-    for (delta, eps) in table {
+    for (delta, eps) in HERTZ_RESTITUTION {
         let m = solve(Model::Hertz, &params(1e4, 0.0, delta)).unwrap();
         assert!(
             (-m.eps_rdot - eps).abs() < 6e-7,
@@ -112,14 +105,11 @@ fn hertz_central_restitution_matches_the_table_and_the_small_delta_series() {
             -m.eps_rdot
         );
     }
-    // The series stops at δ² and its coefficients carry 7 decimals: allow 1e-7·δ plus a
-    // next term of size δ^{5/2}, and 1e-11 for the solver.
     for delta in [1e-6, 1e-5, 1e-4] {
         let m = solve(Model::Hertz, &params(1e4, 0.0, delta)).unwrap();
-        let series = 1.0 - 1.1534489 * delta + 0.7982666 * delta * delta;
-        let d = (-m.eps_rdot - series).abs();
+        let d = (-m.eps_rdot - hertz_restitution_series(delta)).abs();
         assert!(
-            d < 1e-7 * delta + delta.powf(2.5) + 1e-11,
+            d < hertz_series_tolerance(delta),
             "δ = {delta}: off by {d:e}"
         );
     }

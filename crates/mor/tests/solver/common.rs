@@ -118,3 +118,24 @@ pub fn mor_errors(m: &Mor, r: &Mor) -> [f64; 4] {
         rel(m.eps_t, r.eps_t),
     ]
 }
+
+/// Central restitution ε of viscoelastic (Hertz) spheres against δ = c_dis, force-zero
+/// end, to the six digits published (docs/physics.md, "Reference values").
+pub const HERTZ_RESTITUTION: [(f64, f64); 5] = [
+    (0.1, 0.892859),
+    (0.3, 0.722085),
+    (0.5, 0.595252),
+    (1.0, 0.393931),
+    (2.0, 0.211646),
+];
+
+/// The small-δ series of the same: ε = 1 − 1.1534489·δ + 0.7982666·δ² + ….
+pub fn hertz_restitution_series(delta: f64) -> f64 {
+    1.0 - 1.1534489 * delta + 0.7982666 * delta * delta
+}
+
+/// How far the two-term series may lie from the exact ε: its coefficients carry 7
+/// decimals (1e-7·δ), the next term is of size δ^{5/2}, and 1e-11 for the solver.
+pub fn hertz_series_tolerance(delta: f64) -> f64 {
+    1e-7 * delta + delta.powf(2.5) + 1e-11
+}

@@ -3,5 +3,6 @@
 mod acceptance;
 mod analytic;
 mod common;
+mod inverse;
 mod oracle;
 mod tolerance;

@@ -1,0 +1,188 @@
+//! Every config of `examples/configs/` runs, with a short t_end, through the engines its
+//! comments name, and the engines agree with each other where physics says they must.
+
+use super::stdout_in;
+use emdstar_contact::{Impact, PairLaw, PairProperties, scale};
+use emdstar_system::Config;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// The configs these tests cover; a new example must be added here (and tested).
+const EXAMPLES: [&str; 5] = [
+    "cooling_hertz_gas.toml",
+    "oblique_collision.toml",
+    "polydisperse_mixture.toml",
+    "restitution_input.toml",
+    "walls_gravity.toml",
+];
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("examples/configs")
+        .join(name)
+}
+
+/// A copy of example `name` with `t_end = t_end`, in a fresh directory (where the runs
+/// write their trajectory and log).
+fn short_copy(name: &str, t_end: f64) -> (PathBuf, PathBuf) {
+    let text = std::fs::read_to_string(example(name)).unwrap();
+    let mut replaced = 0;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("t_end =") {
+                replaced += 1;
+                format!("t_end = {t_end}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    assert_eq!(replaced, 1, "{name} has one t_end line");
+    let dir = std::env::temp_dir().join(format!(
+        "emdstar-example-{}-{}",
+        name.trim_end_matches(".toml"),
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    (dir, path)
+}
+
+/// `emdstar run` of a config in its directory: the summary JSON.
+fn run(dir: &Path, config: &Path, engine: &str) -> Value {
+    let path = config.display().to_string();
+    let mut args = vec!["run", &path, "--engine", engine, "--quiet"];
+    if engine != "md" {
+        args.extend(["--mor", "table-or-exact"]);
+    }
+    let out = stdout_in(dir, &args);
+    let summary: Value = serde_json::from_str(&out).expect("a summary JSON");
+    assert_eq!(summary["engine"], engine);
+    summary
+}
+
+fn num(v: &Value, key: &str) -> f64 {
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{key} missing in {v}"))
+}
+
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+#[test]
+fn every_example_config_is_covered() {
+    let mut found: Vec<String> = std::fs::read_dir(example(""))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    found.sort();
+    assert_eq!(found, EXAMPLES, "add a test for each example config");
+    for name in EXAMPLES {
+        let config = Config::from_file(&example(name)).unwrap();
+        config.build().unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+}
+
+#[test]
+fn cooling_gas_cools_alike_in_md_and_emdstar() {
+    let (dir, config) = short_copy("cooling_hertz_gas.toml", 0.05);
+    let md = run(&dir, &config, "md");
+    let star = run(&dir, &config, "emdstar");
+    assert!(num(&md, "energy_drift") < -0.05, "the gas cools: {md}");
+    let (t_md, t_star) = (
+        num(&md, "granular_temperature_final"),
+        num(&star, "granular_temperature_final"),
+    );
+    assert!(relative(t_star, t_md) < 0.02, "T: eMD* {t_star}, MD {t_md}");
+    assert!(dir.join("cooling_hertz_gas.xyz").exists());
+    assert!(dir.join("cooling_hertz_gas.log").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn gas_between_walls_falls_alike_in_md_and_hybrid() {
+    let (dir, config) = short_copy("walls_gravity.toml", 0.05);
+    let md = run(&dir, &config, "md");
+    let hybrid = run(&dir, &config, "hybrid");
+    // Gravity pulls momentum downwards: about −M·g·t over 0.05 s (walls push back).
+    let pz = |v: &Value| v["momentum_drift"][2].as_f64().unwrap();
+    assert!(pz(&md) < 0.0 && pz(&hybrid) < 0.0, "{md}\n{hybrid}");
+    let (e_md, e_hybrid) = (num(&md, "energy_final"), num(&hybrid, "energy_final"));
+    assert!(
+        relative(e_hybrid, e_md) < 0.01,
+        "E: hybrid {e_hybrid}, MD {e_md}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The final positions of a `pair` run, flattened.
+fn final_positions(v: &Value) -> Vec<f64> {
+    v["particles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|p| p["position"].as_array().unwrap().clone())
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+fn oblique_collision_emdstar_lands_where_md_does_and_emd_does_not() {
+    let config = example("oblique_collision.toml").display().to_string();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let pair = |engine: &str| -> Vec<f64> {
+        let out = stdout_in(dir, &["pair", &config, "--engine", engine, "--json"]);
+        final_positions(&serde_json::from_str(&out).unwrap())
+    };
+    let (md, star, emd) = (pair("md"), pair("emdstar"), pair("emd"));
+    let off = |a: &[f64]| {
+        a.iter()
+            .zip(&md)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    // Units of l = 0.2 m. The paper's Fig. 6: eMD* follows MD, eMD does not.
+    assert!(off(&star) / 0.2 < 1e-5, "eMD* {star:?} vs MD {md:?}");
+    assert!(off(&emd) / 0.2 > 1e-2, "eMD {emd:?} vs MD {md:?}");
+}
+
+#[test]
+fn restitution_input_gives_its_restitution_and_runs() {
+    let config = Config::from_file(&example("restitution_input.toml")).unwrap();
+    let system = config.build().unwrap();
+    // The forward problem: a central impact of two gas spheres at 1 m/s.
+    let s = system.species[0].sphere();
+    let pair = PairProperties::spheres(&s, &s);
+    let law = PairLaw::same_material(&system.material, pair.r_eff).unwrap();
+    let impact = Impact::from_speed_eccentricity(1.0, 0.0).unwrap();
+    let scaled = scale(&law, &pair, &impact).unwrap();
+    let mor = emdstar_mor::solve(system.material.model(), &scaled.params).unwrap();
+    assert!((-mor.eps_rdot - 0.8).abs() < 1e-10, "{mor:?}");
+
+    let (dir, path) = short_copy("restitution_input.toml", 0.5);
+    let md = run(&dir, &path, "md");
+    let star = run(&dir, &path, "emdstar");
+    let (t_md, t_star) = (
+        num(&md, "granular_temperature_final"),
+        num(&star, "granular_temperature_final"),
+    );
+    assert!(num(&star, "energy_drift") < 0.0);
+    assert!(relative(t_star, t_md) < 0.01, "T: eMD* {t_star}, MD {t_md}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn elastic_mixture_keeps_its_energy() {
+    let (dir, config) = short_copy("polydisperse_mixture.toml", 2.0);
+    let md = run(&dir, &config, "md");
+    let star = run(&dir, &config, "emdstar");
+    assert!(star["stats"]["collisions"].as_u64().unwrap() > 10, "{star}");
+    assert!(num(&star, "energy_drift").abs() < 1e-12, "{star}");
+    assert!(num(&md, "energy_drift").abs() < 1e-4, "{md}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
