@@ -22,6 +22,8 @@ pub enum BenchTarget {
     /// of the same gas and, with --scaling, both rates for N from 10³ to 10⁶. Uses
     /// only the flags under "event-driven".
     Edmd,
+    /// Table lookups against exact solves (see `emdstar bench table --help`).
+    Table,
 }
 
 /// Speed benchmarks (particle-steps or collisions per second), optionally against LAMMPS.
@@ -62,6 +64,8 @@ pub struct BenchArgs {
     pub lmp: String,
     #[command(flatten, next_help_heading = "event-driven (bench edmd)")]
     pub edmd: super::bench_edmd::BenchEdmdArgs,
+    #[command(flatten, next_help_heading = "tables (bench table)")]
+    pub table: super::bench_table::BenchTableArgs,
 }
 
 const RADIUS: f64 = 0.1;
@@ -71,6 +75,9 @@ const RMS_SPEED: f64 = 1.0;
 pub fn run(args: &BenchArgs) -> Result<()> {
     if let BenchTarget::Edmd = args.target {
         return super::bench_edmd::run(&args.edmd);
+    }
+    if let BenchTarget::Table = args.target {
+        return super::bench_table::run(&args.table, args.edmd.json);
     }
     let side = (args.n as f64).cbrt().round() as usize;
     if side < 3 || args.steps == 0 {

@@ -77,9 +77,6 @@ pub enum Action {
         region: RegionArg,
         #[arg(long)]
         threads: Option<usize>,
-        /// Interpolate with these points per axis instead of the table's own (e.g. 8,8,8).
-        #[arg(long, value_delimiter = ',')]
-        order: Option<Vec<usize>>,
     },
     /// PNG heatmaps of the four components over (a, b) at fixed c (Figs. 4 and 5).
     Plot {
@@ -135,16 +132,8 @@ pub fn run(args: &TableArgs) -> Result<()> {
             seed,
             region,
             threads,
-            order,
         } => {
-            let mut t = load(table)?;
-            if let Some(o) = order {
-                let o: [usize; 3] = o
-                    .as_slice()
-                    .try_into()
-                    .map_err(|_| anyhow!("--order needs three values, e.g. 8,8,8"))?;
-                t = t.with_order(o)?;
-            }
+            let t = load(table)?;
             check(table, &t, *samples, *seed, *region, *threads)
         }
         Action::Plot {
@@ -155,7 +144,7 @@ pub fn run(args: &TableArgs) -> Result<()> {
             font,
         } => {
             let table = load(table)?;
-            let cx = table.axes()[2];
+            let cx = table.rect()[2];
             let slices = if c.is_empty() {
                 (0..4)
                     .map(|i| cx.min + (cx.max - cx.min) * i as f64 / 3.0)
@@ -177,14 +166,18 @@ pub fn run(args: &TableArgs) -> Result<()> {
 }
 
 /// A table file or `default:MODEL`.
-pub fn load(source: &str) -> Result<Table> {
+pub fn load(source: &str) -> Result<std::borrow::Cow<'static, Table>> {
     if let Some(model) = source.strip_prefix("default:") {
         let model: Model = model
             .parse()
             .map_err(|_| anyhow!("use default:linear or default:hertz, not {source}"))?;
-        return Ok(emdstar_table::default_table(model)?.clone());
+        return Ok(std::borrow::Cow::Borrowed(emdstar_table::default_table(
+            model,
+        )?));
     }
-    Table::open(source).with_context(|| format!("cannot load table {source}"))
+    Table::open(source)
+        .map(std::borrow::Cow::Owned)
+        .with_context(|| format!("cannot load table {source}"))
 }
 
 fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
@@ -227,7 +220,7 @@ fn build(
     let spec = Spec::read(spec_path).map_err(|e| anyhow!(e))?;
     let progress = std::io::IsTerminal::is_terminal(&std::io::stderr());
     let start = Instant::now();
-    let nodes = emdstar_tablegen::node_count(&spec);
+    let units = emdstar_tablegen::unit_count(&spec);
     let (bytes, default_out) = match shard {
         Some(s) => {
             let (i, n) = parse_shard(s)?;
@@ -247,7 +240,7 @@ fn build(
         }
     };
     let secs = start.elapsed().as_secs_f64();
-    eprintln!("solved {nodes} nodes (whole spec) in {secs:.1} s");
+    eprintln!("fitted {units} top cells in {secs:.1} s");
     write(out.unwrap_or(&default_out), &bytes)
 }
 

@@ -77,7 +77,7 @@ fn build_shard_merge_verify_check_and_plot_a_tiny_table() {
     let dir = scratch("build");
     std::fs::write(
         dir.join("tiny.toml"),
-        "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 6]\norder = [4, 4, 4]\n",
+        "model = \"linear\"\nbox = \"paper_table_1\"\ncells = [1, 2, 1]\ndegree = 3\ntolerance = 1e-2\nmax_depth = 1\n",
     )
     .unwrap();
     stdout_in(&dir, &["table", "build", "tiny.toml", "--threads", "2"]);
@@ -106,7 +106,7 @@ fn build_shard_merge_verify_check_and_plot_a_tiny_table() {
     assert!(out.contains("matches"), "{out}");
     std::fs::write(
         dir.join("tiny.toml"),
-        "model = \"linear\"\nbox = \"paper_table_1\"\nnodes = [5, 6, 7]\norder = [4, 4, 4]\n",
+        "model = \"linear\"\nbox = \"paper_table_1\"\ncells = [1, 1, 2]\ndegree = 3\ntolerance = 1e-2\nmax_depth = 1\n",
     )
     .unwrap();
     let err = error_in(&dir, &["table", "verify", "tiny.toml"]);

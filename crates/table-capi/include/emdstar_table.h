@@ -20,7 +20,7 @@ typedef enum EmdstarModel {
 // Outcome of a call.
 typedef enum EmdstarStatus {
   EMDSTAR_STATUS_OK = 0,
-  // The impact lies outside the table's box (solve it exactly instead).
+  // The impact lies outside the table's box (ask for the exact fallback instead).
   EMDSTAR_STATUS_OUT_OF_BOX = 1,
   // A near-central impact where the table has no central limit.
   EMDSTAR_STATUS_NOT_TABULATED = 2,
@@ -30,12 +30,37 @@ typedef enum EmdstarStatus {
   EMDSTAR_STATUS_WRONG_MODEL = 4,
   // The file could not be read or is not a valid table.
   EMDSTAR_STATUS_BAD_FILE = 5,
+  // The exact solver did not finish.
+  EMDSTAR_STATUS_SOLVE_FAILED = 6,
   // An internal error (a bug): please report it.
   EMDSTAR_STATUS_PANIC = 99,
 } EmdstarStatus;
 
+// Where a MoR came from.
+typedef enum EmdstarSource {
+  EMDSTAR_SOURCE_TABLE = 0,
+  // The exact solver (the caller asked for the fallback).
+  EMDSTAR_SOURCE_EXACT = 1,
+} EmdstarSource;
+
+// A pair of bodies and their force law on one table (opaque).
+typedef struct EmdstarPair EmdstarPair;
+
 // An open table (opaque).
 typedef struct EmdstarTable EmdstarTable;
+
+// What a table covers and how accurate it is.
+typedef struct EmdstarTableInfo {
+  enum EmdstarModel model;
+  // [min, max] of the rectangular coordinates a, b, c (Müller & Pöschel 2013, Sec. V).
+  double rect[3][2];
+  // The generator's error goal per stored quantity (relative error of each component).
+  double tolerance;
+  // The largest error estimate per component: 1-eps_r, eps_rdot, eps_phi, eps_t.
+  double estimated_error[4];
+  // Number of physical parameters of the box (see `emdstar_table_box_parameter`).
+  size_t box_len;
+} EmdstarTableInfo;
 
 // The matrix of restitution of one impact, Müller & Pöschel 2013, Eqs. (16)-(21).
 typedef struct EmdstarMor {
@@ -49,7 +74,32 @@ typedef struct EmdstarMor {
   double eps_t;
   // Time scale T in s (0 for scaled lookups).
   double time_scale;
+  // Table or exact solve.
+  enum EmdstarSource source;
 } EmdstarMor;
+
+// Position (m) and velocity (m/s) of one body.
+typedef struct EmdstarBody {
+  double position[3];
+  double velocity[3];
+} EmdstarBody;
+
+// A collision, resolved.
+typedef struct EmdstarCollision {
+  // Both bodies at t* + τ, the collision over (for a wall, body 0; body 1 repeats it).
+  struct EmdstarBody after[2];
+  // Positions right after the E^φ event at t*: rotated about the centre of mass by
+  // eps_phi and set to the separation l·eps_r (Sec. VI B 2).
+  double rotated_positions[2][3];
+  // The common velocity of both bodies between E^φ and E^v: the centre-of-mass one.
+  double transient_velocity[3];
+  // The velocities the E^v events apply at t* + τ (Sec. VI B 3).
+  double post_velocities[2][3];
+  // τ = eps_t·T, s.
+  double duration;
+  // The MoR applied, with its source.
+  struct EmdstarMor mor;
+} EmdstarCollision;
 
 #ifdef __cplusplus
 extern "C" {
@@ -61,10 +111,18 @@ extern "C" {
 // `path` must be NULL or a NUL-terminated string.
 struct EmdstarTable *emdstar_table_open(const char *path);
 
-// Opens the default table of `model`, embedded in the library. NULL on failure.
+// Reads a table from `len` bytes at `data` (e.g. a table embedded in the caller's own
+// binary); the bytes are parsed, not kept. NULL on failure.
+//
+// # Safety
+// `data` must be NULL or point to `len` readable bytes.
+struct EmdstarTable *emdstar_table_open_bytes(const uint8_t *data, size_t len);
+
+// Opens the default table of `model`, embedded in the library: parsed once per
+// process, then shared by every handle (no copy). NULL on failure.
 struct EmdstarTable *emdstar_table_open_default(enum EmdstarModel model);
 
-// Closes a table; NULL is ignored.
+// Closes a table; NULL is ignored. Pairs built on it stay valid.
 //
 // # Safety
 // `table` must be NULL or a pointer returned by an open function, not yet closed.
@@ -72,6 +130,24 @@ void emdstar_table_close(struct EmdstarTable *table);
 
 // The last error message of this thread (empty if none). Valid until the next call.
 const char *emdstar_table_last_error(void);
+
+// Fills `out` with the table's model, rectangle and accuracy.
+//
+// # Safety
+// `table` from an open function; `out` points to a writable `EmdstarTableInfo`.
+enum EmdstarStatus emdstar_table_info(const struct EmdstarTable *table,
+                                      struct EmdstarTableInfo *out);
+
+// The `index`-th physical parameter of the table's box: its name (NUL-terminated,
+// valid while the table is open: e.g. "young") and its [min, max] range in SI units.
+//
+// # Safety
+// `table` from an open function; `name`, `min`, `max` writable.
+enum EmdstarStatus emdstar_table_box_parameter(const struct EmdstarTable *table,
+                                               size_t index,
+                                               const char **name,
+                                               double *min,
+                                               double *max);
 
 // MoR at scaled parameters l̃ > 0, c_φ ≥ 0, c_dis ≥ 0 (time_scale is set to 0).
 //
@@ -83,8 +159,19 @@ enum EmdstarStatus emdstar_table_lookup_scaled(const struct EmdstarTable *table,
                                                double c_dis,
                                                struct EmdstarMor *out);
 
+// The exact MoR at scaled parameters (the solver of emdstar-mor, no table).
+//
+// # Safety
+// `out` points to a writable `EmdstarMor`.
+enum EmdstarStatus emdstar_mor_exact_scaled(enum EmdstarModel model,
+                                            double l_tilde,
+                                            double c_phi,
+                                            double c_dis,
+                                            struct EmdstarMor *out);
+
 // MoR of two linear spring-dashpot spheres of one material (k in N/m, γ in kg/s),
-// radii in m, masses in kg, normal and tangential speed at contact in m/s.
+// radii in m, masses in kg, normal and tangential speed at contact in m/s. For many
+// impacts of one pair, build an `EmdstarPair` once instead.
 //
 // # Safety
 // `table` from an open function; `out` points to a writable `EmdstarMor`.
@@ -115,6 +202,86 @@ enum EmdstarStatus emdstar_table_lookup_hertz(const struct EmdstarTable *table,
                                               double normal_speed,
                                               double tangential_speed,
                                               struct EmdstarMor *out);
+
+// Resolves the collision of the pair's two spheres at first touch (their centres
+// the pair's contact distance apart), with their masses in kg (those given to the
+// pair constructor). With `exact_fallback` nonzero, impacts the table does not answer
+// are solved exactly.
+//
+// # Safety
+// `pair` from a sphere-sphere constructor; `b1`, `b2` readable; `out` writable.
+enum EmdstarStatus emdstar_pair_collide(const struct EmdstarPair *pair,
+                                        double mass1,
+                                        double mass2,
+                                        const struct EmdstarBody *b1,
+                                        const struct EmdstarBody *b2,
+                                        int32_t exact_fallback,
+                                        struct EmdstarCollision *out);
+
+// Resolves the collision of the pair's sphere (built with radius2 = mass2 = 0) with a
+// flat wall of unit normal `normal` (pointing into the sphere's half-space): the
+// central MoR along the normal, the tangential velocity unchanged.
+//
+// # Safety
+// `pair` from a wall constructor; `body`, `normal` readable; `out` writable.
+enum EmdstarStatus emdstar_pair_collide_wall(const struct EmdstarPair *pair,
+                                             const struct EmdstarBody *body,
+                                             const double *normal,
+                                             int32_t exact_fallback,
+                                             struct EmdstarCollision *out);
+
+// A pair of linear spring-dashpot spheres of one material (k in N/m, γ in kg/s; radii
+// in m, masses in kg; radius2 = mass2 = 0 for a flat wall). NULL on failure. Free it
+// with `emdstar_pair_free`; it keeps its table alive.
+//
+// # Safety
+// `table` must be NULL or a live table handle.
+struct EmdstarPair *emdstar_pair_linear(const struct EmdstarTable *table,
+                                        double stiffness,
+                                        double damping,
+                                        double radius1,
+                                        double mass1,
+                                        double radius2,
+                                        double mass2);
+
+// A pair of viscoelastic Hertz spheres of one material (Y in Pa, Poisson ratio, A in s;
+// radii in m, masses in kg; radius2 = mass2 = 0 for a flat wall). NULL on failure.
+//
+// # Safety
+// `table` must be NULL or a live table handle.
+struct EmdstarPair *emdstar_pair_hertz(const struct EmdstarTable *table,
+                                       double young,
+                                       double poisson,
+                                       double dissipation,
+                                       double radius1,
+                                       double mass1,
+                                       double radius2,
+                                       double mass2);
+
+// Frees a pair; NULL is ignored.
+//
+// # Safety
+// `pair` must be NULL or a pair handle not yet freed.
+void emdstar_pair_free(struct EmdstarPair *pair);
+
+// Number of exact solves the pair's lookups have made (with `exact_fallback` set).
+//
+// # Safety
+// `pair` must be NULL (gives 0) or a live pair handle.
+uint64_t emdstar_pair_fallbacks(const struct EmdstarPair *pair);
+
+// MoR of an impact of the pair: normal and tangential speed at contact in m/s. With
+// `exact_fallback` nonzero, impacts the table does not answer are solved exactly
+// (`out->source` says which, `emdstar_pair_fallbacks` counts them); with 0 they fail
+// with `EMDSTAR_STATUS_OUT_OF_BOX` or `EMDSTAR_STATUS_NOT_TABULATED`.
+//
+// # Safety
+// `pair` from a pair constructor; `out` points to a writable `EmdstarMor`.
+enum EmdstarStatus emdstar_pair_lookup(const struct EmdstarPair *pair,
+                                       double normal_speed,
+                                       double tangential_speed,
+                                       int32_t exact_fallback,
+                                       struct EmdstarMor *out);
 
 #ifdef __cplusplus
 }  // extern "C"

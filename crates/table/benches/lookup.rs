@@ -2,7 +2,8 @@
 //! rectangular coordinates and interpolation of all four components) against an exact
 //! solve of the same impacts (the solver is a dev-dependency only).
 //!
-//! `cargo bench -p emdstar-table --bench lookup`
+//! `cargo bench -p emdstar-table --bench lookup` (set EMDSTAR_TABLE_DIR to time other
+//! tables than the shipped ones of `tables/`)
 //!
 //! Times are CPU time of the benchmark thread (on Linux; wall time elsewhere), so that
 //! other processes on a shared machine do not inflate them.
@@ -182,7 +183,8 @@ fn gas(table: &Table, n: usize, elastic: bool) -> Vec<Case> {
 }
 
 fn bench(c: &mut Criterion<CpuTime>) {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tables");
+    let dir = std::env::var("EMDSTAR_TABLE_DIR")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../tables").to_string());
     for model in [Model::Linear, Model::Hertz] {
         let table = Table::open(format!("{dir}/{model}.npz")).unwrap();
         for (label, cases) in [
@@ -198,6 +200,19 @@ fn bench(c: &mut Criterion<CpuTime>) {
                     i = (i + 1) % cases.len();
                     let (law, pair, impact) = &cases[i];
                     black_box(table.lookup(black_box(law), pair, impact).unwrap())
+                })
+            });
+            // The same impacts through pair handles built beforehand.
+            let handles: Vec<_> = cases
+                .iter()
+                .map(|(law, pair, impact)| (table.pair(law, pair).unwrap(), *impact))
+                .collect();
+            let mut h = 0;
+            c.bench_function(&format!("{model}/table_lookup_pair{label}"), |b| {
+                b.iter(|| {
+                    h = (h + 1) % handles.len();
+                    let (handle, impact) = &handles[h];
+                    black_box(handle.lookup(black_box(impact)).unwrap())
                 })
             });
         }

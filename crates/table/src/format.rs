@@ -1,15 +1,16 @@
 //! Reading and writing the table file (see the crate documentation for the layout).
 
 use crate::error::TableError;
-use crate::interp::{Axis, NQ, Stretch};
-use crate::npz::{Array, Data, read_npz, write_npz};
-use crate::table::Table;
+use crate::npz::{Array, Data, read_npz};
+use crate::piece::PieceParts;
+use crate::poly::{NQ, Terms};
+use crate::table::{PIECES, Table, TableParts};
 use emdstar_contact::{Model, Range, RectBounds};
 
 /// The file format version this crate reads and writes.
-pub const FORMAT_VERSION: i64 = 2;
+pub const FORMAT_VERSION: i64 = 3;
 
-/// Names of the four stored quantities of the main grid, in storage order.
+/// Names of the four stored quantities, in storage order.
 pub const QUANTITIES: [&str; NQ] = ["ln(1-eps_r)", "ln(-eps_rdot)", "ln(eps_phi)", "ln(eps_t)"];
 
 /// Descriptive metadata carried by a table file.
@@ -23,6 +24,12 @@ pub struct TableInfo {
     pub box_names: Vec<String>,
     /// Their [min, max] ranges, in SI units.
     pub box_ranges: Vec<[f64; 2]>,
+    /// The generator's goal for the error of each stored log (= relative error of each
+    /// MoR component) in every patch.
+    pub tolerance: f64,
+    /// The largest error estimate of any patch, per stored quantity (from the decay of
+    /// its Chebyshev coefficients); `emdstar table check` measures the actual error.
+    pub estimated_error: [f64; NQ],
 }
 
 /// 64-bit FNV-1a hash, the content checksum of a table file.
@@ -37,71 +44,103 @@ pub fn fnv1a64(chunks: &[&[u8]]) -> u64 {
     h
 }
 
+/// The `.npy` members of a piece, named `{piece}_…`.
+#[cfg(feature = "write")]
+fn piece_members(name: &str, p: &PieceParts, terms: &Terms) -> Vec<(String, Array)> {
+    let nt = terms.len();
+    let (mut low, mut high) = (Vec::new(), Vec::new());
+    for (k, c) in p.cheb.iter().enumerate() {
+        if terms.is_low(k % nt) {
+            low.extend(c);
+        } else {
+            high.extend(c.iter().map(|&x| x as f32));
+        }
+    }
+    vec![
+        (
+            format!("{name}_cells"),
+            Array::i64(vec![3], p.cells.iter().map(|&c| c as i64).collect()),
+        ),
+        (
+            format!("{name}_roots"),
+            Array::i64(
+                vec![p.roots.len()],
+                p.roots.iter().map(|&r| r as i64).collect(),
+            ),
+        ),
+        (
+            format!("{name}_tree"),
+            Array::i64(
+                vec![p.tree.len(), 2],
+                p.tree.iter().flatten().copied().collect(),
+            ),
+        ),
+        (
+            format!("{name}_split"),
+            Array::f64(vec![p.split.len()], p.split.clone()),
+        ),
+        (
+            format!("{name}_coef"),
+            Array::f64(vec![low.len() / NQ, NQ], low),
+        ),
+        (
+            format!("{name}_coef32"),
+            Array::f32(vec![high.len() / NQ, NQ], high),
+        ),
+    ]
+}
+
 impl Table {
     /// Serialises the table (deterministic: equal tables give equal bytes).
+    #[cfg(feature = "write")]
     pub fn to_bytes(&self) -> Vec<u8> {
-        let [a, b, c] = self.axes;
-        let (na, nb, nc) = (a.n, b.n, c.n);
-        let axis = |ax: &Axis| Array::f64(vec![ax.n], (0..ax.n).map(|i| ax.node(i)).collect());
-        let stretch: Vec<f64> = self
-            .axes
-            .iter()
-            .flat_map(|x| [x.stretch.amount, x.stretch.knee])
-            .collect();
         let g = &self.bounds;
-        let mut members: Vec<(&str, Array)> = vec![
-            ("format_version", Array::i64(vec![], vec![FORMAT_VERSION])),
-            ("model", Array::str_scalar(self.model.name())),
-            ("generator", Array::str_scalar(&self.info.generator)),
-            ("spec", Array::str_scalar(&self.info.spec)),
+        let info = &self.info;
+        let mut members: Vec<(String, Array)> = vec![
             (
-                "quantities",
+                "format_version".into(),
+                Array::i64(vec![], vec![FORMAT_VERSION]),
+            ),
+            ("model".into(), Array::str_scalar(self.model.name())),
+            ("generator".into(), Array::str_scalar(&info.generator)),
+            ("spec".into(), Array::str_scalar(&info.spec)),
+            (
+                "quantities".into(),
                 Array::str_list(QUANTITIES.iter().map(|s| s.to_string()).collect()),
             ),
-            ("box_names", Array::str_list(self.info.box_names.clone())),
+            ("box_names".into(), Array::str_list(info.box_names.clone())),
             (
-                "box_ranges",
+                "box_ranges".into(),
                 Array::f64(
-                    vec![self.info.box_ranges.len(), 2],
-                    self.info.box_ranges.iter().flatten().copied().collect(),
+                    vec![info.box_ranges.len(), 2],
+                    info.box_ranges.iter().flatten().copied().collect(),
                 ),
             ),
             (
-                "bounds",
+                "bounds".into(),
                 Array::f64(
                     vec![3, 2],
                     vec![g.g.min, g.g.max, g.m.min, g.m.max, g.c.min, g.c.max],
                 ),
             ),
-            ("axis_a", axis(&a)),
-            ("axis_b", axis(&b)),
-            ("axis_c", axis(&c)),
+            ("b_knee".into(), Array::f64(vec![], vec![self.b_map.knee])),
             (
-                "order",
-                Array::i64(vec![3], self.axes.iter().map(|x| x.order as i64).collect()),
+                "degree".into(),
+                Array::i64(vec![], vec![self.degree as i64]),
             ),
-            ("axis_stretch", Array::f64(vec![3, 2], stretch)),
+            ("tolerance".into(), Array::f64(vec![], vec![info.tolerance])),
             (
-                "values",
-                Array::f64(vec![na, nb, nc, NQ], self.main.clone()),
-            ),
-            (
-                "elastic",
-                Array::f64(vec![na, nb, NQ], self.elastic.clone()),
-            ),
-            (
-                "central",
-                Array::f64(vec![nb, nc, NQ], self.central.clone()),
-            ),
-            (
-                "central_elastic",
-                Array::f64(vec![nb, NQ], self.central_elastic.clone()),
+                "estimated_error".into(),
+                Array::f64(vec![NQ], info.estimated_error.to_vec()),
             ),
         ];
+        for ((name, _), piece) in PIECES.iter().zip(self.pieces()) {
+            members.extend(piece_members(name, piece.parts(), piece.terms()));
+        }
         let npys: Vec<Vec<u8>> = members.iter().map(|(_, a)| a.to_npy()).collect();
         let refs: Vec<&[u8]> = npys.iter().map(Vec::as_slice).collect();
-        members.push(("checksum", Array::u64_scalar(fnv1a64(&refs))));
-        write_npz(&members)
+        members.push(("checksum".into(), Array::u64_scalar(fnv1a64(&refs))));
+        crate::npz::write_npz(&members)
     }
 
     /// Reads a table file from disk.
@@ -163,125 +202,130 @@ impl Table {
                 _ => Err(TableError::Corrupt(format!("{name} is not one string"))),
             }
         };
-        let floats = |name: &str, shape: &[usize]| -> Result<Vec<f64>, TableError> {
+        let floats = |name: &str, shape: Option<&[usize]>| -> Result<Vec<f64>, TableError> {
             let a = get(name)?;
             match &a.data {
-                Data::F64(v) if a.shape == shape => Ok(v.clone()),
+                Data::F64(v) if shape.is_none_or(|s| a.shape == s) => Ok(v.clone()),
                 _ => Err(TableError::Corrupt(format!(
-                    "{name} should be a float64 array of shape {shape:?}, found shape {:?}",
+                    "{name} should be a float64 array{}, found shape {:?}",
+                    shape
+                        .map(|s| format!(" of shape {s:?}"))
+                        .unwrap_or_default(),
                     a.shape
                 ))),
+            }
+        };
+        let ints = |name: &str| -> Result<(Vec<i64>, Vec<usize>), TableError> {
+            let a = get(name)?;
+            match &a.data {
+                Data::I64(v) => Ok((v.clone(), a.shape.clone())),
+                _ => Err(TableError::Corrupt(format!("{name} is not an int64 array"))),
             }
         };
         let model: Model = text("model")?
             .parse()
             .map_err(|_| TableError::Corrupt("unknown model name".into()))?;
-        let bounds_v = floats("bounds", &[3, 2])?;
+        let b = floats("bounds", Some(&[3, 2]))?;
         let bounds = RectBounds {
             model,
-            g: Range::new(bounds_v[0], bounds_v[1]),
-            m: Range::new(bounds_v[2], bounds_v[3]),
-            c: Range::new(bounds_v[4], bounds_v[5]),
+            g: Range::new(b[0], b[1]),
+            m: Range::new(b[2], b[3]),
+            c: Range::new(b[4], b[5]),
         };
-        let order = match &get("order")?.data {
-            Data::I64(v) if v.len() == 3 && v.iter().all(|&o| o > 0) => v.clone(),
+        if let Some(r) = bounds
+            .axes()
+            .iter()
+            .find(|r| !(r.min.is_finite() && r.max.is_finite() && r.min < r.max))
+        {
+            return Err(TableError::Corrupt(format!(
+                "the bounds give an empty or infinite axis [{}, {}]",
+                r.min, r.max
+            )));
+        }
+        let degree = match ints("degree")? {
+            (v, s) if s.is_empty() && (1..=16).contains(&v[0]) => v[0] as usize,
             _ => {
                 return Err(TableError::Corrupt(
-                    "order must hold three positive integers".into(),
+                    "degree must be one integer in 1..=16".into(),
                 ));
             }
         };
-        let stretch_v = floats("axis_stretch", &[3, 2])?;
-        let mut axes = [Axis::uniform(0.0, 1.0, 2, 2); 3];
-        for (k, (name, range)) in ["axis_a", "axis_b", "axis_c"]
-            .into_iter()
-            .zip(bounds.axes())
-            .enumerate()
-        {
-            let a = get(name)?;
-            let nodes = match &a.data {
-                Data::F64(v) if a.shape.len() == 1 && v.len() >= 2 => v,
-                _ => {
-                    return Err(TableError::Corrupt(format!(
-                        "{name} is not a 1-d float array"
-                    )));
-                }
+        let mut pieces = Vec::with_capacity(4);
+        for (name, active) in PIECES {
+            let corrupt = |what: &str| TableError::Corrupt(format!("{name}_{what}"));
+            let (cells, s) = ints(&format!("{name}_cells"))?;
+            if s != [3] || cells.iter().any(|&c| !(1..=1 << 16).contains(&c)) {
+                return Err(corrupt("cells must hold three counts in 1..=65536"));
+            }
+            let (roots, _) = ints(&format!("{name}_roots"))?;
+            let (tree, s) = ints(&format!("{name}_tree"))?;
+            if s.len() != 2 || s[1] != 2 {
+                return Err(corrupt("tree must have shape (n, 2)"));
+            }
+            let split = floats(&format!("{name}_split"), Some(&[s[0]]))?;
+            let coef = floats(&format!("{name}_coef"), None)?;
+            let coef32 = match &get(&format!("{name}_coef32"))?.data {
+                Data::F32(v) => v.clone(),
+                _ => return Err(corrupt("coef32 is not a float32 array")),
             };
-            let stretch = Stretch {
-                amount: stretch_v[2 * k],
-                knee: stretch_v[2 * k + 1],
-            };
-            let ax = Axis::new(
-                nodes[0],
-                nodes[nodes.len() - 1],
-                nodes.len(),
-                order[k] as usize,
-                stretch,
-            );
-            ax.check()
-                .map_err(|why| TableError::Corrupt(format!("{name}: {why}")))?;
-            let tol = 1e-9 * range.width().abs().max(1.0);
-            if (ax.min - range.min).abs() > tol || (ax.max - range.max).abs() > tol {
-                return Err(TableError::Corrupt(format!(
-                    "{name} spans [{}, {}] but the bounds give [{}, {}]",
-                    ax.min, ax.max, range.min, range.max
-                )));
+            let max = std::array::from_fn(|k| if active[k] { degree } else { 0 });
+            let terms = Terms::new(degree, max);
+            let (nt, nl) = (terms.len(), terms.low_count());
+            let patches = coef.len() / (NQ * nl);
+            if coef.len() != patches * nl * NQ || coef32.len() != patches * (nt - nl) * NQ {
+                return Err(corrupt(
+                    "coef and coef32 do not hold the same whole number of patches",
+                ));
             }
-            // Node positions come from ln_1p and Newton steps: allow the last digits to
-            // differ between platforms.
-            let tol = 1e-12 * (ax.max - ax.min);
-            if nodes
-                .iter()
-                .enumerate()
-                .any(|(i, &x)| (x - ax.node(i)).abs() > tol || x.is_nan())
-            {
-                return Err(TableError::Corrupt(format!(
-                    "{name} does not hold the nodes of its grid (uniform in w of axis_stretch)"
-                )));
+            let (mut low, mut high) = (coef.chunks_exact(NQ), coef32.chunks_exact(NQ));
+            let mut cheb = Vec::with_capacity(patches * nt);
+            for k in 0..patches * nt {
+                cheb.push(if terms.is_low(k % nt) {
+                    let c = low.next().expect("counted");
+                    [c[0], c[1], c[2], c[3]]
+                } else {
+                    let c = high.next().expect("counted");
+                    [c[0], c[1], c[2], c[3]].map(f64::from)
+                });
             }
-            axes[k] = ax;
-        }
-        let [na, nb, nc] = axes.map(|a| a.n);
-        let main = floats("values", &[na, nb, nc, NQ])?;
-        let elastic = floats("elastic", &[na, nb, NQ])?;
-        let central = floats("central", &[nb, nc, NQ])?;
-        let central_elastic = floats("central_elastic", &[nb, NQ])?;
-        // NaN marks central-limit nodes without a limit (see `Table`); nothing else may
-        // be non-finite.
-        for (name, v, nan_ok) in [
-            ("values", &main, false),
-            ("elastic", &elastic, false),
-            ("central", &central, true),
-            ("central_elastic", &central_elastic, true),
-        ] {
-            if let Some(i) = v
-                .iter()
-                .position(|x| !(x.is_finite() || (nan_ok && x.is_nan())))
-            {
-                return Err(TableError::Corrupt(format!(
-                    "{name} holds a non-finite value at flat index {i}"
-                )));
+            if roots.iter().any(|&r| r < 0) {
+                return Err(corrupt("roots must not be negative"));
             }
+            pieces.push(PieceParts {
+                cells: std::array::from_fn(|k| cells[k] as usize),
+                roots: roots.iter().map(|&r| r as usize).collect(),
+                tree: tree.chunks_exact(2).map(|c| [c[0], c[1]]).collect(),
+                split,
+                cheb,
+            });
         }
         let box_names = match &get("box_names")?.data {
             Data::Str(v) => v.clone(),
             _ => return Err(TableError::Corrupt("box_names is not a string list".into())),
         };
-        let ranges = floats("box_ranges", &[box_names.len(), 2])?;
-        let info = crate::TableInfo {
+        let ranges = floats("box_ranges", Some(&[box_names.len(), 2]))?;
+        let estimated = floats("estimated_error", Some(&[NQ]))?;
+        let info = TableInfo {
             generator: text("generator")?,
             spec: text("spec")?,
             box_names,
             box_ranges: ranges.chunks_exact(2).map(|r| [r[0], r[1]]).collect(),
+            tolerance: floats("tolerance", Some(&[]))?[0],
+            estimated_error: [estimated[0], estimated[1], estimated[2], estimated[3]],
         };
-        Ok(Self {
-            model,
+        let mut it = pieces.into_iter();
+        let mut next = || it.next().expect("four pieces");
+        Table::from_parts(TableParts {
             bounds,
-            axes,
-            main,
-            elastic,
-            central,
-            central_elastic,
+            b_map: crate::BMap {
+                b_min: bounds.axes()[1].min,
+                knee: floats("b_knee", Some(&[]))?[0],
+            },
+            degree,
+            main: next(),
+            elastic: next(),
+            central: next(),
+            central_elastic: next(),
             info,
         })
     }

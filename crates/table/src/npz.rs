@@ -2,7 +2,7 @@
 //! (method 0, "stored") of `.npy` arrays (format 1.0), as `numpy.savez` writes and
 //! `numpy.load` reads them.
 //!
-//! Only what the table format needs: little-endian `f64`, `i64`, `u64` arrays of any
+//! Only what the table format needs: little-endian `f64`, `f32`, `i64`, `u64` arrays of any
 //! shape in C order, and unicode strings (`<U`n, 0-d or 1-d). Writing is
 //! deterministic: fixed member order, fixed timestamps (1980-01-01), no extra fields.
 
@@ -12,6 +12,7 @@ use crate::error::TableError;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Data {
     F64(Vec<f64>),
+    F32(Vec<f32>),
     I64(Vec<i64>),
     U64(Vec<u64>),
     /// Strings of at most `width` code points each.
@@ -30,6 +31,12 @@ impl Array {
         Self {
             shape,
             data: Data::F64(v),
+        }
+    }
+    pub fn f32(shape: Vec<usize>, v: Vec<f32>) -> Self {
+        Self {
+            shape,
+            data: Data::F32(v),
         }
     }
     pub fn i64(shape: Vec<usize>, v: Vec<i64>) -> Self {
@@ -61,6 +68,7 @@ impl Array {
     pub fn to_npy(&self) -> Vec<u8> {
         let descr = match &self.data {
             Data::F64(_) => "<f8".to_string(),
+            Data::F32(_) => "<f4".to_string(),
             Data::I64(_) => "<i8".to_string(),
             Data::U64(_) => "<u8".to_string(),
             Data::Str(v) => format!("<U{}", str_width(v)),
@@ -89,6 +97,9 @@ impl Array {
         out.extend_from_slice(header.as_bytes());
         match &self.data {
             Data::F64(v) => v
+                .iter()
+                .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
+            Data::F32(v) => v
                 .iter()
                 .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
             Data::I64(v) => v
@@ -151,25 +162,36 @@ impl Array {
             .map(|s| s.parse::<usize>())
             .collect::<Result<Vec<_>, _>>()
             .map_err(|_| corrupt(format!("bad shape {shape_txt}")))?;
-        let n: usize = shape.iter().product();
+        let n = shape
+            .iter()
+            .try_fold(1usize, |n, &d| n.checked_mul(d))
+            .ok_or_else(|| corrupt(format!("shape {shape:?} is too large")))?;
         let body = &b[start + hlen..];
         let item = if let Some(w) = descr.strip_prefix("<U") {
-            4 * w
-                .parse::<usize>()
-                .map_err(|_| corrupt(format!("bad dtype {descr}")))?
+            w.parse::<usize>()
+                .ok()
+                .and_then(|w| w.checked_mul(4))
+                .ok_or_else(|| corrupt(format!("bad dtype {descr}")))?
+        } else if descr == "<f4" {
+            4
         } else {
             8
         };
-        if body.len() != n * item {
+        if n.checked_mul(item) != Some(body.len()) {
             return Err(corrupt(format!(
                 "expected {} data bytes for shape {shape:?}, found {}",
-                n * item,
+                n.saturating_mul(item),
                 body.len()
             )));
         }
         let words = || body.chunks_exact(8).map(|c| c.try_into().expect("8 bytes"));
         let data = match descr {
             "<f8" => Data::F64(words().map(f64::from_le_bytes).collect()),
+            "<f4" => Data::F32(
+                body.chunks_exact(4)
+                    .map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes")))
+                    .collect(),
+            ),
             "<i8" => Data::I64(words().map(i64::from_le_bytes).collect()),
             "<u8" => Data::U64(words().map(u64::from_le_bytes).collect()),
             d if d.starts_with("<U") => {
@@ -244,12 +266,13 @@ pub fn crc32(bytes: &[u8]) -> u32 {
 }
 
 /// Writes a stored (uncompressed) zip of `name.npy` members, in the given order.
-pub fn write_npz(members: &[(&str, Array)]) -> Vec<u8> {
+#[cfg(feature = "write")]
+pub fn write_npz<S: AsRef<str>>(members: &[(S, Array)]) -> Vec<u8> {
     const DOS_DATE: u16 = 33; // 1980-01-01
     let mut out = Vec::new();
     let mut central = Vec::new();
     for (name, array) in members {
-        let file = format!("{name}.npy");
+        let file = format!("{}.npy", name.as_ref());
         let body = array.to_npy();
         let crc = crc32(&body);
         let offset = out.len() as u32;
@@ -369,6 +392,7 @@ mod tests {
         assert_eq!(crc32(b"123456789"), 0xcbf4_3926);
     }
 
+    #[cfg(feature = "write")]
     #[test]
     fn arrays_round_trip() {
         let members = vec![

@@ -2,20 +2,23 @@
 
 use crate::TableInfo;
 use crate::error::TableError;
-use crate::interp::{Axis, NQ, Stencil, Stretch, interp3};
+use crate::physical::{PairLookup, PairMap};
+use crate::piece::{Piece, PieceParts};
+use crate::poly::NQ;
 use emdstar_contact::{
-    Impact, Model, Mor, PairLaw, PairProperties, RectBounds, RectCoords, ScaledParams, scale,
+    Impact, Model, Mor, PairLaw, PairProperties, Range, RectBounds, RectCoords, ScaledParams,
 };
 
 /// The MoR from the four stored (log) quantities ln(1−ε_r), ln(−ε_ṙ), ln ε_φ, ln ε_t.
+#[inline]
 pub fn mor_from_logs(q: [f64; NQ]) -> Mor {
-    let one_minus_eps_r = q[0].exp();
+    let [one_minus_eps_r, eps_n, eps_phi, eps_t] = crate::fastmath::exp4(q);
     Mor {
         eps_r: 1.0 - one_minus_eps_r,
         one_minus_eps_r,
-        eps_rdot: -q[1].exp(),
-        eps_phi: q[2].exp(),
-        eps_t: q[3].exp(),
+        eps_rdot: -eps_n,
+        eps_phi,
+        eps_t,
     }
 }
 
@@ -41,9 +44,10 @@ pub struct PhysicalLookup {
 
 /// A matrix-of-restitution table over the rectangle of a parameter box.
 ///
-/// Main grid: the four quantities of [`crate::QUANTITIES`] on a uniform grid over
-/// (a, b, c) = [`RectBounds::axes`]. Two limits the engines meet constantly are stored
-/// as extra slices and handled explicitly (never by clamping):
+/// **Main piece:** the four quantities of [`crate::QUANTITIES`] over (a, b, c) =
+/// [`RectBounds::axes`], piecewise polynomial (see the crate documentation). Two
+/// limits the engines meet constantly are stored as extra pieces and handled
+/// explicitly (never by clamping):
 /// - **near-central impacts**, a < 0 (e below the box, c_φ → 0, a → −∞): every
 ///   quantity, with ε_φ replaced by ε_φ/s (s = c_φ/l̃), is a smooth function of s²;
 ///   the table holds its s = 0 slice over (b, c) and interpolates linearly in s²
@@ -57,121 +61,183 @@ pub struct PhysicalLookup {
 ///
 /// Anything beyond the upper ends of a, b or c, or below b = 0, is a
 /// [`TableError::OutOfBox`]. Where the central extension does not hold (strongly damped
-/// impacts whose end hinges on the centrifugal force: the generator's solve at c_φ → 0
-/// does not finish, or the extension misses exact solves at two points below the box by
-/// more than 3e-7 in a stored log), the central slice holds NaN and a < 0 lookups there
-/// are [`TableError::NotTabulated`]. [`WithFallback`] turns both into a counted exact solve.
+/// impacts whose end hinges on the centrifugal force), the central piece is not
+/// tabulated and a < 0 lookups there are [`TableError::NotTabulated`].
+/// [`WithFallback`] turns both into a counted exact solve.
+///
+/// A `Table` is immutable after loading: lookups take `&self`, and it is `Send + Sync`,
+/// so one table serves any number of threads.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Table {
     pub(crate) model: Model,
     pub(crate) bounds: RectBounds,
-    pub(crate) axes: [Axis; 3],
-    pub(crate) main: Vec<f64>,
-    pub(crate) elastic: Vec<f64>,
-    pub(crate) central: Vec<f64>,
-    pub(crate) central_elastic: Vec<f64>,
+    pub(crate) rect: [Range; 3],
+    /// d of the b axis map (0: none), see [`BMap`].
+    pub(crate) b_map: BMap,
+    pub(crate) degree: usize,
+    pub(crate) main: Piece,
+    pub(crate) elastic: Piece,
+    pub(crate) central: Piece,
+    pub(crate) central_elastic: Piece,
     pub(crate) info: TableInfo,
 }
 
-/// Everything a generator supplies to build a [`Table`]; arrays in C order with the
-/// four quantities innermost, in the forms described on [`Table`].
+/// Everything a generator supplies to build a [`Table`], in the forms described on
+/// [`Table`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct TableParts {
     pub bounds: RectBounds,
-    /// Nodes per axis (a, b, c).
-    pub n: [usize; 3],
-    /// Interpolation points per axis.
-    pub order: [usize; 3],
-    /// Node crowding per axis ([`Stretch::NONE`] for a uniform axis).
-    pub stretch: [Stretch; 3],
-    /// `[na][nb][nc][4]`.
-    pub main: Vec<f64>,
-    /// `[na][nb][4]`, at u = 0.
-    pub elastic: Vec<f64>,
-    /// `[nb][nc][4]`, at s = 0.
-    pub central: Vec<f64>,
-    /// `[nb][4]`, at s = 0 and u = 0.
-    pub central_elastic: Vec<f64>,
+    /// How the pieces store the b axis.
+    pub b_map: BMap,
+    /// Total degree of every patch polynomial.
+    pub degree: usize,
+    /// Over (a, b, c).
+    pub main: PieceParts,
+    /// Over (a, b), at u = 0.
+    pub elastic: PieceParts,
+    /// Over (b, c), at s = 0.
+    pub central: PieceParts,
+    /// Over b, at s = 0 and u = 0.
+    pub central_elastic: PieceParts,
     pub info: TableInfo,
 }
 
-/// Axes of a grid of `n` nodes with `order`-point stencils over the rectangle of `bounds`.
-pub fn grid_axes(
-    bounds: &RectBounds,
-    n: [usize; 3],
-    order: [usize; 3],
-    stretch: [Stretch; 3],
-) -> [Axis; 3] {
-    let r = bounds.axes();
-    [0, 1, 2].map(|k| Axis::new(r[k].min, r[k].max, n[k], order[k], stretch[k]))
+/// The coordinate in which the pieces store the b axis: b itself (`knee` = 0), or
+/// w = ln(1 + (b − b_min)/d) with d = `knee` > 0. The latter puts a singularity at a
+/// distance d below b_min (the pass-through of strongly penetrating impacts) far from
+/// the patches in w, so few patches resolve the steep MoR at small b.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BMap {
+    pub b_min: f64,
+    pub knee: f64,
 }
 
+impl BMap {
+    /// w(b).
+    #[inline(always)]
+    pub fn w(&self, b: f64) -> f64 {
+        if self.knee > 0.0 {
+            ((b - self.b_min) / self.knee).ln_1p()
+        } else {
+            b
+        }
+    }
+
+    /// b(w), the inverse.
+    pub fn b(&self, w: f64) -> f64 {
+        if self.knee > 0.0 {
+            self.b_min + self.knee * w.exp_m1()
+        } else {
+            w
+        }
+    }
+
+    /// The ranges of (a, w, c) of the pieces for the rectangle `rect`.
+    pub fn piece_rect(&self, rect: &[Range; 3]) -> [Range; 3] {
+        [
+            rect[0],
+            Range::new(self.w(rect[1].min), self.w(rect[1].max)),
+            rect[2],
+        ]
+    }
+}
+
+/// The four pieces of a table: their names and which of the axes a, b, c each spans.
+pub const PIECES: [(&str, [bool; 3]); 4] = [
+    ("main", [true, true, true]),
+    ("elastic", [true, true, false]),
+    ("central", [false, true, true]),
+    ("central_elastic", [false, true, false]),
+];
+
+/// The box of a piece that spans the axes `active` of `rect`.
+pub fn piece_box(rect: &[Range; 3], active: [bool; 3]) -> ([f64; 3], [f64; 3]) {
+    let lo = std::array::from_fn(|k| if active[k] { rect[k].min } else { 0.0 });
+    let hi = std::array::from_fn(|k| if active[k] { rect[k].max } else { 0.0 });
+    (lo, hi)
+}
+
+// Lookups share one table between threads.
+const _: fn() = || {
+    fn send_sync<T: Send + Sync>() {}
+    send_sync::<Table>();
+};
+
 impl Table {
-    /// Assembles a table, checking the sizes.
+    /// Assembles and checks a table.
     pub fn from_parts(p: TableParts) -> Result<Self, TableError> {
-        let axes = grid_axes(&p.bounds, p.n, p.order, p.stretch);
-        for (ax, name) in axes.iter().zip(["a", "b", "c"]) {
-            ax.check()
-                .map_err(|why| TableError::Input(format!("axis {name}: {why}")))?;
+        let rect = p.bounds.axes();
+        if !(p.b_map.knee >= 0.0 && p.b_map.knee.is_finite() && p.b_map.b_min == rect[1].min) {
+            return Err(TableError::Corrupt(format!(
+                "the b map (knee {}, b_min {}) does not fit the b axis from {}",
+                p.b_map.knee, p.b_map.b_min, rect[1].min
+            )));
         }
-        let [na, nb, nc] = p.n;
-        for (name, v, len) in [
-            ("main", &p.main, na * nb * nc),
-            ("elastic", &p.elastic, na * nb),
-            ("central", &p.central, nb * nc),
-            ("central_elastic", &p.central_elastic, nb),
-        ] {
-            if v.len() != len * NQ {
-                return Err(TableError::Input(format!(
-                    "{name} has {} values, expected {}",
-                    v.len(),
-                    len * NQ
-                )));
-            }
+        let prect = p.b_map.piece_rect(&rect);
+        if !(1..=16).contains(&p.degree) {
+            return Err(TableError::Corrupt(format!(
+                "polynomial degree {} is not in 1..=16",
+                p.degree
+            )));
         }
+        let piece = |k: usize, parts: PieceParts| {
+            let (name, active) = PIECES[k];
+            let (lo, hi) = piece_box(&prect, active);
+            // Only the central pieces may leave patches untabulated.
+            Piece::new(name, parts, lo, hi, p.degree, k >= 2)
+        };
         Ok(Self {
             model: p.bounds.model,
             bounds: p.bounds,
-            axes,
-            main: p.main,
-            elastic: p.elastic,
-            central: p.central,
-            central_elastic: p.central_elastic,
+            rect,
+            b_map: p.b_map,
+            degree: p.degree,
+            main: piece(0, p.main)?,
+            elastic: piece(1, p.elastic)?,
+            central: piece(2, p.central)?,
+            central_elastic: piece(3, p.central_elastic)?,
             info: p.info,
         })
     }
 
+    /// The force model the table was built for.
     pub fn model(&self) -> Model {
         self.model
     }
 
+    /// The constants of the rectangular map (Eqs. 45-61).
     pub fn bounds(&self) -> &RectBounds {
         &self.bounds
     }
 
-    pub fn axes(&self) -> &[Axis; 3] {
-        &self.axes
+    /// The ranges of a, b and c covered by the main piece.
+    pub fn rect(&self) -> [Range; 3] {
+        self.rect
     }
 
+    /// Generator, spec, physical box and accuracy of the table.
     pub fn info(&self) -> &TableInfo {
         &self.info
     }
 
-    /// Stored value of quantity `q` at main-grid node (i, j, k).
-    pub fn node_value(&self, i: usize, j: usize, k: usize, q: usize) -> f64 {
-        let [_, nb, nc] = self.axes.map(|a| a.n);
-        self.main[((i * nb + j) * nc + k) * NQ + q]
+    /// How the pieces store the b axis.
+    pub fn b_map(&self) -> BMap {
+        self.b_map
     }
 
-    /// The same data interpolated with other stencils (points per axis), e.g. to
-    /// compare orders without regenerating.
-    pub fn with_order(&self, order: [usize; 3]) -> Result<Self, TableError> {
-        let mut t = self.clone();
-        for (ax, o) in t.axes.iter_mut().zip(order) {
-            *ax = ax.with_order(o);
-            ax.check().map_err(TableError::Input)?;
-        }
-        Ok(t)
+    /// Total degree of the patch polynomials.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The four pieces (main, elastic, central, central elastic), as in [`PIECES`].
+    pub fn pieces(&self) -> [&Piece; 4] {
+        [
+            &self.main,
+            &self.elastic,
+            &self.central,
+            &self.central_elastic,
+        ]
     }
 
     /// Fails with [`TableError::WrongModel`] unless the table is for `model`.
@@ -186,15 +252,16 @@ impl Table {
         }
     }
 
+    /// A lookup handle for one pair and law: the constants of the physical map are
+    /// computed and checked once, so each [`PairLookup::lookup`] costs only the
+    /// impact's own logarithms and the interpolation.
+    pub fn pair(&self, law: &PairLaw, pair: &PairProperties) -> Result<PairLookup<'_>, TableError> {
+        PairLookup::new(self, law, pair)
+    }
+
     /// MoR and time scale of a physical impact: scaling (Eqs. 41, 43, 53), rectangular
-    /// coordinates (Eqs. 45-61) and interpolation of all four components.
-    ///
-    /// The coordinates come straight from the physical parameters, in the paper's own
-    /// forms (three logarithms instead of the scaled parameters' six transcendental
-    /// calls), with s = v_t/v_n and v = |v|:
-    /// - a = ln s − g_min, Eq. (45);
-    /// - b = ln(lω/v) − m_min (linear, Eq. 48) or ln(l(κ/v²)^{2/5}) − m_min (Hertz, Eq. 56);
-    /// - c = ln(γ/(m_eff ω)) (linear, Eq. 43) or ln(3Av/(2l)) − c_min (Hertz, Eq. 59).
+    /// coordinates (Eqs. 45-61) and interpolation of all four components. For many
+    /// impacts of one pair, [`Table::pair`] avoids redoing the pair's part.
     #[inline]
     pub fn lookup(
         &self,
@@ -202,62 +269,22 @@ impl Table {
         pair: &PairProperties,
         impact: &Impact,
     ) -> Result<PhysicalLookup, TableError> {
-        self.expect_model(law.model())?;
-        let (v_n, v_t, m_eff, l) = (
-            impact.normal_speed,
-            impact.tangential_speed,
-            pair.m_eff,
-            pair.l,
-        );
-        let plausible = v_n > 0.0 && v_t >= 0.0 && m_eff > 0.0 && l > 0.0;
-        if !(plausible && v_n.is_finite() && v_t.is_finite() && m_eff.is_finite() && l.is_finite())
-        {
-            // Let the scaling say what is wrong.
-            scale(law, pair, impact)?;
-            return Err(TableError::Input(format!(
-                "impact {impact:?} or pair {pair:?} cannot be scaled"
-            )));
-        }
-        let v2 = v_n * v_n + v_t * v_t;
-        let bounds = &self.bounds;
-        let (time, b, c) = match *law {
-            PairLaw::Linear { stiffness, damping } => {
-                // Eq. (41): T = 1/ω = √(m_eff/k).
-                let omega2 = stiffness / m_eff;
-                let time = (m_eff / stiffness).sqrt();
-                let b = 0.5 * (l * l * omega2 / v2).ln() - bounds.m.min;
-                (time, b, (damping * time / m_eff).ln())
-            }
-            PairLaw::Hertz {
-                rho_el,
-                dissipation,
-            } => {
-                // Eq. (53): T = κ^{-2/5} v_n^{-1/5} = (κ² v_n)^{-1/5}.
-                let kappa = rho_el / m_eff;
-                let mut time = (kappa * kappa * v_n).powf(-0.2);
-                if !(time.is_finite() && time > 0.0) {
-                    time = kappa.powf(-0.4) * v_n.powf(-0.2);
-                }
-                let b = 0.4 * (l * l * l.sqrt() * kappa / v2).ln() - bounds.m.min;
-                let c = (1.5 * dissipation * v2.sqrt() / l).ln() - bounds.c.min;
-                (time, b, c)
-            }
-        };
-        let x = RectCoords {
-            a: (v_t / v_n).ln() - bounds.g.min,
-            b,
-            c,
-        };
-        if !(time.is_finite() && time > 0.0 && x.b.is_finite() && !x.c.is_nan()) {
-            scale(law, pair, impact)?;
-            return Err(TableError::Input(format!(
-                "the law {law:?} gives no finite scaling for impact {impact:?}"
-            )));
-        }
+        self.pair(law, pair)?.lookup(impact)
+    }
+
+    /// MoR and time scale of an impact of the pair of `map`.
+    #[inline]
+    pub fn lookup_pair(
+        &self,
+        map: &PairMap,
+        impact: &Impact,
+    ) -> Result<PhysicalLookup, TableError> {
+        self.expect_model(map.law().model())?;
+        let (x, time) = map.coords(&self.bounds, impact)?;
         Ok(PhysicalLookup {
             mor: self.lookup_rect(&x)?,
             time,
-            length: v_n * time,
+            length: impact.normal_speed * time,
         })
     }
 
@@ -274,66 +301,70 @@ impl Table {
     }
 
     /// MoR at rectangular coordinates; a = −∞ (central) and c = −∞ (elastic) allowed.
+    #[inline]
     pub fn lookup_rect(&self, x: &RectCoords) -> Result<Mor, TableError> {
         self.logs_at(x).map(mor_from_logs)
     }
 
     /// The four stored (log) quantities at rectangular coordinates.
+    #[inline]
     pub fn logs_at(&self, x: &RectCoords) -> Result<[f64; NQ], TableError> {
-        let [ax, bx, cx] = &self.axes;
-        let out = |axis, value: f64, r: &Axis, lo: f64| TableError::OutOfBox {
+        let [ra, rb, rc] = self.rect;
+        let out = |axis, value: f64, r: Range| TableError::OutOfBox {
             axis,
             value,
-            min: lo,
+            min: r.min,
             max: r.max,
         };
-        if x.a.is_nan() || x.a > ax.max {
-            return Err(out("a", x.a, ax, ax.min));
+        if x.a.is_nan() || x.a > ra.max {
+            return Err(out("a", x.a, ra));
         }
-        if !(x.b >= bx.min && x.b <= bx.max) {
-            return Err(out("b", x.b, bx, bx.min));
+        if !(x.b >= rb.min && x.b <= rb.max) {
+            return Err(out("b", x.b, rb));
         }
-        if x.c.is_nan() || x.c > cx.max {
-            return Err(out("c", x.c, cx, cx.min));
+        if x.c.is_nan() || x.c > rc.max {
+            return Err(out("c", x.c, rc));
         }
-        let central = x.a < ax.min;
-        let elastic = x.c < cx.min;
-        let sa = if central {
-            Stencil::at(0)
-        } else {
-            ax.stencil(x.a)
-        };
-        let sb = bx.stencil(x.b);
-        let sc = if elastic {
-            Stencil::at(0)
-        } else {
-            cx.stencil(x.c)
-        };
-        let [na, nb, nc] = self.axes.map(|a| a.n);
+        let central = x.a < ra.min;
+        let elastic = x.c < rc.min;
         if !(central || elastic) {
-            return Ok(interp3(&self.main, [na, nb, nc], &[sa, sb, sc]));
+            return Ok(self.main.eval([x.a, self.b_map.w(x.b), x.c]));
         }
+        self.extension(x, central, elastic)
+    }
+
+    /// The near-central and nearly elastic extensions (see [`Table`]).
+    #[cold]
+    fn extension(
+        &self,
+        x: &RectCoords,
+        central: bool,
+        elastic: bool,
+    ) -> Result<[f64; NQ], TableError> {
+        let [ra, _, rc] = self.rect;
+        let a = if central { ra.min } else { x.a };
+        let w = self.b_map.w(x.b);
+        let c = if elastic { rc.min } else { x.c };
         let ta = if central {
-            (2.0 * (x.a - ax.min)).exp()
+            (2.0 * (x.a - ra.min)).exp()
         } else {
             1.0
         };
-        let tc = if elastic { (x.c - cx.min).exp() } else { 1.0 };
+        let tc = if elastic { (x.c - rc.min).exp() } else { 1.0 };
         // Face values in the extension forms ε_φ/s and (1−ε_r)/u. At t = 0 exactly
         // (c_φ = 0 or c_dis = 0) the lerps below return their low end, so the face is
         // not needed (and not computed: the elastic gas of eMD* lives there).
-        let ln_s0 = self.bounds.g.min + ax.min;
+        let ln_s0 = self.bounds.g.min + ra.min;
         let face = || {
-            let mut q = interp3(&self.main, [na, nb, nc], &[sa, sb, sc]);
+            let mut q = self.main.eval([a, w, c]);
             if central {
                 q[2] -= ln_s0;
             }
             if elastic {
-                q[0] -= cx.min;
+                q[0] -= rc.min;
             }
             q
         };
-        let one = Stencil::at(0);
         let lerp = |lo: [f64; NQ], hi: &dyn Fn() -> [f64; NQ], t: f64| -> [f64; NQ] {
             if t == 0.0 {
                 return lo;
@@ -342,7 +373,7 @@ impl Table {
             std::array::from_fn(|i| lo[i] + t * (hi[i] - lo[i]))
         };
         let elastic_face = || {
-            let mut qe = interp3(&self.elastic, [na, nb, 1], &[sa, sb, one]);
+            let mut qe = self.elastic.eval([a, w, 0.0]);
             if central {
                 qe[2] -= ln_s0;
             }
@@ -350,14 +381,14 @@ impl Table {
         };
         let mut q = if central {
             let central_face = || {
-                let mut qc = interp3(&self.central, [1, nb, nc], &[one, sb, sc]);
+                let mut qc = self.central.eval([0.0, w, c]);
                 if elastic {
-                    qc[0] -= cx.min;
+                    qc[0] -= rc.min;
                 }
                 qc
             };
             if elastic {
-                let qce = interp3(&self.central_elastic, [1, nb, 1], &[one, sb, one]);
+                let qce = self.central_elastic.eval([0.0, w, 0.0]);
                 let low = lerp(qce, &central_face, tc);
                 lerp(low, &|| lerp(elastic_face(), &face, tc), ta)
             } else {
@@ -384,52 +415,20 @@ impl Table {
     }
 }
 
-/// Where a [`WithFallback`] answer came from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Source {
-    Table,
-    ExactSolve,
+/// A table shared without copying: a `'static` one (such as an embedded default) or
+/// one loaded at run time, behind an `Arc`. Cloning shares it.
+#[derive(Debug, Clone)]
+pub enum SharedTable {
+    Static(&'static Table),
+    Owned(std::sync::Arc<Table>),
 }
 
-/// A table plus a caller-chosen exact solver for points outside the box.
-///
-/// The reader cannot solve the collision ODE itself (it does not depend on the solver);
-/// the caller passes one, e.g. `|m, p| emdstar_mor::solve(m, p).map(...)`. Every
-/// fallback is counted in [`WithFallback::fallbacks`].
-pub struct WithFallback<'t, F> {
-    table: &'t Table,
-    solve: F,
-    fallbacks: std::sync::atomic::AtomicU64,
-}
-
-impl<'t, F> WithFallback<'t, F>
-where
-    F: Fn(Model, &ScaledParams) -> Result<Mor, String>,
-{
-    pub fn new(table: &'t Table, solve: F) -> Self {
-        Self {
-            table,
-            solve,
-            fallbacks: 0.into(),
+impl std::ops::Deref for SharedTable {
+    type Target = Table;
+    fn deref(&self) -> &Table {
+        match self {
+            Self::Static(t) => t,
+            Self::Owned(t) => t,
         }
-    }
-
-    /// Table lookup, or the exact solve when the point lies outside the box.
-    pub fn lookup_scaled(&self, p: &ScaledParams) -> Result<(Mor, Source), TableError> {
-        match self.table.lookup_scaled(p) {
-            Ok(m) => Ok((m, Source::Table)),
-            Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) => {
-                self.fallbacks
-                    .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                let m = (self.solve)(self.table.model, p).map_err(TableError::Fallback)?;
-                Ok((m, Source::ExactSolve))
-            }
-            Err(e) => Err(e),
-        }
-    }
-
-    /// Number of exact solves so far.
-    pub fn fallbacks(&self) -> u64 {
-        self.fallbacks.load(std::sync::atomic::Ordering::Relaxed)
     }
 }

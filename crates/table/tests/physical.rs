@@ -94,3 +94,38 @@ fn bad_physical_input_is_an_error() {
         Err(TableError::WrongModel { .. })
     ));
 }
+
+#[test]
+fn the_fallback_solves_out_of_box_impacts_and_counts_them() {
+    let t = table(Model::Linear);
+    let s = Sphere::from_density(0.005, 2500.0).unwrap();
+    let pair = PairProperties::spheres(&s, &s);
+    let law = PairLaw::same_material(
+        &ForceLaw::Linear(LinearDashpot::new(1e5, 0.1).unwrap()),
+        pair.r_eff,
+    )
+    .unwrap();
+    let map = emdstar_table::PairMap::new(&law, &pair).unwrap();
+    let counted = emdstar_table::WithFallback::new(&t, |m, p| {
+        emdstar_mor::solve(m, p).map_err(|e| e.to_string())
+    });
+    let inside = Impact::from_speed_eccentricity(1.0, 0.3).unwrap();
+    let (hit, source) = counted.lookup_pair(&map, &inside).unwrap();
+    assert_eq!(source, emdstar_table::Source::Table);
+    // Far too slow for the box: refused by the table, solved exactly by the fallback.
+    let slow = Impact::from_speed_eccentricity(1e-5, 0.3).unwrap();
+    assert!(matches!(
+        t.lookup_pair(&map, &slow),
+        Err(TableError::OutOfBox { .. })
+    ));
+    let (exact, source) = counted.lookup_pair(&map, &slow).unwrap();
+    assert_eq!(source, emdstar_table::Source::ExactSolve);
+    let sc = scale(&law, &pair, &slow).unwrap();
+    assert_eq!(
+        exact.mor,
+        emdstar_mor::solve(Model::Linear, &sc.params).unwrap()
+    );
+    assert_eq!(exact.time, sc.time);
+    assert_eq!(counted.fallbacks(), 1);
+    assert!(hit.mor.eps_rdot < 0.0);
+}

@@ -73,7 +73,7 @@ pub fn sample_points(
     seed: u64,
     region: Region,
 ) -> Result<Vec<(RectCoords, ScaledParams)>, String> {
-    let [ax, bx, cx] = *table.axes();
+    let [ax, bx, cx] = table.rect();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
     let bounds = table.bounds();
@@ -109,6 +109,18 @@ fn physical_sample(
     table: &Table,
     draw: &mut dyn FnMut([f64; 2]) -> f64,
 ) -> Result<ScaledParams, String> {
+    let (law, pair, impact) = physical_impact(table, draw)?;
+    Ok(scale(&law, &pair, &impact)
+        .map_err(|e| e.to_string())?
+        .params)
+}
+
+/// One physical impact of the table's box: law, pair and impact, each parameter drawn
+/// by `draw` from its [min, max] (two equal spheres, as in the paper's tables).
+pub fn physical_impact(
+    table: &Table,
+    draw: &mut dyn FnMut([f64; 2]) -> f64,
+) -> Result<(PairLaw, PairProperties, Impact), String> {
     let info = table.info();
     let mut get = |name: &str| -> Result<f64, String> {
         let k = info
@@ -133,7 +145,7 @@ fn physical_sample(
         Impact::from_speed_eccentricity(get("speed")?, get("eccentricity")?).map_err(err)?;
     let pair = PairProperties::spheres(&sphere, &sphere);
     let law = PairLaw::same_material(&law, pair.r_eff).map_err(err)?;
-    Ok(scale(&law, &pair, &impact).map_err(err)?.params)
+    Ok((law, pair, impact))
 }
 
 /// Compares the table with exact solves at `n` random points.
@@ -186,7 +198,7 @@ pub fn check(
         })
         .collect();
     let mut by_axis = [[0.0f64; BINS]; 3];
-    let [ax, bx, cx] = *table.axes();
+    let [ax, bx, cx] = table.rect();
     for (x, e) in points.iter().zip(&errors) {
         let worst = e.iter().fold(0.0f64, |m, v| m.max(*v));
         for (k, (v, r)) in [(x.a, ax), (x.b, bx), (x.c, cx)].into_iter().enumerate() {

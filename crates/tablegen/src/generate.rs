@@ -1,15 +1,21 @@
-//! The grid sweep: every node solved exactly, in parallel, deterministically.
+//! The adaptive fit: every patch's Chebyshev coefficients from exact solves, in
+//! parallel, deterministically.
 //!
-//! The nodes are numbered in one fixed order: the main grid `[a][b][c]`, then the
-//! elastic slice `[a][b]`, the central slice `[b][c]` and the central-elastic line
-//! `[b]`. Each node's four values depend on that node alone, so the result is bitwise
-//! the same for any thread count, and a shard `i/n` (the contiguous node range
-//! `[N·i/n, N·(i+1)/n)`) plus [`merge`] reproduces a single run byte for byte.
+//! Each top cell of each piece (a *unit*) is refined on its own: a patch is fitted by
+//! interpolating the exact solutions at the (n+2)³ Chebyshev extreme points of its box
+//! (n the degree; fewer on a piece's missing axes) and keeping the terms of total degree
+//! ≤ n. Its error estimate per quantity is the sum of the magnitudes of the dropped
+//! coefficients; above the tolerance, the box is bisected along the axis that carries
+//! most of them. The units are numbered piece by piece, cells in C order, and each one's
+//! tree in breadth-first order, so the result is bitwise the same for any thread count,
+//! and a shard `i/n` (the contiguous unit range `[U·i/n, U·(i+1)/n)`) plus [`merge`]
+//! reproduces a single run byte for byte.
 
 use crate::spec::Spec;
 use emdstar_contact::{Model, RectCoords, ScaledParams};
-use emdstar_table::npz::{Array, Data, read_npz, write_npz};
-use emdstar_table::{Mor, NQ, Table, TableInfo, TableParts, mor_to_logs};
+use emdstar_table::{
+    LEAF, Mor, NQ, PIECES, PieceParts, Table, TableInfo, TableParts, Terms, mor_to_logs, piece_box,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
@@ -29,33 +35,80 @@ pub fn generator_version() -> String {
 /// s = c_φ/l̃ used to sample the central limit (relative error O(s²) = 1e-16).
 const CENTRAL_S: f64 = 1e-8;
 
-/// Number of nodes (solves) of a spec.
-pub fn node_count(spec: &Spec) -> usize {
-    let [na, nb, nc] = spec.nodes;
-    na * nb * nc + na * nb + nb * nc + nb
+/// Bisections of a central piece's top cell at most while it isolates the region where
+/// the central limit is not tabulated.
+const CENTRAL_DEPTH: usize = 5;
+
+/// One unit of work: a top cell of a piece.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unit {
+    /// Index into [`PIECES`].
+    pub piece: usize,
+    pub cell: usize,
+    pub bx: [[f64; 2]; 3],
 }
 
-/// The four stored values of node `k` (see [`Table`] for the forms).
-pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], String> {
-    let [na, nb, nc] = spec.nodes;
-    let [ax, bx, cx] = spec.axes();
+/// The refined tree of one unit, in breadth-first order (root first).
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitTree {
+    pub tree: Vec<[i64; 2]>,
+    pub split: Vec<f64>,
+    pub cheb: Vec<[f64; NQ]>,
+    /// Largest error estimate of its patches, per quantity.
+    pub error: [f64; NQ],
+}
+
+/// The top cells of every piece of a spec, in unit order.
+pub fn units(spec: &Spec) -> Vec<Unit> {
+    let rect = spec.b_map().piece_rect(&spec.rect());
+    let mut out = Vec::new();
+    for (piece, (_, active)) in PIECES.iter().enumerate() {
+        let (lo, hi) = piece_box(&rect, *active);
+        let cells: [usize; 3] = std::array::from_fn(|k| if active[k] { spec.cells[k] } else { 1 });
+        for cell in 0..cells.iter().product() {
+            let idx = [
+                cell / (cells[1] * cells[2]),
+                cell / cells[2] % cells[1],
+                cell % cells[2],
+            ];
+            // The same arithmetic as the reader's check of the trees.
+            let bx = std::array::from_fn(|k| {
+                let w = (hi[k] - lo[k]) / cells[k] as f64;
+                let a = lo[k] + w * idx[k] as f64;
+                let b = if idx[k] + 1 == cells[k] {
+                    hi[k]
+                } else {
+                    lo[k] + w * (idx[k] + 1) as f64
+                };
+                [a, b]
+            });
+            out.push(Unit { piece, cell, bx });
+        }
+    }
+    out
+}
+
+/// Number of units (top cells of all pieces) of a spec.
+pub fn unit_count(spec: &Spec) -> usize {
+    units(spec).len()
+}
+
+/// The four stored values of `piece` at `x` (see [`Table`] for the forms); NaN where a
+/// central piece has no limit.
+pub fn point_values(
+    spec: &Spec,
+    solve: &Solver,
+    piece: usize,
+    x: [f64; 3],
+) -> Result<[f64; NQ], String> {
+    let rect = spec.rect();
     let bounds = &spec.bounds;
+    let central = piece >= 2;
+    let elastic = piece == 1 || piece == 3;
     let a_central = CENTRAL_S.ln() - bounds.g.min;
-    let (a, b, c, central, elastic) = if k < na * nb * nc {
-        let (i, j, l) = (k / (nb * nc), k / nc % nb, k % nc);
-        (ax.node(i), bx.node(j), cx.node(l), false, false)
-    } else if k < na * nb * (nc + 1) {
-        let r = k - na * nb * nc;
-        (ax.node(r / nb), bx.node(r % nb), cx.min, false, true)
-    } else if k < na * nb * (nc + 1) + nb * nc {
-        let r = k - na * nb * (nc + 1);
-        (a_central, bx.node(r / nc), cx.node(r % nc), true, false)
-    } else if k < node_count(spec) {
-        let r = k - na * nb * (nc + 1) - nb * nc;
-        (a_central, bx.node(r), cx.min, true, true)
-    } else {
-        return Err(format!("node {k} does not exist"));
-    };
+    let a = if central { a_central } else { x[0] };
+    let b = spec.b_map().b(x[1]);
+    let c = if elastic { rect[2].min } else { x[2] };
     let at_face = bounds.from_rect(&RectCoords { a, b, c });
     let p = ScaledParams {
         c_dis: if elastic { 0.0 } else { at_face.c_dis },
@@ -64,11 +117,11 @@ pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], S
     let m = match solve(spec.model, &p) {
         Ok(m) => m,
         // No central limit here (e.g. strongly overdamped Hertz impacts that only end
-        // thanks to the centrifugal force): stored as NaN, looked up as NotTabulated.
+        // thanks to the centrifugal force): not tabulated.
         Err(_) if central => return Ok([f64::NAN; NQ]),
         Err(e) => {
             return Err(format!(
-                "solve failed at node {k} (a = {a}, b = {b}, c = {c}, scaled {p:?}): {e}"
+                "solve failed at (a = {a}, b = {b}, c = {c}, scaled {p:?}): {e}"
             ));
         }
     };
@@ -87,21 +140,21 @@ pub fn node_values(spec: &Spec, solve: &Solver, k: usize) -> Result<[f64; NQ], S
     }
     if let Some(i) = q.iter().position(|x| !x.is_finite() && !central) {
         return Err(format!(
-            "node {k} (a = {a}, b = {b}, c = {c}) gave a non-finite stored value {} from {m:?}",
+            "(a = {a}, b = {b}, c = {c}) gave a non-finite stored value {} from {m:?}",
             emdstar_table::QUANTITIES[i]
         ));
     }
     Ok(q)
 }
 
-/// Largest error in the stored logs that the near-central extension may make at a node.
+/// Largest error in the stored logs that the near-central extension may make.
 const CENTRAL_TOLERANCE: f64 = 3e-7;
 
-/// Whether the reader's near-central extension (linear in s² between the central slice
+/// Whether the reader's near-central extension (linear in s² between the central
 /// value `q0` at s = 0 and the a = 0 face) reproduces exact solves below the box at
 /// (b, c). Where strong damping makes the end of the collision hinge on the centrifugal
 /// force, the MoR is not smooth in s² at all (errors up to 70% in ε_t were measured):
-/// such nodes are stored as NaN, so lookups there are `NotTabulated` (a counted exact
+/// such points are not tabulated, so lookups there are `NotTabulated` (a counted exact
 /// solve with a fallback) instead of wrong.
 fn central_extension_holds(
     spec: &Spec,
@@ -120,7 +173,6 @@ fn central_extension_holds(
         };
         let mut q = mor_to_logs(&solve(spec.model, &p).ok()?);
         if elastic {
-            // The same forms as the elastic slice (see `node_values`).
             q[0] = at.c_dis.ln() - c - at.l_tilde.ln();
             q[1] = 0.0;
         }
@@ -142,48 +194,264 @@ fn central_extension_holds(
     })
 }
 
-/// Solves nodes `range` in parallel (current rayon pool), with an optional progress bar.
-pub fn solve_range(
+/// A fitted patch.
+struct Fit {
+    /// Kept Chebyshev coefficients in term order; None where not tabulated (some
+    /// point NaN).
+    cheb: Option<Vec<[f64; NQ]>>,
+    error: [f64; NQ],
+    /// Whether some but not all points were NaN.
+    mixed: bool,
+    /// The axis carrying most of the dropped coefficients.
+    worst_axis: usize,
+}
+
+/// Fits the polynomial of `piece` on box `bx`.
+fn fit(spec: &Spec, solve: &Solver, piece: usize, bx: &[[f64; 2]; 3]) -> Result<Fit, String> {
+    let active = PIECES[piece].1;
+    let n = spec.degree;
+    let np = n + 1; // highest index of the tensor interpolant
+    let count: [usize; 3] = std::array::from_fn(|k| if active[k] { np + 1 } else { 1 });
+    let node = |k: usize, j: usize| -> f64 {
+        if !active[k] {
+            return 0.0;
+        }
+        let t = (std::f64::consts::PI * j as f64 / np as f64).cos();
+        0.5 * (bx[k][0] + bx[k][1]) + 0.5 * (bx[k][1] - bx[k][0]) * t
+    };
+    let total = count.iter().product::<usize>();
+    let mut vals = Vec::with_capacity(total);
+    for i in 0..count[0] {
+        for j in 0..count[1] {
+            for k in 0..count[2] {
+                vals.push(point_values(
+                    spec,
+                    solve,
+                    piece,
+                    [node(0, i), node(1, j), node(2, k)],
+                )?);
+            }
+        }
+    }
+    let nans = vals.iter().filter(|v| v.iter().any(|x| x.is_nan())).count();
+    if nans > 0 {
+        return Ok(Fit {
+            cheb: None,
+            error: [0.0; NQ],
+            mixed: nans < total,
+            worst_axis: (0..3)
+                .filter(|&k| active[k])
+                .max_by(|&x, &y| (bx[x][1] - bx[x][0]).total_cmp(&(bx[y][1] - bx[y][0])))
+                .expect("an active axis"),
+        });
+    }
+    // Chebyshev coefficients of the tensor interpolant, one axis at a time (DCT-I).
+    let mut coef = vals;
+    let stride = [count[1] * count[2], count[2], 1];
+    for k in 0..3 {
+        if !active[k] {
+            continue;
+        }
+        let m = count[k];
+        let mut line = vec![[0.0; NQ]; m];
+        for base in 0..total {
+            if (base / stride[k]) % m != 0 {
+                continue;
+            }
+            for (kk, slot) in line.iter_mut().enumerate() {
+                let mut s = [0.0; NQ];
+                for j in 0..m {
+                    let w = if j == 0 || j == m - 1 { 0.5 } else { 1.0 }
+                        * (std::f64::consts::PI * (kk * j) as f64 / np as f64).cos();
+                    let v = coef[base + j * stride[k]];
+                    for (s, v) in s.iter_mut().zip(v) {
+                        *s += w * v;
+                    }
+                }
+                let f = if kk == 0 || kk == m - 1 { 1.0 } else { 2.0 } / np as f64;
+                *slot = s.map(|x| x * f);
+            }
+            for (j, v) in line.iter().enumerate() {
+                coef[base + j * stride[k]] = *v;
+            }
+        }
+    }
+    let max = std::array::from_fn(|k| if active[k] { n } else { 0 });
+    let terms = Terms::new(n, max);
+    let mut error = [0.0; NQ];
+    let mut by_axis = [0.0; 3];
+    let mut kept = Vec::with_capacity(terms.len());
+    for p in &terms.powers {
+        kept.push(coef[p[0] * stride[0] + p[1] * stride[1] + p[2] * stride[2]]);
+    }
+    for i in 0..count[0] {
+        for j in 0..count[1] {
+            for k in 0..count[2] {
+                if i + j + k <= n && i <= max[0] && j <= max[1] && k <= max[2] {
+                    continue;
+                }
+                let c = coef[i * stride[0] + j * stride[1] + k * stride[2]];
+                let size = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for (e, x) in error.iter_mut().zip(c) {
+                    *e += x.abs();
+                }
+                let sum = (i + j + k) as f64;
+                for (a, idx) in [i, j, k].into_iter().enumerate() {
+                    by_axis[a] += size * idx as f64 / sum;
+                }
+            }
+        }
+    }
+    let worst_axis = (0..3)
+        .filter(|&k| active[k])
+        .max_by(|&x, &y| by_axis[x].total_cmp(&by_axis[y]))
+        .expect("an active axis");
+    Ok(Fit {
+        cheb: Some(kept),
+        error,
+        mixed: false,
+        worst_axis,
+    })
+}
+
+/// Refines the given units (all of them together, level by level, in parallel).
+pub fn refine(
     spec: &Spec,
     solve: &Solver,
-    range: std::ops::Range<usize>,
+    units: &[Unit],
     progress: bool,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<UnitTree>, String> {
     let bar = if progress {
-        ProgressBar::new(range.len() as u64)
+        ProgressBar::new_spinner()
     } else {
         ProgressBar::hidden()
     };
     bar.set_style(
-        ProgressStyle::with_template(
-            "{elapsed_precise} [{wide_bar}] {pos}/{len} nodes, {per_sec}, ETA {eta}",
-        )
-        .expect("valid template"),
+        ProgressStyle::with_template("{elapsed_precise} {spinner} {msg}").expect("valid template"),
     );
-    let values: Result<Vec<[f64; NQ]>, String> = range
-        .into_par_iter()
-        .map(|k| {
-            let v = node_values(spec, solve, k);
-            bar.inc(1);
-            v
+    let mut trees: Vec<UnitTree> = units
+        .iter()
+        .map(|_| UnitTree {
+            tree: vec![[LEAF, 0]],
+            split: vec![0.0],
+            cheb: Vec::new(),
+            error: [0.0; NQ],
         })
         .collect();
+    let mut patches = vec![0usize; units.len()];
+    // (unit, node, box, depth)
+    let mut frontier: Vec<(usize, usize, [[f64; 2]; 3], usize)> = units
+        .iter()
+        .enumerate()
+        .map(|(u, unit)| (u, 0, unit.bx, 0))
+        .collect();
+    let (mut fitted, mut leaves) = (0usize, 0usize);
+    while !frontier.is_empty() {
+        bar.set_message(format!(
+            "{fitted} patches fitted, {leaves} kept, {} at this level",
+            frontier.len()
+        ));
+        let fits: Vec<Fit> = frontier
+            .par_iter()
+            .map(|(u, _, bx, _)| fit(spec, solve, units[*u].piece, bx))
+            .collect::<Result<_, _>>()?;
+        fitted += fits.len();
+        let mut next = Vec::new();
+        for ((u, node, bx, depth), f) in frontier.into_iter().zip(fits) {
+            let central = units[u].piece >= 2;
+            let limit = if central {
+                CENTRAL_DEPTH
+            } else {
+                spec.max_depth
+            };
+            let worst = f.error.iter().fold(0.0f64, |m, x| m.max(*x));
+            let accept = match &f.cheb {
+                Some(_) => worst <= spec.tolerance || depth >= spec.max_depth,
+                None => !f.mixed || depth >= limit,
+            };
+            let t = &mut trees[u];
+            if accept {
+                t.tree[node] = [LEAF, patches[u] as i64];
+                patches[u] += 1;
+                leaves += 1;
+                match f.cheb {
+                    Some(c) => {
+                        t.cheb.extend(c);
+                        for (e, x) in t.error.iter_mut().zip(f.error) {
+                            *e = e.max(x);
+                        }
+                    }
+                    None => {
+                        let nt = Terms::new(spec.degree, term_max(spec, units[u].piece)).len();
+                        t.cheb.extend(std::iter::repeat_n([f64::NAN; NQ], nt));
+                    }
+                }
+                continue;
+            }
+            let k = f.worst_axis;
+            let mid = 0.5 * (bx[k][0] + bx[k][1]);
+            let first = t.tree.len();
+            t.tree[node] = [k as i64, first as i64];
+            t.split[node] = mid;
+            t.tree.extend([[LEAF, 0], [LEAF, 0]]);
+            t.split.extend([0.0, 0.0]);
+            let (mut below, mut above) = (bx, bx);
+            below[k][1] = mid;
+            above[k][0] = mid;
+            next.push((u, first, below, depth + 1));
+            next.push((u, first + 1, above, depth + 1));
+        }
+        frontier = next;
+    }
     bar.finish_and_clear();
-    Ok(values?.into_iter().flatten().collect())
+    Ok(trees)
 }
 
-/// Assembles a table from all node values, in node order.
-pub fn assemble(spec: &Spec, values: Vec<f64>) -> Result<Table, String> {
-    let [na, nb, nc] = spec.nodes;
-    let cut = |from: usize, len: usize| values[from * NQ..(from + len) * NQ].to_vec();
-    if values.len() != node_count(spec) * NQ {
-        return Err(format!(
-            "expected {} values, got {}",
-            node_count(spec) * NQ,
-            values.len()
-        ));
+fn term_max(spec: &Spec, piece: usize) -> [usize; 3] {
+    let active = PIECES[piece].1;
+    std::array::from_fn(|k| if active[k] { spec.degree } else { 0 })
+}
+
+/// Assembles a table from the trees of all units, in unit order.
+pub fn assemble(spec: &Spec, trees: Vec<UnitTree>) -> Result<Table, String> {
+    let all = units(spec);
+    if trees.len() != all.len() {
+        return Err(format!("expected {} units, got {}", all.len(), trees.len()));
     }
-    let n_main = na * nb * nc;
+    let mut pieces: Vec<PieceParts> = Vec::new();
+    let mut error = [0.0f64; NQ];
+    for (piece, (_, active)) in PIECES.iter().enumerate() {
+        let cells: [usize; 3] = std::array::from_fn(|k| if active[k] { spec.cells[k] } else { 1 });
+        let nt = Terms::new(spec.degree, term_max(spec, piece)).len();
+        let mut p = PieceParts {
+            cells,
+            roots: Vec::new(),
+            tree: Vec::new(),
+            split: Vec::new(),
+            cheb: Vec::new(),
+        };
+        for (unit, t) in all.iter().zip(&trees) {
+            if unit.piece != piece {
+                continue;
+            }
+            let node0 = p.tree.len() as i64;
+            let patch0 = (p.cheb.len() / nt) as i64;
+            p.roots.push(node0 as usize);
+            p.tree.extend(t.tree.iter().map(|&[axis, next]| {
+                if axis == LEAF {
+                    [LEAF, next + patch0]
+                } else {
+                    [axis, next + node0]
+                }
+            }));
+            p.split.extend(&t.split);
+            p.cheb.extend(&t.cheb);
+            for (e, x) in error.iter_mut().zip(t.error) {
+                *e = e.max(x);
+            }
+        }
+        pieces.push(p);
+    }
     let info = TableInfo {
         generator: generator_version(),
         spec: spec.text.clone(),
@@ -199,16 +467,19 @@ pub fn assemble(spec: &Spec, values: Vec<f64>) -> Result<Table, String> {
             .iter()
             .map(|(_, r)| [r.min, r.max])
             .collect(),
+        tolerance: spec.tolerance,
+        estimated_error: error,
     };
+    let mut it = pieces.into_iter();
+    let mut next = || it.next().expect("four pieces");
     Table::from_parts(TableParts {
         bounds: spec.bounds,
-        n: spec.nodes,
-        order: spec.order,
-        stretch: spec.stretch,
-        main: cut(0, n_main),
-        elastic: cut(n_main, na * nb),
-        central: cut(n_main + na * nb, nb * nc),
-        central_elastic: cut(n_main + na * nb + nb * nc, nb),
+        b_map: spec.b_map(),
+        degree: spec.degree,
+        main: next(),
+        elastic: next(),
+        central: next(),
+        central_elastic: next(),
         info,
     })
     .map_err(|e| e.to_string())
@@ -216,99 +487,6 @@ pub fn assemble(spec: &Spec, values: Vec<f64>) -> Result<Table, String> {
 
 /// Builds the whole table.
 pub fn build(spec: &Spec, solve: &Solver, progress: bool) -> Result<Table, String> {
-    let values = solve_range(spec, solve, 0..node_count(spec), progress)?;
-    assemble(spec, values)
-}
-
-/// Node range of shard `i` of `n` (0-based i).
-pub fn shard_range(spec: &Spec, i: usize, n: usize) -> std::ops::Range<usize> {
-    let total = node_count(spec);
-    total * i / n..total * (i + 1) / n
-}
-
-/// Builds shard `i` of `n` as a part file (bytes).
-pub fn build_shard(
-    spec: &Spec,
-    solve: &Solver,
-    i: usize,
-    n: usize,
-    progress: bool,
-) -> Result<Vec<u8>, String> {
-    if n == 0 || i >= n {
-        return Err(format!(
-            "shard {i}/{n} is invalid: use --shard I/N with 0 <= I < N"
-        ));
-    }
-    let range = shard_range(spec, i, n);
-    let values = solve_range(spec, solve, range.clone(), progress)?;
-    Ok(write_npz(&[
-        ("part_of", Array::str_scalar(&generator_version())),
-        ("spec", Array::str_scalar(&spec.text)),
-        ("shard", Array::i64(vec![2], vec![i as i64, n as i64])),
-        (
-            "range",
-            Array::i64(vec![2], vec![range.start as i64, range.end as i64]),
-        ),
-        ("values", Array::f64(vec![range.len(), NQ], values)),
-    ]))
-}
-
-/// Merges the part files of all shards (any order) into the table.
-pub fn merge(parts: &[Vec<u8>]) -> Result<Table, String> {
-    let mut pieces = Vec::new();
-    let mut spec_text: Option<String> = None;
-    for (p, bytes) in parts.iter().enumerate() {
-        let members = read_npz(bytes).map_err(|e| format!("part {}: {e}", p + 1))?;
-        let find = |name: &str| {
-            members
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, a)| &a.data)
-                .ok_or_else(|| format!("part {} is not a shard file (no {name})", p + 1))
-        };
-        let (Data::Str(spec), Data::I64(shard), Data::I64(range), Data::F64(values)) = (
-            find("spec")?,
-            find("shard")?,
-            find("range")?,
-            find("values")?,
-        ) else {
-            return Err(format!("part {} has malformed members", p + 1));
-        };
-        match &spec_text {
-            None => spec_text = Some(spec[0].clone()),
-            Some(s) if *s != spec[0] => {
-                return Err(format!("part {} was built from a different spec", p + 1));
-            }
-            _ => {}
-        }
-        pieces.push((
-            shard[0],
-            shard[1],
-            range[0] as usize,
-            range[1] as usize,
-            values.clone(),
-        ));
-    }
-    let spec = Spec::parse(spec_text.as_deref().ok_or("no parts given")?)?;
-    pieces.sort_by_key(|p| p.0);
-    let n = pieces[0].1;
-    let mut next = 0;
-    let mut values = Vec::with_capacity(node_count(&spec) * NQ);
-    for (k, (i, nn, start, end, v)) in pieces.into_iter().enumerate() {
-        if nn != n || i != k as i64 || start != next || v.len() != (end - start) * NQ {
-            return Err(format!(
-                "the parts do not form shards 0..{n} of one run: shard {k} is missing, \
-                 duplicated or inconsistent"
-            ));
-        }
-        next = end;
-        values.extend(v);
-    }
-    if next != node_count(&spec) {
-        return Err(format!(
-            "the parts stop at node {next} of {}: a shard is missing",
-            node_count(&spec)
-        ));
-    }
-    assemble(&spec, values)
+    let trees = refine(spec, solve, &units(spec), progress)?;
+    assemble(spec, trees)
 }

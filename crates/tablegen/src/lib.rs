@@ -9,8 +9,10 @@
 pub mod check;
 pub mod generate;
 pub mod plot;
+pub mod shard;
 pub mod spec;
 
 pub use check::{CheckReport, Region, check};
-pub use generate::{Solver, build, build_shard, exact_solver, merge, node_count};
+pub use generate::{Solver, build, exact_solver, unit_count};
+pub use shard::{build_shard, merge};
 pub use spec::Spec;

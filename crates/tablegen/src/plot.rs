@@ -30,7 +30,7 @@ pub fn plot(
 ) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     emdstar_plot::register_font();
-    let [ax, bx, cx] = *table.axes();
+    let [ax, bx, cx] = table.rect();
     let mut written = Vec::new();
     for (s, &c) in c_slices.iter().enumerate() {
         if !(cx.min..=cx.max).contains(&c) {

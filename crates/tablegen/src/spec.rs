@@ -6,11 +6,12 @@
 //! # [box]                     # SI units; the model's parameters, each [min, max]
 //! # stiffness = [1e3, 1e6]    # linear: stiffness radius density damping speed eccentricity
 //! # ...                       # hertz:  young poisson radius density dissipation speed eccentricity
-//! nodes = [40, 80, 80]        # grid nodes along a, b, c
-//! order = [6, 6, 6]           # interpolation points per axis (4 cubic, 6 quintic, 8 septic)
+//! cells = [2, 2, 4]           # top cells along a, b, c (also the unit of shards)
+//! degree = 7                  # total degree of the patch polynomials
+//! tolerance = 2e-7            # error goal of each stored log in every patch
+//! max_depth = 14              # optional: bisections below a top cell at most
+//! b_knee = 0.05               # optional: store b as w = ln(1 + (b − b_min)/b_knee)
 //! m_min = 0.6931              # optional: raise the lower end of m (b = 0) above the box's
-//! [stretch]                   # optional: crowd the nodes of an axis towards its low end,
-//! b = [1.3, 0.66]             # uniform in w = y + λ·ln(1 + y/d), y = b − b_min: [λ, d]
 //! ```
 //!
 //! `m_min` cuts off the impacts of the box with m = ln(lω/v) (linear) or
@@ -18,7 +19,6 @@
 //! counted exact solve). It may only raise m_min, never lower it below the box's value.
 
 use emdstar_contact::{HertzBox, LinearBox, Model, ParameterBox, Range, RectBounds};
-use emdstar_table::{Axis, Stretch};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -28,9 +28,16 @@ pub struct Spec {
     pub model: Model,
     pub parameter_box: ParameterBox,
     pub bounds: RectBounds,
-    pub nodes: [usize; 3],
-    pub order: [usize; 3],
-    pub stretch: [Stretch; 3],
+    /// Top cells along a, b, c.
+    pub cells: [usize; 3],
+    /// Total degree of the patch polynomials.
+    pub degree: usize,
+    /// Error goal per patch (absolute, in each stored log).
+    pub tolerance: f64,
+    /// Bisections below a top cell at most.
+    pub max_depth: usize,
+    /// d of the b axis map (0: none), see [`emdstar_table::BMap`].
+    pub b_knee: f64,
     /// The spec's text, stored in the table file.
     pub text: String,
 }
@@ -41,11 +48,12 @@ struct RawSpec {
     model: String,
     #[serde(rename = "box")]
     parameter_box: RawBox,
-    nodes: [usize; 3],
-    order: [usize; 3],
+    cells: [usize; 3],
+    degree: usize,
+    tolerance: f64,
+    max_depth: Option<usize>,
+    b_knee: Option<f64>,
     m_min: Option<f64>,
-    #[serde(default)]
-    stretch: BTreeMap<String, [f64; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -94,28 +102,43 @@ impl Spec {
             }
             bounds.m.min = m;
         }
-        let mut stretch = [Stretch::NONE; 3];
-        for (name, [amount, knee]) in &raw.stretch {
-            let k = ["a", "b", "c"]
-                .iter()
-                .position(|a| a == name)
-                .ok_or_else(|| format!("[stretch] names axes a, b or c, not {name:?}"))?;
-            stretch[k] = Stretch {
-                amount: *amount,
-                knee: *knee,
-            };
+        if raw.cells.iter().any(|&c| !(1..=4096).contains(&c)) {
+            return Err(format!(
+                "cells = {:?}: each count of top cells must lie in 1..=4096",
+                raw.cells
+            ));
         }
-        let axes = emdstar_table::grid_axes(&bounds, raw.nodes, raw.order, stretch);
-        for (ax, name) in axes.iter().zip(["a", "b", "c"]) {
-            ax.check().map_err(|why| format!("axis {name}: {why}"))?;
+        if !(2..=12).contains(&raw.degree) {
+            return Err(format!(
+                "degree = {} must lie in 2..=12 (7 is a good start)",
+                raw.degree
+            ));
+        }
+        if !(raw.tolerance.is_finite() && raw.tolerance > 0.0 && raw.tolerance < 0.1) {
+            return Err(format!(
+                "tolerance = {} must be a positive error goal below 0.1, e.g. 2e-7",
+                raw.tolerance
+            ));
+        }
+        let b_knee = raw.b_knee.unwrap_or(0.0);
+        if !(b_knee.is_finite() && b_knee >= 0.0) {
+            return Err(format!(
+                "b_knee = {b_knee} must be a distance >= 0 (0: no map)"
+            ));
+        }
+        let max_depth = raw.max_depth.unwrap_or(14);
+        if max_depth > 30 {
+            return Err(format!("max_depth = {max_depth} must be at most 30"));
         }
         Ok(Self {
             model,
             parameter_box,
             bounds,
-            nodes: raw.nodes,
-            order: raw.order,
-            stretch,
+            cells: raw.cells,
+            degree: raw.degree,
+            tolerance: raw.tolerance,
+            max_depth,
+            b_knee,
             text: text.to_string(),
         })
     }
@@ -127,9 +150,17 @@ impl Spec {
         Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    /// The grid axes.
-    pub fn axes(&self) -> [Axis; 3] {
-        emdstar_table::grid_axes(&self.bounds, self.nodes, self.order, self.stretch)
+    /// The ranges of a, b and c.
+    pub fn rect(&self) -> [Range; 3] {
+        self.bounds.axes()
+    }
+
+    /// How the pieces store the b axis.
+    pub fn b_map(&self) -> emdstar_table::BMap {
+        emdstar_table::BMap {
+            b_min: self.rect()[1].min,
+            knee: self.b_knee,
+        }
     }
 }
 
@@ -191,10 +222,12 @@ mod tests {
 
     #[test]
     fn presets_and_explicit_ranges_agree() {
-        let a = Spec::parse("model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]")
-            .unwrap();
+        let a = Spec::parse(
+            "model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4",
+        )
+        .unwrap();
         let b = Spec::parse(
-            "model='linear'\nnodes=[6,6,6]\norder=[4,4,4]\n[box]\nstiffness=[1e3,1e6]\n\
+            "model='linear'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4\n[box]\nstiffness=[1e3,1e6]\n\
              radius=[0.001,0.1]\ndensity=[250.0,3250.0]\ndamping=[0.01,1.25]\n\
              speed=[0.001,25.0]\neccentricity=[0.01,0.99]",
         )
@@ -206,40 +239,36 @@ mod tests {
     fn bad_specs_say_what_is_wrong() {
         let cases = [
             (
-                "model='foo'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "model='foo'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4",
                 "model must be",
             ),
             (
-                "model='hertz'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "model='hertz'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4",
                 "belongs to",
             ),
             (
-                "model='linear'\nbox='nope'\nnodes=[6,6,6]\norder=[4,4,4]",
+                "model='linear'\nbox='nope'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4",
                 "unknown box preset",
             ),
             (
-                "model='linear'\nbox='paper_table_1'\nnodes=[3,6,6]\norder=[4,4,4]",
-                "at least 4",
+                "model='linear'\nbox='paper_table_1'\ncells=[0,1,1]\ndegree=4\ntolerance=1e-4",
+                "top cells",
             ),
             (
-                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[5,4,4]",
-                "one of 2, 4",
+                "model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=40\ntolerance=1e-4",
+                "degree = 40",
             ),
             (
-                "model='linear'\nnodes=[6,6,6]\norder=[4,4,4]\n[box]\nk=[1.0,2.0]",
+                "model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=0",
+                "tolerance = 0",
+            ),
+            (
+                "model='linear'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4\n[box]\nk=[1.0,2.0]",
                 "unknown box",
             ),
             (
-                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\nm_min=-9.0",
+                "model='linear'\nbox='paper_table_1'\ncells=[1,1,1]\ndegree=4\ntolerance=1e-4\nm_min=-9.0",
                 "can only cut",
-            ),
-            (
-                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\n[stretch]\nq=[1.0,1.0]",
-                "axes a, b or c",
-            ),
-            (
-                "model='linear'\nbox='paper_table_1'\nnodes=[6,6,6]\norder=[4,4,4]\n[stretch]\nb=[1.0,0.0]",
-                "knee > 0",
             ),
         ];
         for (text, want) in cases {

@@ -1,0 +1,360 @@
+//! The compiled core of the `emdstar` Python package: flat float64 arrays in, flat
+//! arrays out. Broadcasting, keyword checks and result dictionaries live in the Python
+//! layer (`emdstar/__init__.py`).
+
+use emdstar_contact::{
+    ForceLaw, Impact, LinearDashpot, Model, Mor, PairLaw, PairProperties, ScaledParams, Sphere,
+    Vec3, ViscoelasticHertz, scale,
+};
+use emdstar_mor::rule::{Body, resolve};
+use emdstar_table::{PairMap, Table, TableError};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::Arc;
+
+use emdstar_table::SharedTable as TableRef;
+
+fn table_error(e: TableError) -> PyErr {
+    match e {
+        TableError::Io(_) => PyOSError::new_err(e.to_string()),
+        TableError::OutOfBox { .. }
+        | TableError::NotTabulated(_)
+        | TableError::Input(_)
+        | TableError::WrongModel { .. } => PyValueError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+fn model_of(name: &str) -> PyResult<Model> {
+    name.parse::<Model>().map_err(value_error)
+}
+
+/// A matrix-of-restitution table (immutable; safe to share between threads).
+#[pyclass(frozen, name = "Table", module = "emdstar._core")]
+struct PyTable {
+    table: TableRef,
+}
+
+#[pymethods]
+impl PyTable {
+    /// The default table of "linear" or "hertz", embedded in the package (parsed once).
+    #[staticmethod]
+    fn default(model: &str) -> PyResult<Self> {
+        let t = emdstar_table::default_table(model_of(model)?).map_err(table_error)?;
+        Ok(Self {
+            table: TableRef::Static(t),
+        })
+    }
+
+    /// A table file (`emdstar table build SPEC` writes them).
+    #[staticmethod]
+    fn load(path: std::path::PathBuf) -> PyResult<Self> {
+        let t = Table::open(&path).map_err(table_error)?;
+        Ok(Self {
+            table: TableRef::Owned(Arc::new(t)),
+        })
+    }
+
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.table.model().name()
+    }
+
+    #[getter]
+    fn tolerance(&self) -> f64 {
+        self.table.info().tolerance
+    }
+
+    #[getter]
+    fn estimated_error(&self) -> [f64; 4] {
+        self.table.info().estimated_error
+    }
+
+    #[getter]
+    fn rect(&self) -> [[f64; 2]; 3] {
+        self.table.rect().map(|r| [r.min, r.max])
+    }
+
+    /// The physical box: {name: (min, max)} in SI units.
+    #[getter]
+    fn parameter_box<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let info = self.table.info();
+        for (n, r) in info.box_names.iter().zip(&info.box_ranges) {
+            d.set_item(n, (r[0], r[1]))?;
+        }
+        Ok(d)
+    }
+
+    /// MoR arrays (1−ε_r, ε_r, ε_ṙ, ε_φ, ε_t, T, source) of impacts given as
+    /// equal-length arrays: the law's two or three parameters, and the geometry
+    /// (radius, density, radius2, density2, speed, eccentricity).
+    fn lookup<'py>(
+        &self,
+        py: Python<'py>,
+        law: Vec<PyReadonlyArray1<'py, f64>>,
+        geometry: Vec<PyReadonlyArray1<'py, f64>>,
+        exact_fallback: bool,
+    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+        let inputs = Inputs::new(&law, &geometry)?;
+        let model = self.table.model();
+        let mut out = Outputs::new(inputs.n);
+        for i in 0..inputs.n {
+            let (law, pair, impact) = inputs.case(model, i)?;
+            let map = PairMap::new(&law, &pair).map_err(table_error)?;
+            match self.table.lookup_pair(&map, &impact) {
+                Ok(hit) => out.push(&hit.mor, hit.time, 0.0),
+                Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_))
+                    if exact_fallback =>
+                {
+                    let s = scale(&law, &pair, &impact).map_err(value_error)?;
+                    let m = emdstar_mor::solve(model, &s.params)
+                        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+                    out.push(&m, s.time, 1.0);
+                }
+                Err(e) => {
+                    return Err(PyValueError::new_err(format!("impact {i}: {e}")));
+                }
+            }
+        }
+        Ok(out.into_arrays(py))
+    }
+}
+
+/// Equal-length input columns.
+struct Inputs<'a> {
+    n: usize,
+    law: Vec<&'a [f64]>,
+    cols: [&'a [f64]; 6],
+}
+
+impl<'a> Inputs<'a> {
+    /// `law`: the law's parameters; `geometry`: radius, density, radius2, density2,
+    /// speed, eccentricity.
+    fn new(
+        law: &'a [PyReadonlyArray1<'a, f64>],
+        geometry: &'a [PyReadonlyArray1<'a, f64>],
+    ) -> PyResult<Self> {
+        let slices = |a: &'a [PyReadonlyArray1<'a, f64>]| -> PyResult<Vec<&'a [f64]>> {
+            a.iter()
+                .map(|a| a.as_slice())
+                .collect::<Result<_, _>>()
+                .map_err(value_error)
+        };
+        let law = slices(law)?;
+        let cols = slices(geometry)?;
+        if cols.len() != 6 {
+            return Err(PyValueError::new_err(
+                "geometry needs radius, density, radius2, density2, speed, eccentricity",
+            ));
+        }
+        let n = cols[0].len();
+        if law.iter().chain(&cols).any(|c| c.len() != n) {
+            return Err(PyValueError::new_err("the input arrays differ in length"));
+        }
+        Ok(Self {
+            n,
+            law,
+            cols: cols.try_into().expect("six columns"),
+        })
+    }
+
+    /// Law, pair and impact of case `i` (radius2 = 0: a flat wall).
+    fn case(&self, model: Model, i: usize) -> PyResult<(PairLaw, PairProperties, Impact)> {
+        let [r1, rho1, r2, rho2, v, e] = self.cols.map(|c| c[i]);
+        let law = match (model, self.law.len()) {
+            (Model::Linear, 2) => ForceLaw::Linear(
+                LinearDashpot::new(self.law[0][i], self.law[1][i]).map_err(value_error)?,
+            ),
+            (Model::Hertz, 3) => ForceLaw::Hertz(
+                ViscoelasticHertz::new(self.law[0][i], self.law[1][i], self.law[2][i])
+                    .map_err(value_error)?,
+            ),
+            _ => return Err(PyValueError::new_err("wrong number of law parameters")),
+        };
+        let a = Sphere::from_density(r1, rho1).map_err(value_error)?;
+        let pair = if r2 == 0.0 {
+            PairProperties::sphere_wall(&a)
+        } else {
+            PairProperties::spheres(&a, &Sphere::from_density(r2, rho2).map_err(value_error)?)
+        };
+        let law = PairLaw::same_material(&law, pair.r_eff).map_err(value_error)?;
+        let impact = Impact::from_speed_eccentricity(v, e).map_err(value_error)?;
+        Ok((law, pair, impact))
+    }
+}
+
+/// Output columns of MoR lookups.
+struct Outputs {
+    cols: [Vec<f64>; 7],
+}
+
+impl Outputs {
+    fn new(n: usize) -> Self {
+        Self {
+            cols: std::array::from_fn(|_| Vec::with_capacity(n)),
+        }
+    }
+
+    fn push(&mut self, m: &Mor, time: f64, source: f64) {
+        for (c, x) in self.cols.iter_mut().zip([
+            m.one_minus_eps_r,
+            m.eps_r,
+            m.eps_rdot,
+            m.eps_phi,
+            m.eps_t,
+            time,
+            source,
+        ]) {
+            c.push(x);
+        }
+    }
+
+    fn into_arrays(self, py: Python<'_>) -> Vec<Bound<'_, PyArray1<f64>>> {
+        self.cols.into_iter().map(|c| c.into_pyarray(py)).collect()
+    }
+}
+
+/// Exact MoR arrays of impacts (same inputs as `Table.lookup`), one ODE solve each.
+#[pyfunction]
+fn exact<'py>(
+    py: Python<'py>,
+    model: &str,
+    law: Vec<PyReadonlyArray1<'py, f64>>,
+    geometry: Vec<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+    let model = model_of(model)?;
+    let inputs = Inputs::new(&law, &geometry)?;
+    let mut out = Outputs::new(inputs.n);
+    for i in 0..inputs.n {
+        let (law, pair, impact) = inputs.case(model, i)?;
+        let s = scale(&law, &pair, &impact).map_err(value_error)?;
+        let m = emdstar_mor::solve(model, &s.params)
+            .map_err(|e| PyRuntimeError::new_err(format!("impact {i}: {e}")))?;
+        out.push(&m, s.time, 1.0);
+    }
+    Ok(out.into_arrays(py))
+}
+
+/// Exact MoR at scaled parameters (l̃, c_φ, c_dis) arrays.
+#[pyfunction]
+fn exact_scaled<'py>(
+    py: Python<'py>,
+    model: &str,
+    l_tilde: PyReadonlyArray1<'py, f64>,
+    c_phi: PyReadonlyArray1<'py, f64>,
+    c_dis: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+    let model = model_of(model)?;
+    let (l, c, d) = (
+        l_tilde.as_slice().map_err(value_error)?,
+        c_phi.as_slice().map_err(value_error)?,
+        c_dis.as_slice().map_err(value_error)?,
+    );
+    if c.len() != l.len() || d.len() != l.len() {
+        return Err(PyValueError::new_err("the input arrays differ in length"));
+    }
+    let mut out = Outputs::new(l.len());
+    for i in 0..l.len() {
+        let p = ScaledParams::new(l[i], c[i], d[i]).map_err(value_error)?;
+        let m = emdstar_mor::solve(model, &p)
+            .map_err(|e| PyRuntimeError::new_err(format!("point {i}: {e}")))?;
+        out.push(&m, 0.0, 1.0);
+    }
+    Ok(out.into_arrays(py))
+}
+
+/// The eMD* lab-frame collision rule (Müller & Pöschel 2013, Sec. IV) applied to
+/// given MoRs: positions and velocities (n×3, flattened) of both spheres at first
+/// touch, their masses and contact distances, the MoR columns and time scales.
+/// Returns x1, v1, x2, v2 after the collision, the rotated positions of the E^φ event,
+/// the transient (centre-of-mass) velocity, and the durations.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn resolve_collisions<'py>(
+    py: Python<'py>,
+    x1: PyReadonlyArray1<'py, f64>,
+    v1: PyReadonlyArray1<'py, f64>,
+    x2: PyReadonlyArray1<'py, f64>,
+    v2: PyReadonlyArray1<'py, f64>,
+    m1: PyReadonlyArray1<'py, f64>,
+    m2: PyReadonlyArray1<'py, f64>,
+    contact: PyReadonlyArray1<'py, f64>,
+    mor: Vec<PyReadonlyArray1<'py, f64>>,
+    time_scale: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+    let slice =
+        |a: &PyReadonlyArray1<'py, f64>| a.as_slice().map_err(value_error).map(<[f64]>::to_vec);
+    let (x1, v1, x2, v2) = (slice(&x1)?, slice(&v1)?, slice(&x2)?, slice(&v2)?);
+    let (m1, m2, l, t) = (
+        slice(&m1)?,
+        slice(&m2)?,
+        slice(&contact)?,
+        slice(&time_scale)?,
+    );
+    let mor: Vec<Vec<f64>> = mor.iter().map(slice).collect::<Result<_, _>>()?;
+    let n = m1.len();
+    if mor.len() != 5
+        || [&x1, &v1, &x2, &v2].iter().any(|c| c.len() != 3 * n)
+        || [&m2, &l, &t]
+            .iter()
+            .chain(mor.iter().collect::<Vec<_>>().iter())
+            .any(|c| c.len() != n)
+    {
+        return Err(PyValueError::new_err(
+            "collide needs n×3 positions and velocities and n masses, distances and MoRs",
+        ));
+    }
+    let v3 = |c: &[f64], i: usize| Vec3::new(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    let mut out: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(3 * n));
+    for i in 0..n {
+        let m = Mor {
+            one_minus_eps_r: mor[0][i],
+            eps_r: mor[1][i],
+            eps_rdot: mor[2][i],
+            eps_phi: mor[3][i],
+            eps_t: mor[4][i],
+        };
+        let bodies = [
+            Body {
+                position: v3(&x1, i),
+                velocity: v3(&v1, i),
+                mass: m1[i],
+            },
+            Body {
+                position: v3(&x2, i),
+                velocity: v3(&v2, i),
+                mass: m2[i],
+            },
+        ];
+        let o = resolve(&bodies, l[i], &m, t[i]);
+        for (col, v) in out.iter_mut().zip([
+            o.after[0].position,
+            o.after[0].velocity,
+            o.after[1].position,
+            o.after[1].velocity,
+            o.rotated_positions[0],
+            o.rotated_positions[1],
+            o.transient_velocity,
+        ]) {
+            col.extend(v.iter());
+        }
+        out[7].push(o.duration);
+    }
+    Ok(out.into_iter().map(|c| c.into_pyarray(py)).collect())
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyTable>()?;
+    m.add_function(wrap_pyfunction!(exact, m)?)?;
+    m.add_function(wrap_pyfunction!(exact_scaled, m)?)?;
+    m.add_function(wrap_pyfunction!(resolve_collisions, m)?)?;
+    Ok(())
+}

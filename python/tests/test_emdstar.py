@@ -1,0 +1,107 @@
+"""The Python interface against independent references: the exact solver, the
+analytic central impacts of Schwager & Poschel (2007), and conservation laws."""
+
+import math
+
+import numpy as np
+import pytest
+
+import emdstar
+
+LINEAR = dict(stiffness=1e5, damping=0.1, radius=0.005, density=2500.0)
+HERTZ = dict(young=1e9, poisson=0.3, dissipation=1e-5, radius=0.01, density=2500.0)
+
+
+def test_table_lookups_match_exact_solves():
+    for model, law in (("linear", LINEAR), ("hertz", HERTZ)):
+        t = emdstar.Table.default(model)
+        speed = np.array([0.2, 0.7, 2.0])
+        ecc = np.array([[0.05], [0.4], [0.8]])
+        got = t.lookup(speed=speed, eccentricity=ecc, **law)
+        want = emdstar.mor(model=model, speed=speed, eccentricity=ecc, **law)
+        assert got["eps_t"].shape == (3, 3)
+        for k in ("one_minus_eps_r", "eps_rdot", "eps_phi", "eps_t"):
+            rel = np.abs(got[k] / want[k] - 1.0)
+            assert rel.max() < 2e-6, (model, k, rel.max())
+        np.testing.assert_allclose(got["time_scale"], want["time_scale"], rtol=1e-12)
+
+
+def test_linear_central_impact_is_the_analytic_one():
+    # Schwager & Poschel 2007: under-damped dashpot, the collision ends where the force
+    # vanishes; eps_n = exp(-beta tau) with tau = (pi - atan(2 beta w / (w^2 - beta^2))) / w.
+    k, gamma, r, rho = 1e5, 0.5, 0.005, 2500.0
+    m_eff = 0.5 * 4.0 / 3.0 * math.pi * r**3 * rho
+    w0 = math.sqrt(k / m_eff)
+    beta = gamma / (2 * m_eff)
+    w = math.sqrt(w0**2 - beta**2)
+    tau = (math.pi - math.atan2(2 * beta * w, w * w - beta * beta)) / w
+    x = emdstar.mor(model="linear", stiffness=k, damping=gamma, radius=r, density=rho,
+                    speed=1.0, eccentricity=0.0)
+    assert abs(-x["eps_rdot"] - math.exp(-beta * tau)) < 1e-9
+    assert abs(x["eps_t"] * x["time_scale"] - tau) < 1e-9 * tau
+    assert x["eps_phi"] == 0.0
+
+
+def test_elastic_hertz_impact_lasts_the_scaled_duration():
+    # An elastic central Hertz impact lasts 3.218065 time scales and restores the speed.
+    x = emdstar.mor(model="hertz", young=1e9, poisson=0.3, dissipation=0.0, radius=0.01,
+                    density=2500.0, speed=1.0, eccentricity=0.0)
+    assert abs(x["eps_t"] - 3.218065) < 1e-6
+    assert abs(x["eps_rdot"] + 1.0) < 1e-9
+
+
+def test_out_of_box_raises_unless_the_fallback_is_asked_for():
+    t = emdstar.Table.default("linear")
+    slow = dict(LINEAR, speed=1e-5, eccentricity=0.1)
+    with pytest.raises(ValueError, match="outside the table's box"):
+        t.lookup(**slow)
+    got = t.lookup(exact_fallback=True, **slow)
+    assert got["source"] == "exact"
+    want = emdstar.mor(model="linear", **slow)
+    assert got["eps_t"] == want["eps_t"]
+    inside = t.lookup(exact_fallback=True, **dict(LINEAR, speed=1.0, eccentricity=0.1))
+    assert inside["source"] == "table"
+
+
+def test_bad_keywords_and_files_say_what_is_wrong():
+    t = emdstar.Table.default("hertz")
+    with pytest.raises(TypeError, match="takes the keywords young, poisson"):
+        t.lookup(stiffness=1.0, radius=0.01, density=1.0, speed=1.0, eccentricity=0.1)
+    with pytest.raises(ValueError, match="poisson"):
+        t.lookup(**dict(HERTZ, poisson=0.7), speed=1.0, eccentricity=0.1)
+    with pytest.raises(OSError):
+        emdstar.Table.load("/nonexistent/table.npz")
+    with pytest.raises(ValueError, match="unknown force model"):
+        emdstar.Table.default("rigid")
+
+
+def test_metadata():
+    t = emdstar.Table.default("hertz")
+    assert t.model == "hertz"
+    assert t.parameter_box["young"] == (1e7, 1e11)
+    assert 0 < t.tolerance < 1e-5
+    assert all(0 < e < 1e-5 for e in t.estimated_error.values())
+
+
+def test_collisions_conserve_momentum_and_elastic_energy():
+    r, rho = 0.01, 2500.0
+    m = 4.0 / 3.0 * math.pi * r**3 * rho
+    rng = np.random.default_rng(3)
+    n = 50
+    normal = rng.normal(size=(n, 3))
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    x1 = rng.normal(size=(n, 3))
+    x2 = x1 - 2 * r * normal
+    vrel = -normal * rng.uniform(0.2, 2.0, size=(n, 1)) + rng.normal(scale=0.5, size=(n, 3)) * 0.3
+    v1, v2 = 0.5 * vrel, -0.5 * vrel
+    law = dict(young=1e9, poisson=0.3, dissipation=0.0, radius=r, density=rho)
+    for table in (None, emdstar.Table.default("hertz")):
+        out = emdstar.collide(x1=x1, v1=v1, x2=x2, v2=v2, model="hertz", table=table,
+                              exact_fallback=True, **law)
+        p_before = m * (v1 + v2)
+        p_after = m * (out["v1"] + out["v2"])
+        np.testing.assert_allclose(p_after, p_before, atol=1e-14)
+        e_before = 0.5 * m * (np.sum(v1**2, axis=1) + np.sum(v2**2, axis=1))
+        e_after = 0.5 * m * (np.sum(out["v1"] ** 2, axis=1) + np.sum(out["v2"] ** 2, axis=1))
+        np.testing.assert_allclose(e_after, e_before, rtol=1e-6)
+        assert np.all(out["duration"] > 0)
