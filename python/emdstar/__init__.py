@@ -1,4 +1,5 @@
-"""Matrix-of-restitution tables, the exact MoR solver and the eMD* collision rule.
+"""Matrix-of-restitution tables, the exact MoR solver, the eMD* collision rule, and whole
+runs of a config with any engine (``emdstar.run``).
 
 The matrix of restitution (MoR) of Müller & Pöschel (2013) maps a collision of two
 soft, frictionless spheres to four numbers: eps_r (separation after the collision over
@@ -30,7 +31,7 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["Table", "mor", "mor_scaled", "collide", "LAW_KEYS"]
+__all__ = ["Table", "mor", "mor_scaled", "collide", "run", "LAW_KEYS"]
 
 #: The law parameters of each model, in order.
 LAW_KEYS = {
@@ -211,3 +212,35 @@ def collide(*, x1, v1, x2, v2, model: str, table: "Table | None" = None,
     for k, val in m.items():
         result[k] = np.reshape(val, shape[:-1])
     return result
+
+
+def run(path=None, *, toml: "str | None" = None, engine: str = "md", t_end=None,
+        frames: int = 11, mor: str = "table-or-exact"):
+    """Runs a config with any engine and samples it at ``frames`` evenly spaced times.
+
+    ``path`` is a config file (TOML, the keys of ``docs/config.md``), or ``toml`` its
+    text. ``engine`` is ``"md"``, ``"emd"``, ``"emdstar"`` or ``"hybrid"``; ``t_end``
+    (s) overrides the config's; ``mor`` is eMD*'s source of the matrix of restitution
+    (``"table-or-exact"``: the default table, exact solves outside it, counted;
+    ``"table"``; ``"exact"``). The engines take their defaults as ``emdstar run``
+    does (MD: 1/50 of the shortest contact time per step).
+
+    Returns a dict: ``t`` (frames,), ``id``, ``radius``, ``mass`` (n,), ``position``
+    and ``velocity`` (frames, n, 3; a particle inside an eMD* collision shows the
+    velocity it leaves with), the thermo log ``kinetic_energy``,
+    ``potential_energy``, ``granular_temperature``, ``contacts`` (frames,) and
+    ``momentum`` (frames, 3), the ``engine`` and its ``mor_fallbacks``. Bad configs
+    and options raise ``ValueError`` saying what is wrong.
+    """
+    if (path is None) == (toml is None):
+        raise TypeError("run takes a config file path or toml=<config text>, not both or neither")
+    if toml is None:
+        with open(path, encoding="utf-8") as f:
+            toml = f.read()
+    out = _core.run_config(toml, engine, None if t_end is None else float(t_end),
+                           int(frames), mor)
+    f, n = len(out["t"]), len(out["id"])
+    out["position"] = out["position"].reshape(f, n, 3)
+    out["velocity"] = out["velocity"].reshape(f, n, 3)
+    out["momentum"] = out["momentum"].reshape(f, 3)
+    return out

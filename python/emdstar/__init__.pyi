@@ -50,3 +50,12 @@ def collide(
     density2: Optional[ArrayLike] = ...,
     **params: Any,
 ) -> Result: ...
+def run(
+    path: Optional[Union[str, PathLike[str]]] = ...,
+    *,
+    toml: Optional[str] = ...,
+    engine: str = ...,
+    t_end: Optional[float] = ...,
+    frames: int = ...,
+    mor: str = ...,
+) -> dict[str, Any]: ...

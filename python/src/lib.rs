@@ -16,6 +16,8 @@ use std::sync::Arc;
 
 use emdstar_table::SharedTable as TableRef;
 
+mod run;
+
 fn table_error(e: TableError) -> PyErr {
     match e {
         TableError::Io(_) => PyOSError::new_err(e.to_string()),
@@ -356,5 +358,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(exact, m)?)?;
     m.add_function(wrap_pyfunction!(exact_scaled, m)?)?;
     m.add_function(wrap_pyfunction!(resolve_collisions, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run_config, m)?)?;
     Ok(())
 }

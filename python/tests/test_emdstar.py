@@ -105,3 +105,64 @@ def test_collisions_conserve_momentum_and_elastic_energy():
         e_after = 0.5 * m * (np.sum(out["v1"] ** 2, axis=1) + np.sum(out["v2"] ** 2, axis=1))
         np.testing.assert_allclose(e_after, e_before, rtol=1e-6)
         assert np.all(out["duration"] > 0)
+
+
+# A head-on elastic collision of two equal linear-spring spheres (R = 0.1 m, 1140 kg/m³,
+# k = 2000 N/m, 1 m/s each): they touch at 0.4 s, stay in contact for
+# tau = pi*sqrt(m_eff/k), leave with swapped velocities from where they touched.
+HEAD_ON = """
+t_end = 1.0
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 0.0
+density = 1140.0
+[[particles]]
+radius = 0.1
+position = [-0.5, 0.0, 0.0]
+velocity = [1.0, 0.0, 0.0]
+[[particles]]
+radius = 0.1
+position = [0.5, 0.0, 0.0]
+velocity = [-1.0, 0.0, 0.0]
+"""
+
+
+def _head_on_final_x1():
+    m = 1140.0 * 4.0 / 3.0 * math.pi * 0.1**3
+    tau = math.pi * math.sqrt(0.5 * m / 2000.0)
+    return -0.1 - (1.0 - 0.4 - tau), tau
+
+
+@pytest.mark.parametrize("engine,tol", [("md", 1e-3), ("emdstar", 1e-6), ("hybrid", 1e-3)])
+def test_runs_of_a_head_on_collision_end_where_newton_says(engine, tol):
+    out = emdstar.run(toml=HEAD_ON, engine=engine, frames=5)
+    x1, _ = _head_on_final_x1()
+    assert out["engine"] == engine
+    assert out["position"].shape == (5, 2, 3) and out["t"][-1] == pytest.approx(1.0)
+    assert abs(out["position"][-1, 0, 0] - x1) < tol * 0.2
+    assert np.allclose(out["velocity"][-1], [[-1.0, 0, 0], [1.0, 0, 0]], atol=tol)
+    assert np.abs(out["momentum"]).max() < 1e-12
+    assert out["kinetic_energy"][-1] == pytest.approx(out["kinetic_energy"][0], rel=tol)
+
+
+def test_classic_emd_misses_the_contact_duration():
+    out = emdstar.run(toml=HEAD_ON, engine="emd", frames=2)
+    x1, tau = _head_on_final_x1()
+    # An instantaneous collision leaves tau too early: v*tau behind the soft spheres.
+    assert out["position"][-1, 0, 0] - x1 == pytest.approx(-tau, rel=1e-6)
+
+
+def test_run_reads_files_and_refuses_bad_input(tmp_path):
+    path = tmp_path / "head_on.toml"
+    path.write_text(HEAD_ON)
+    out = emdstar.run(path, engine="md", t_end=0.2, frames=3)
+    assert out["t"].tolist() == pytest.approx([0.0, 0.1, 0.2])
+    with pytest.raises(ValueError, match="the engines are"):
+        emdstar.run(path, engine="lammps")
+    with pytest.raises(ValueError, match="t_end"):
+        emdstar.run(path, t_end=-1.0)
+    with pytest.raises(ValueError, match="config"):
+        emdstar.run(toml=HEAD_ON.replace("stiffness = 2000.0", "stiffness = -1.0"))
+    with pytest.raises(TypeError):
+        emdstar.run()

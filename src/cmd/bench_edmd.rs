@@ -1,6 +1,5 @@
 //! `emdstar bench edmd`: collisions per second of the event-driven engine.
 
-use super::edmd_engine::BroadPhaseChoice;
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
@@ -9,6 +8,7 @@ use emdstar_edmd::{
     BroadPhaseKind, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials,
     Physics,
 };
+use emdstar_engines::BroadPhaseChoice;
 use emdstar_system::{Domain, Particles, fcc_gas};
 use serde_json::{Value, json};
 use std::time::Instant;

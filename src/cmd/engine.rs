@@ -1,55 +1,11 @@
-//! What `pair` and `run` share: the engine choice and its options, and building the
-//! engine a config and those options describe.
+//! What `pair` and `run` share: reading a config, progress bars, the conservation
+//! figures of the summary.
 
-use anyhow::{Context, Result, bail};
-use clap::Args;
-use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
+use anyhow::{Context, Result};
 use emdstar_system::{Config, System, Thermo};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::path::Path;
-
-/// The simulation engine.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum EngineKind {
-    /// Force-based DEM (time steps).
-    Md,
-    /// Classic event-driven MD with the force law's central restitution ε(v_n).
-    Emd,
-    /// eMD*: event-driven MD with the matrix of restitution (three events per collision).
-    EmdStar,
-    /// MD where the gas is dense, eMD* where it is dilute (emdstar-hybrid).
-    Hybrid,
-}
-
-/// Parses `--engine`.
-pub fn parse_engine(s: &str) -> Result<EngineKind, String> {
-    match s {
-        "md" => Ok(EngineKind::Md),
-        "emd" => Ok(EngineKind::Emd),
-        "emdstar" => Ok(EngineKind::EmdStar),
-        "hybrid" => Ok(EngineKind::Hybrid),
-        other => Err(format!(
-            "unknown engine '{other}': the engines are 'md', 'emd', 'emdstar' and 'hybrid'"
-        )),
-    }
-}
-
-/// Options of the MD engine (they override the config's `[md]` section).
-#[derive(Args, Debug, Clone)]
-pub struct MdArgs {
-    /// Time step in s [default: 1/2000 (pair) or 1/50 (run) of the shortest expected
-    /// contact time; steps above 1/10 of it are refused].
-    #[arg(long, value_name = "S")]
-    pub dt: Option<f64>,
-    /// When a contact ends: "force" (F = 0, the default) or "overlap" (ξ = 0, as LAMMPS
-    /// without limit_damping; the force may then attract).
-    #[arg(long, value_name = "RULE")]
-    pub contact_end: Option<String>,
-    /// Verlet-list skin in m [default: the largest radius].
-    #[arg(long, value_name = "M")]
-    pub skin: Option<f64>,
-}
 
 /// Reads and builds a config.
 pub fn load(path: &Path) -> Result<(Config, System)> {
@@ -65,45 +21,6 @@ pub fn load(path: &Path) -> Result<(Config, System)> {
         eprintln!("{note}");
     }
     Ok((config, system))
-}
-
-/// The MD options (the command line over the config's `[md]`). Without an explicit dt
-/// the step is `default_fraction` × the shortest contact time expected up to the
-/// config's `t_end`, shortened so that the config's `t_end` is a whole number of steps
-/// (a run stopped earlier or resumed later keeps this step).
-pub fn md_options(
-    config: &Config,
-    system: &System,
-    args: &MdArgs,
-    default_fraction: f64,
-) -> Result<MdOptions> {
-    let section = config.md.clone().unwrap_or_default();
-    let contact_end: ContactEnd = match args.contact_end.as_ref().or(section.contact_end.as_ref()) {
-        Some(s) => s.parse().map_err(anyhow::Error::msg)?,
-        None => ContactEnd::ForceZero,
-    };
-    let t_end = config.t_end;
-    let dt = match args.dt.or(section.dt) {
-        Some(dt) => {
-            if !(dt.is_finite() && dt > 0.0) {
-                bail!("dt = {dt} must be a finite number greater than zero");
-            }
-            dt
-        }
-        None => match shortest_contact_time(system, t_end)? {
-            Some(tc) => default_fraction * tc,
-            None => t_end,
-        },
-    };
-    let steps = (t_end / dt).ceil().max(1.0);
-    if steps > 1e13 {
-        bail!("t_end / dt = {steps:e} steps is too many; raise dt or lower t_end");
-    }
-    Ok(MdOptions {
-        dt: t_end / steps,
-        contact_end,
-        skin: args.skin.or(section.skin),
-    })
 }
 
 /// A progress bar of `len` units drawn with `template` (hidden with --quiet).

@@ -1,9 +1,10 @@
 //! `emdstar pair`: a few particles to t_end, printing the final state.
 
-use super::any_engine::{AnyEngine, EngineArgs};
+use super::any_engine::EngineReport;
 use super::engine::load;
 use anyhow::Result;
 use clap::Args;
+use emdstar_engines::{AnyEngine, EngineOptions};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -27,7 +28,7 @@ pub struct PairArgs {
     /// The TOML config.
     pub config: PathBuf,
     #[command(flatten)]
-    pub engine: EngineArgs,
+    pub engine: EngineOptions,
     /// Print JSON: {"engine", "t", "particles": [{"position", "velocity"}, ...], and for
     /// the event-driven engines "stats"}.
     #[arg(long)]

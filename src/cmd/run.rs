@@ -1,13 +1,14 @@
 //! `emdstar run`: simulate a gas with any engine, writing a trajectory, a thermo log
 //! and checkpoints, and printing a summary.
 
-use super::any_engine::{AnyEngine, EngineArgs};
+use super::any_engine::EngineReport;
 use super::engine::{drift_fields, load, progress_bar, with_fields};
 use super::run_loop::{Plan, Ticks, Trajectory, drive};
 use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::DEFAULT_DT_FRACTION;
+use emdstar_engines::{AnyEngine, EngineOptions};
 use emdstar_system::gsd::GsdWriter;
 use emdstar_system::{Checkpoint, Config, ThermoLog, XyzWriter};
 use serde_json::json;
@@ -49,7 +50,7 @@ pub struct RunArgs {
     /// The TOML config.
     pub config: PathBuf,
     #[command(flatten)]
-    pub engine: EngineArgs,
+    pub engine: EngineOptions,
     /// Trajectory file: extended XYZ, or GSD for a name ending in .gsd, or "none".
     #[arg(long, value_name = "PATH")]
     pub trajectory: Option<PathBuf>,

@@ -3,9 +3,10 @@
 //! frames and checkpoints when they are due, keep the progress bar going, and stop
 //! cleanly when asked to.
 
-use super::any_engine::AnyEngine;
+use super::any_engine::EngineReport;
 use super::stop::{Stop, StopFlags};
 use anyhow::{Context, Result};
+use emdstar_engines::AnyEngine;
 use emdstar_system::gsd::GsdWriter;
 use emdstar_system::{Checkpoint, Particles, SimBox, Thermo, ThermoLog, XyzWriter};
 use indicatif::ProgressBar;

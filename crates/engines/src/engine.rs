@@ -1,0 +1,99 @@
+//! One type for every engine, built from a config and the options, driven through the
+//! simulation interface.
+
+use crate::options::{EngineKind, EngineOptions};
+use crate::setup::{event_engine, md_options, mor_name, mor_source};
+use anyhow::{Result, bail};
+use emdstar_dem::{ContactEnd, Md};
+use emdstar_hybrid::{Hybrid, HybridOptions};
+use emdstar_system::{Config, Simulation, System};
+
+/// MD, an event engine (eMD or eMD*) or the hybrid.
+pub enum AnyEngine {
+    Md(Box<Md>),
+    Event(Box<emdstar_edmd::Engine>),
+    Hybrid(Box<Hybrid>),
+}
+
+impl AnyEngine {
+    /// The engine `options` choose for `system` (built from `config`). Step engines
+    /// take steps of `dt_fraction` × the shortest contact time unless told otherwise
+    /// (`emdstar pair` uses 1/2000, `emdstar run` 1/50).
+    pub fn build(
+        options: &EngineOptions,
+        config: &Config,
+        system: System,
+        dt_fraction: f64,
+    ) -> Result<Self> {
+        Ok(match options.engine {
+            EngineKind::Md => {
+                let md = md_options(config, &system, &options.md, dt_fraction)?;
+                Self::Md(Box::new(Md::new(system, md, config.t_end)?))
+            }
+            EngineKind::Emd | EngineKind::EmdStar => Self::Event(Box::new(event_engine(
+                options.engine,
+                &system,
+                &options.edmd,
+            )?)),
+            EngineKind::Hybrid => {
+                let md = md_options(config, &system, &options.md, dt_fraction)?;
+                if md.contact_end != ContactEnd::ForceZero {
+                    bail!(
+                        "the hybrid engine needs contact_end = \"force\" (F = max(0, …)): its \
+                         mode switches rely on the force staying zero at the end of an eMD* \
+                         contact"
+                    );
+                }
+                let h = &options.hybrid;
+                let hybrid = HybridOptions {
+                    skin: md.skin,
+                    phi_time: h.phi_time,
+                    phi_event: h.phi_event,
+                    max_events_per_step: h.max_events_per_step,
+                    cells: !h.no_cells,
+                    ..HybridOptions::with_dt(md.dt)
+                };
+                let mor = mor_source(&system, &options.edmd)?;
+                Self::Hybrid(Box::new(Hybrid::new(system, hybrid, mor, config.t_end)?))
+            }
+        })
+    }
+
+    /// The engine behind the simulation interface.
+    pub fn sim(&self) -> &dyn Simulation {
+        match self {
+            Self::Md(e) => e.as_ref(),
+            Self::Event(e) => e.as_ref(),
+            Self::Hybrid(e) => e.as_ref(),
+        }
+    }
+
+    /// The engine behind the simulation interface, to advance it.
+    pub fn sim_mut(&mut self) -> &mut dyn Simulation {
+        match self {
+            Self::Md(e) => e.as_mut(),
+            Self::Event(e) => e.as_mut(),
+            Self::Hybrid(e) => e.as_mut(),
+        }
+    }
+
+    /// What a resumed run must share with the run that wrote its checkpoint, besides
+    /// the config: the source of the matrix of restitution.
+    pub fn options_tag(&self) -> String {
+        match self {
+            Self::Md(_) => String::new(),
+            Self::Event(e) => mor_name(e.physics()).to_string(),
+            Self::Hybrid(e) => e.mor_name().to_string(),
+        }
+    }
+
+    /// Impacts whose MoR came from the exact solver because the table did not cover
+    /// them (eMD* and the hybrid).
+    pub fn mor_fallbacks(&self) -> u64 {
+        match self {
+            Self::Md(_) => 0,
+            Self::Event(e) => e.stats().mor_fallbacks,
+            Self::Hybrid(e) => e.stats().ed.mor_fallbacks,
+        }
+    }
+}
