@@ -60,10 +60,10 @@ pub fn run(a: &BenchSoakArgs, json_out: bool) -> Result<()> {
     if !(a.soak_restitution > 0.0 && a.soak_restitution <= 1.0) {
         bail!("--soak-restitution must lie in (0, 1]");
     }
-    if !(a.soak_density > 0.0) {
+    if a.soak_density.is_nan() || a.soak_density <= 0.0 {
         bail!("--soak-density must be positive");
     }
-    if !(a.soak_dissipation >= 0.0) {
+    if a.soak_dissipation.is_nan() || a.soak_dissipation < 0.0 {
         bail!("--soak-dissipation must be ≥ 0 (seconds)");
     }
     let mut out = json!({});
