@@ -134,6 +134,8 @@ fn soak(
     let (start, cpu_start) = (Instant::now(), thread_seconds());
     let chunk = a.soak_collisions.div_ceil(SAMPLES);
     let (mut done, mut largest_drift, mut rss_peak_run) = (0, 0.0f64, 0u64);
+    // Resident size after each tenth of the run: flat once the engine has warmed up.
+    let mut rss_tenths = Vec::new();
     while done < a.soak_collisions {
         let step = chunk.min(a.soak_collisions - done);
         e.run_collisions(step)?;
@@ -141,7 +143,11 @@ fn soak(
         let p = e.momentum();
         let drift = norm(std::array::from_fn(|k| p[k] - p0[k]));
         largest_drift = largest_drift.max(drift / scale(k0));
-        rss_peak_run = rss_peak_run.max(memory_kib("VmRSS").unwrap_or(0));
+        let rss = memory_kib("VmRSS").unwrap_or(0);
+        rss_peak_run = rss_peak_run.max(rss);
+        if done * 10 / a.soak_collisions > (done - step) * 10 / a.soak_collisions {
+            rss_tenths.push(rss);
+        }
         bar.set_position(done);
         bar.set_message(format!(
             "K/K₀ = {:.2e}, max overlap {:.1e}",
@@ -188,6 +194,7 @@ fn soak(
             "rss_before_engine": rss_before,
             "rss_at_start": rss_start,
             "rss_peak_during_run": rss_peak_run,
+            "rss_after_each_tenth": rss_tenths,
             "rss_at_end": rss_end,
             "process_peak_vmhwm": memory_kib("VmHWM"),
         },
@@ -241,6 +248,14 @@ fn print_soak(v: &Value, s: &Stats) {
         mib(&m["rss_peak_during_run"]),
         mib(&m["rss_at_end"]),
         mib(&m["process_peak_vmhwm"]),
+    );
+    let tenths: Vec<String> = m["rss_after_each_tenth"]
+        .as_array()
+        .map(|t| t.iter().map(mib).collect())
+        .unwrap_or_default();
+    println!(
+        "  resident size after each tenth of the run (MiB): {}",
+        tenths.join(", ")
     );
     let separations: Vec<String> = s
         .separation_histogram
