@@ -27,8 +27,8 @@ pub enum BenchTarget {
     /// Long event-driven runs that must stay sound (flags under "soak"): inelastic
     /// hard spheres (N = 13 500, ε = 0.8, ρσ³ = 0.5; Bannerman et al. 2014, Figs. 3
     /// and 5) and a cooling eMD* Hertz gas (A = 10⁻⁵ s), 10⁷ collisions each by
-    /// default. Reports the largest impact overlap (round-off, about 10⁻¹⁶ σ),
-    /// stabilising collisions, momentum drift, eMD* exceptions and fallbacks, and
+    /// default. Reports the largest impact overlap (hard spheres: round-off, well below
+    /// 10⁻¹² σ; eMD*: up to the overlap of a pair in its transient), stabilising collisions, momentum drift, eMD* exceptions and fallbacks, and
     /// memory (resident size sampled during the run and the process peak).
     /// Quick look: emdstar bench soak --soak-collisions 100000
     Soak,
