@@ -68,6 +68,10 @@ pub struct BenchEdmdArgs {
     /// compare them on this machine).
     #[arg(long, value_enum, default_value_t = BroadPhaseChoice::Auto)]
     pub broad_phase: BroadPhaseChoice,
+    /// Events per particle between spatial re-sorts of the particle order (0: never)
+    /// [default: the engine's, 20 from N = 1000 on].
+    #[arg(long, value_name = "EVENTS_PER_PARTICLE")]
+    pub resort_every: Option<f64>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -76,9 +80,13 @@ pub struct BenchEdmdArgs {
 /// Runs `collisions` after `warmup` and returns (collisions/s, stats JSON).
 fn time_run<Q: EventQueue>(
     mut engine: Engine<Q>,
+    resort_every: Option<f64>,
     warmup: u64,
     collisions: u64,
 ) -> Result<(f64, Value)> {
+    if let Some(per_particle) = resort_every {
+        engine.set_resort_interval((per_particle * engine.len() as f64).round() as u64);
+    }
     engine.run_collisions(warmup)?;
     let before = *engine.stats();
     let (start, cpu_start) = (Instant::now(), super::cpu_time::thread_seconds());
@@ -108,6 +116,7 @@ fn time_run<Q: EventQueue>(
             "epochs": s.epochs - before.epochs,
             "stale": s.stale - before.stale,
             "velocity_events": s.velocity_events - before.velocity_events,
+            "resorts": s.resorts - before.resorts,
         }),
     ))
 }
@@ -117,6 +126,7 @@ fn time_run<Q: EventQueue>(
 struct Build {
     queue: QueueArg,
     broad_phase: BroadPhaseKind,
+    resort_every: Option<f64>,
 }
 
 impl Build {
@@ -136,6 +146,7 @@ impl Build {
                     physics,
                     self.broad_phase,
                 )?,
+                self.resort_every,
                 warmup,
                 collisions,
             ),
@@ -146,6 +157,7 @@ impl Build {
                     physics,
                     self.broad_phase,
                 )?,
+                self.resort_every,
                 warmup,
                 collisions,
             ),
@@ -227,7 +239,11 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     let build = Build {
         queue: a.queue,
         broad_phase: a.broad_phase.into(),
+        resort_every: a.resort_every,
     };
+    if a.resort_every.is_some_and(|r| r.is_nan() || r < 0.0) {
+        bail!("--resort-every must be ≥ 0 events per particle");
+    }
     let (hs_rate, hs) = if a.emdstar_only {
         (f64::NAN, Value::Null)
     } else {

@@ -215,3 +215,37 @@ fn edmd_broad_phases_give_the_same_gas_and_refuse_what_they_cannot_do() {
         "{err}"
     );
 }
+
+#[test]
+fn bench_soak_conserves_momentum_and_counts_what_it_did() {
+    let v = emdstar_json(&[
+        "bench",
+        "soak",
+        "--soak-cells",
+        "3",
+        "--soak-collisions",
+        "3000",
+        "--json",
+    ]);
+    for case in ["hard_spheres", "emdstar_hertz"] {
+        let c = &v[case];
+        assert_eq!(c["particles"], 108, "{c}");
+        assert!(c["collisions"].as_u64().unwrap() >= 3000, "{c}");
+        // Every collision conserves momentum: the drift stays at round-off of the
+        // thermal momentum, and both gases lose energy.
+        assert!(
+            c["momentum_drift_over_initial_scale"].as_f64().unwrap() < 1e-12,
+            "{c}"
+        );
+        let k = c["kinetic_energy_ratio"].as_f64().unwrap();
+        assert!(k > 0.0 && k < 1.0, "{c}");
+        assert!(c["memory_kib"]["process_peak_vmhwm"].as_u64().unwrap_or(1) > 0);
+    }
+    let hs = &v["hard_spheres"];
+    assert!(
+        hs["max_impact_overlap_over_contact"].as_f64().unwrap() < 1e-12,
+        "{hs}"
+    );
+    assert_eq!(hs["exceptions_rotation"], 0);
+    assert_eq!(hs["fallbacks_exact_mor"], 0);
+}
