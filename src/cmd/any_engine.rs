@@ -47,6 +47,11 @@ impl AnyEngine {
                 let opts = md_options(config, &system, &args.md, dt_fraction)?;
                 Self::Md(Box::new(Md::new(system, opts, config.t_end)?))
             }
+            EngineKind::Emd | EngineKind::EmdStar if system.friction.is_active() => bail!(
+                "friction = {} cannot be run by the event-driven engines yet: their collision \
+                 rules are frictionless; run it with --engine md, or set friction = 0",
+                system.friction.friction
+            ),
             EngineKind::Emd | EngineKind::EmdStar => Self::Event(Box::new(edmd_engine::build(
                 args.engine,
                 &system,

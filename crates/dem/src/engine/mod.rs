@@ -460,8 +460,10 @@ impl Md {
             t: self.time(),
             step: self.steps,
             kinetic_energy: p.kinetic_energy(),
+            rotational_energy: p.rotational_energy(),
             potential_energy: potential,
             granular_temperature: p.granular_temperature(),
+            rotational_temperature: p.rotational_temperature(),
             momentum: p.momentum(),
             contacts,
         }
