@@ -10,7 +10,9 @@
 //! - the slip velocity **v**_t = **v**_ij − (**v**_ij·**n**)**n** − (R_i **ω**_i + R_j **ω**_j) × **n**
 //!   with **v**_ij = **v**_i − **v**_j ([`slip_velocity`]);
 //! - the spring **ξ**_t lives in the tangent plane: each step it is projected onto the
-//!   plane and rescaled to its old length ([`turn_spring`]), then grows by **v**_t·dt;
+//!   plane of the new normal by the rotation that turns the normal ([`turn_spring`];
+//!   LAMMPS projects and rescales, which is the same for a normal turning in one plane),
+//!   and grows by **v**_t·dt;
 //! - **F**_t = −k_t **ξ**_t − γ_t **v**_t on i (−**F**_t on j), capped at µF_n with F_n
 //!   the clipped total normal force; at the cap **ξ**_t = −(**F**_t + γ_t **v**_t)/k_t
 //!   ([`Friction::force`]);
@@ -19,7 +21,7 @@
 //!   so the total angular momentum is conserved.
 
 use crate::error::{ContactError, Result, non_negative};
-use crate::vec3::{add_scaled, cross, dot, norm, norm2, scale, sub};
+use crate::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
 
 /// The moment of inertia of a solid sphere in units of m R²: I = (2/5) m R².
 pub const SOLID_SPHERE_INERTIA: f64 = 0.4;
@@ -76,7 +78,12 @@ impl Friction {
 
     /// Checks the parameters: µ, k_t and γ_t finite and not negative, and a history
     /// spring with friction needs k_t > 0 (the cap resets the spring through 1/k_t).
-    pub fn new(friction: f64, stiffness: f64, damping: f64, model: TangentialModel) -> Result<Self> {
+    pub fn new(
+        friction: f64,
+        stiffness: f64,
+        damping: f64,
+        model: TangentialModel,
+    ) -> Result<Self> {
         let f = Self {
             friction: non_negative("friction", friction)?,
             stiffness: non_negative("tangential_stiffness", stiffness)?,
@@ -168,23 +175,26 @@ pub fn slip_velocity(
     sub(add_scaled(v_ij, -vn, n), cross(w, n))
 }
 
-/// The spring carried into the tangent plane of the current normal: projected onto it
-/// and rescaled to keep its length (LAMMPS's `linear_history`; Luding, Granular Matter
-/// 10, 235, 2008, Eq. 17). A spring along n (length kept, no direction left) becomes 0.
+/// The spring carried from the tangent plane of the normal `n_old` into that of `n`:
+/// turned by the smallest rotation that takes `n_old` to `n` (the parallel transport of
+/// dξ_t/dt = −(ξ_t·ṅ)n over a step, to second order), then projected onto the plane to
+/// remove round-off. For a normal turning in one plane this is LAMMPS's projection and
+/// rescaling (Luding, Granular Matter 10, 235, 2008, Eq. 17); when the spring leaves that
+/// plane (spins out of it), projection and rescaling err by O(dt²) per step, a first-order
+/// method, and this rotation does not.
 #[inline]
-pub fn turn_spring(spring: [f64; 3], n: [f64; 3]) -> [f64; 3] {
-    let along = dot(spring, n);
-    if along == 0.0 {
-        return spring;
-    }
-    let length2 = norm2(spring);
-    let projected = add_scaled(spring, -along, n);
-    let p2 = norm2(projected);
-    if p2 > 0.0 {
-        scale((length2 / p2).sqrt(), projected)
+pub fn turn_spring(spring: [f64; 3], n_old: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    // Rodrigues's formula with w = n_old × n, |w| = sin θ, c = cos θ:
+    // R v = v + w × v + w × (w × v)/(1 + c), exact and free of cancellation for small θ.
+    let w = cross(n_old, n);
+    let c = dot(n_old, n);
+    let wv = cross(w, spring);
+    let turned = if c > -1.0 {
+        add(add(spring, wv), scale(1.0 / (1.0 + c), cross(w, wv)))
     } else {
-        [0.0; 3]
-    }
+        spring
+    };
+    add_scaled(turned, -dot(turned, n), n)
 }
 
 /// The lever arm of a tangential force on a sphere of radius R at normal overlap ξ:
@@ -240,13 +250,29 @@ mod tests {
     }
 
     #[test]
-    fn the_spring_turns_into_the_tangent_plane_keeping_its_length() {
-        let n = [0.6, 0.8, 0.0];
-        let s = turn_spring([1.0, 2.0, 3.0], n);
-        assert!(dot(s, n).abs() < 1e-15);
-        assert!((norm(s) - 14f64.sqrt()).abs() < 1e-14);
-        assert_eq!(turn_spring([0.0, 0.0, 3.0], n), [0.0, 0.0, 3.0]);
-        assert_eq!(turn_spring([0.6, 0.8, 0.0], n), [0.0; 3]);
+    fn the_spring_turns_with_the_normal_keeping_its_length() {
+        // The normal turns by 30° about z: a spring along y turns with it, one along
+        // z (the axis) stays.
+        let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+        let (n_old, n) = ([1.0, 0.0, 0.0], [c, s, 0.0]);
+        let t = turn_spring([0.0, 2.0, 0.0], n_old, n);
+        for (got, want) in t.iter().zip([-2.0 * s, 2.0 * c, 0.0]) {
+            assert!((got - want).abs() < 1e-15, "{t:?}");
+        }
+        assert_eq!(turn_spring([0.0, 0.0, 3.0], n_old, n), [0.0, 0.0, 3.0]);
+        // A spring out of the turning plane keeps its length and its angle to the axis.
+        let t = turn_spring([0.0, 1.0, 1.0], n_old, n);
+        assert!(dot(t, n).abs() < 1e-15);
+        assert!((norm(t) - 2f64.sqrt()).abs() < 1e-15);
+        assert!((t[2] - 1.0).abs() < 1e-15);
+        // In one plane it is LAMMPS's projection and rescaling.
+        let v = [0.0, 1.0, 0.0];
+        let projected = add_scaled(v, -dot(v, n), n);
+        let rescaled = scale(norm(v) / norm(projected), projected);
+        let t = turn_spring(v, n_old, n);
+        for k in 0..3 {
+            assert!((t[k] - rescaled[k]).abs() < 1e-15);
+        }
     }
 
     #[test]

@@ -68,6 +68,7 @@
 
 mod engine;
 mod forces;
+mod frictional;
 mod neighbour;
 mod options;
 mod simulation;
@@ -78,6 +79,7 @@ pub use forces::{
     AddForces, ForceKernel, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
     normal_force, touch_correction, unclipped_force,
 };
+pub use frictional::{ContactForce, ContactKey, FrictionKernel, Springs};
 pub use neighbour::{Layout, NeighbourList};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,

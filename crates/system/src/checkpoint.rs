@@ -211,7 +211,9 @@ mod tests {
         for other in [CHECKPOINT_VERSION - 1, CHECKPOINT_VERSION + 1] {
             let mut b = bytes.clone();
             b[8..12].copy_from_slice(&other.to_le_bytes());
-            let err = Checkpoint::from_bytes(&b, "c.ckpt").unwrap_err().to_string();
+            let err = Checkpoint::from_bytes(&b, "c.ckpt")
+                .unwrap_err()
+                .to_string();
             assert!(err.contains(&format!("version {other}")), "{err}");
         }
     }

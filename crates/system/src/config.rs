@@ -231,7 +231,10 @@ impl Config {
                     let index = species_index(&mut species, s);
                     let x = finite3(&format!("particles[{i}].position"), pc.position)?;
                     let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
-                    let w = finite3(&format!("particles[{i}].angular_velocity"), pc.angular_velocity)?;
+                    let w = finite3(
+                        &format!("particles[{i}].angular_velocity"),
+                        pc.angular_velocity,
+                    )?;
                     particles.push(&species, index, x, v);
                     particles.angular_velocity[i] = w;
                 }

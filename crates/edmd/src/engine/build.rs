@@ -208,7 +208,13 @@ impl<Q: EventQueue> Prepared<Q> {
             species: particles.species.clone(),
             pending_vel: vec![[0.0; 3]; n],
             spin: (0..n)
-                .map(|i| particles.angular_velocity.get(i).copied().unwrap_or([0.0; 3]))
+                .map(|i| {
+                    particles
+                        .angular_velocity
+                        .get(i)
+                        .copied()
+                        .unwrap_or([0.0; 3])
+                })
                 .collect(),
             resort_every: if n >= RESORT_MIN_PARTICLES {
                 20 * n as u64
