@@ -53,15 +53,27 @@ fn friction_and_spins_are_read() {
 #[test]
 fn bad_friction_gets_a_clear_message() {
     let cases = [
-        ("friction = -0.1\ntangential_stiffness = 1.0", "friction must not be negative"),
-        ("friction = 0.1\ntangential_stiffness = -1.0", "tangential_stiffness must not be negative"),
+        (
+            "friction = -0.1\ntangential_stiffness = 1.0",
+            "friction must not be negative",
+        ),
+        (
+            "friction = 0.1\ntangential_stiffness = -1.0",
+            "tangential_stiffness must not be negative",
+        ),
         (
             "friction = 0.1\ntangential_stiffness = 1.0\ntangential_damping = -2.0",
             "tangential_damping must not be negative",
         ),
         ("friction = 0.1", "tangential_stiffness"),
-        ("tangential_stiffness = 1.0", "has no effect without material.friction"),
-        ("friction = 0.1\ntangential = \"sticky\"", "unknown tangential model"),
+        (
+            "tangential_stiffness = 1.0",
+            "has no effect without material.friction",
+        ),
+        (
+            "friction = 0.1\ntangential = \"sticky\"",
+            "unknown tangential model",
+        ),
         (
             "friction = 0.1\ntangential = \"coulomb\"\ntangential_stiffness = 1.0",
             "does not belong to tangential = \"coulomb\"",
@@ -84,5 +96,8 @@ fn spin_on_a_frictionless_material_is_a_warning() {
     let s = Config::from_toml(&text).unwrap().build().unwrap();
     let w = s.warnings();
     assert_eq!(w.len(), 1);
-    assert!(w[0].contains("frictionless") && w[0].contains("spin"), "{w:?}");
+    assert!(
+        w[0].contains("frictionless") && w[0].contains("spin"),
+        "{w:?}"
+    );
 }
