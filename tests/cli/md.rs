@@ -159,7 +159,9 @@ fn run_writes_trajectory_log_and_summary() {
     let xyz = std::fs::read_to_string(&traj).unwrap();
     let frames: Vec<&str> = xyz.lines().filter(|l| l.starts_with("Lattice=")).collect();
     assert_eq!(frames.len(), 5, "t = 0, 0.005, ..., 0.02");
-    assert!(frames[0].contains("pbc=\"T T T\"") && frames[0].contains("velo:R:3:radius:R:1:omega:R:3"));
+    assert!(
+        frames[0].contains("pbc=\"T T T\"") && frames[0].contains("velo:R:3:radius:R:1:omega:R:3")
+    );
     assert_eq!(xyz.lines().count(), 5 * 502);
     let log_text = std::fs::read_to_string(&log).unwrap();
     let lines: Vec<&str> = log_text.lines().skip(1).collect();
