@@ -100,6 +100,7 @@ fn hopper(seed: u64) -> System {
         particles,
         species,
         material: ForceLaw::Linear(material(m_eff)),
+        friction: Default::default(),
         domain: Domain {
             sim_box: Some(SimBox {
                 lo: [0.0, -0.01, 0.0],

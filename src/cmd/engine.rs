@@ -20,6 +20,9 @@ pub fn load(path: &Path) -> Result<(Config, System)> {
     {
         eprintln!("{note}");
     }
+    for warning in system.warnings() {
+        eprintln!("warning: {warning}");
+    }
     Ok((config, system))
 }
 

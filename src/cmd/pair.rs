@@ -18,7 +18,7 @@ pub const PAIR_DT_FRACTION: f64 = 1.0 / 2000.0;
 /// A few particles (typically one collision) to t_end; prints the final state.
 ///
 /// Simulates the particles of CONFIG (typically two) up to t_end and prints their final
-/// positions and velocities, in config order.
+/// positions, velocities and angular velocities, in config order.
 ///
 /// Example:
 ///   emdstar pair tests/md/configs/oblique_linear.toml --engine md --json
@@ -29,7 +29,8 @@ pub struct PairArgs {
     pub config: PathBuf,
     #[command(flatten)]
     pub engine: EngineOptions,
-    /// Print JSON: {"engine", "t", "particles": [{"position", "velocity"}, ...], and for
+    /// Print JSON: {"engine", "t", "particles": [{"position", "velocity",
+    /// "angular_velocity"}, ...], and for
     /// the event-driven engines "stats"}.
     #[arg(long)]
     pub json: bool,
@@ -46,7 +47,13 @@ pub fn run(args: &PairArgs) -> Result<()> {
     let p = sim.particles();
     if args.json {
         let particles: Vec<_> = (0..p.len())
-            .map(|i| json!({"position": p.position[i], "velocity": p.velocity[i]}))
+            .map(|i| {
+                json!({
+                    "position": p.position[i],
+                    "velocity": p.velocity[i],
+                    "angular_velocity": p.angular_velocity[i],
+                })
+            })
             .collect();
         let mut out = json!({"engine": sim.engine(), "t": sim.time(), "particles": particles});
         if let Some(stats) = engine.summary_fields(1.0, 0, 1).get("stats") {
@@ -65,8 +72,8 @@ pub fn run(args: &PairArgs) -> Result<()> {
         }
         for i in 0..p.len() {
             println!(
-                "particle {i}: position {:?} m, velocity {:?} m/s",
-                p.position[i], p.velocity[i]
+                "particle {i}: position {:?} m, velocity {:?} m/s, angular velocity {:?} rad/s",
+                p.position[i], p.velocity[i], p.angular_velocity[i]
             );
         }
     }

@@ -159,13 +159,16 @@ fn run_writes_trajectory_log_and_summary() {
     let xyz = std::fs::read_to_string(&traj).unwrap();
     let frames: Vec<&str> = xyz.lines().filter(|l| l.starts_with("Lattice=")).collect();
     assert_eq!(frames.len(), 5, "t = 0, 0.005, ..., 0.02");
-    assert!(frames[0].contains("pbc=\"T T T\"") && frames[0].contains("velo:R:3:radius:R:1"));
+    assert!(
+        frames[0].contains("pbc=\"T T T\"") && frames[0].contains("velo:R:3:radius:R:1:omega:R:3")
+    );
     assert_eq!(xyz.lines().count(), 5 * 502);
     let log_text = std::fs::read_to_string(&log).unwrap();
     let lines: Vec<&str> = log_text.lines().skip(1).collect();
     // Every 0.001 s (rounded to whole steps) and at t_end.
     assert!((21..=22).contains(&lines.len()), "{} lines", lines.len());
-    assert_eq!(lines[0].split_whitespace().count(), 10);
+    // … energies, temperature, momentum, contacts, rotational energy and temperature.
+    assert_eq!(lines[0].split_whitespace().count(), 12);
     let t_last: f64 = lines
         .last()
         .unwrap()
@@ -194,4 +197,66 @@ fn a_ball_bounces_on_the_floor_and_stays_in_the_box() {
     assert!(z > 0.1 && z < 0.5, "{z}");
     // A frictionless floor leaves the x motion uniform.
     assert!((x - 0.2 * 0.5).abs() < 1e-12, "{x}");
+}
+
+#[test]
+fn a_frictional_pair_prints_its_spins_and_only_md_runs_it() {
+    let path = config("oblique_frictional.toml");
+    let out = emdstar(&["pair", &path, "--engine", "md", "--json", "--dt", "1e-4"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let spins: Vec<f64> = (0..2)
+        .flat_map(|i| {
+            json["particles"][i]["angular_velocity"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|w| w.as_f64().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    // Friction spun the second sphere up from rest and changed the first one's spin.
+    assert!(
+        spins[5].abs() > 1.0 && (spins[2] - 20.0).abs() > 1.0,
+        "{spins:?}"
+    );
+    for engine in ["emd", "emdstar", "hybrid"] {
+        let out = emdstar(&["pair", &path, "--engine", engine]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{engine} accepted friction");
+        assert!(
+            stderr.contains("friction") && stderr.contains("--engine md"),
+            "{stderr}"
+        );
+    }
+    // A spin on a frictionless material is a warning, not an error.
+    let frictionless =
+        std::env::temp_dir().join(format!("emdstar_spin_{}.toml", std::process::id()));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text: String = text
+        .lines()
+        .filter(|l| !l.starts_with("friction") && !l.starts_with("tangential"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&frictionless, text).unwrap();
+    let out = emdstar(&[
+        "pair",
+        frictionless.to_str().unwrap(),
+        "--engine",
+        "emd",
+        "--json",
+    ]);
+    std::fs::remove_file(&frictionless).unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("warning: 1 particles spin"));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["particles"][0]["angular_velocity"][2], 20.0);
 }

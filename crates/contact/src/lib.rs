@@ -1,4 +1,4 @@
-//! Pair physics of soft, frictionless spheres for event-driven and force-based
+//! Pair physics of soft spheres for event-driven and force-based
 //! simulation, after Müller & Pöschel, "Event-driven molecular dynamics of soft
 //! particles" (2013).
 //!
@@ -11,6 +11,8 @@
 //! - [`Mor`]: the matrix of restitution of one collision, as the solver and the tables
 //!   return it;
 //! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
+//! - [`Friction`]: the tangential force of a contact (Cundall–Strack history spring or
+//!   pure Coulomb sliding), the slip velocity, the spring's turning and the torques;
 //! - [`vec3`]: the `[f64; 3]` operations the engines share;
 //! - [`ParameterBox`] and [`RectBounds`]: the rectangularised coordinates (a, b, c) in
 //!   both directions, with the paper's Tab. I and Tab. II as presets.
@@ -33,6 +35,7 @@ mod mor;
 mod pair;
 mod rect;
 mod scaled;
+mod tangential;
 pub mod vec3;
 
 pub use error::{ContactError, Result};
@@ -45,6 +48,10 @@ pub use mor::Mor;
 pub use pair::{PairProperties, Sphere};
 pub use rect::{HertzBox, LinearBox, ParameterBox, Range, RectBounds, RectCoords};
 pub use scaled::{ScaledImpact, ScaledParams, l_tilde_exponent, scale};
+pub use tangential::{
+    Friction, SOLID_SPHERE_INERTIA, Tangential, TangentialModel, lever_arm, slip_velocity, torque,
+    turn_spring,
+};
 
 /// A 3-vector in the laboratory frame.
 pub type Vec3 = nalgebra::Vector3<f64>;

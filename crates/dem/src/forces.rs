@@ -295,7 +295,7 @@ impl ForceKernel<'_> {
 
     /// v + h·a with a = gravity + the contact acceleration of the previous step.
     #[inline(always)]
-    fn predict(&self, i: usize, v: [f64; 3]) -> [f64; 3] {
+    pub(crate) fn predict(&self, i: usize, v: [f64; 3]) -> [f64; 3] {
         let (a, g, h) = (self.contact_acc[i], self.model.gravity, self.h);
         [
             v[0] + h * (g[0] + a[0]),

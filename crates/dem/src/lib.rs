@@ -1,5 +1,7 @@
-//! Force-based DEM (MD) of soft, frictionless spheres: the reference that eMD* must
-//! reproduce (Müller & Pöschel 2013, Sec. V).
+//! Force-based DEM (MD) of soft spheres: the reference that eMD* must reproduce
+//! (Müller & Pöschel 2013, Sec. V), with friction and rotation where the material has
+//! them ([`FrictionKernel`]: Cundall–Strack springs in LAMMPS's conventions, see
+//! docs/physics.md, "Friction and rotation").
 //!
 //! # Integrator
 //! Velocity Verlet: v(t+dt/2) = v(t) + (dt/2)·a(t); x(t+dt) = x(t) + dt·v(t+dt/2);
@@ -28,6 +30,9 @@
 //! contact ends when the force reaches zero ([`ContactEnd::ForceZero`]), or unclipped
 //! until the overlap vanishes ([`ContactEnd::OverlapZero`], LAMMPS's convention).
 //! Walls are infinitely heavy flat partners ([`emdstar_contact::PairProperties::sphere_wall`]).
+//! With friction (µ > 0) a second kernel adds the tangential forces and torques, spins
+//! are kicked like the velocities, and each contact's spring is kept between steps
+//! ([`Springs`], keyed by config ids); without friction that code never runs.
 //!
 //! # Neighbours
 //! A half Verlet list with a skin, built from a cell grid, and rebuilt only when the
@@ -68,6 +73,7 @@
 
 mod engine;
 mod forces;
+mod frictional;
 mod neighbour;
 mod options;
 mod simulation;
@@ -78,6 +84,7 @@ pub use forces::{
     AddForces, ForceKernel, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
     normal_force, touch_correction, unclipped_force,
 };
+pub use frictional::{ContactForce, ContactKey, FrictionKernel, Springs};
 pub use neighbour::{Layout, NeighbourList};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,

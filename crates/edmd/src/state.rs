@@ -107,6 +107,9 @@ pub struct State<Q: EventQueue> {
     pub(crate) species: Vec<u32>,
     /// eMD*: the velocity the pending E^v event applies.
     pub(crate) pending_vel: Vec<[f64; 3]>,
+    /// Angular velocities by original particle number: constant, as no collision rule
+    /// of this engine exerts a torque.
+    pub(crate) spin: Vec<[f64; 3]>,
     /// Events between spatial re-sorts (0: never), and events since the last.
     pub(crate) resort_every: u64,
     pub(crate) since_resort: u64,

@@ -68,6 +68,13 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
 
 /// The event engine (`kind` emd or emdstar) for `system`.
 pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> Result<Engine> {
+    if system.friction.is_active() {
+        bail!(
+            "friction = {} cannot be run by the event-driven engines yet: their collision \
+             rules are frictionless; run it with --engine md, or set friction = 0",
+            system.friction.friction
+        );
+    }
     let materials = Materials::from_system(system)?;
     let physics = match kind {
         EngineKind::Emd => Physics::Emd(materials),

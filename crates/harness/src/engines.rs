@@ -37,14 +37,8 @@ impl EventKind {
 pub fn material(law: &ForceLaw, density: f64) -> MaterialConfig {
     let mut m = MaterialConfig {
         model: law.model().name().to_string(),
-        stiffness: None,
-        damping: None,
-        young: None,
-        poisson: None,
-        dissipation: None,
-        restitution: None,
-        restitution_speed: None,
         density: Some(density),
+        ..Default::default()
     };
     match law {
         ForceLaw::Linear(l) => {
@@ -87,7 +81,7 @@ pub fn free_spheres(
             radius,
             position,
             velocity,
-            mass: None,
+            ..Default::default()
         })
         .collect();
     Ok(c.build()?)

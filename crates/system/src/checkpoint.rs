@@ -13,8 +13,9 @@ use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 
-/// The version of the layout and of every engine's state encoding.
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// The version of the layout and of every engine's state encoding (2: particles carry
+/// angular velocities, MD its tangential springs).
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]
@@ -207,12 +208,14 @@ mod tests {
             b[k / 8] ^= 1 << (k % 8);
             assert!(Checkpoint::from_bytes(&b, "x").is_err(), "bit {k}");
         }
-        let mut newer = bytes.clone();
-        newer[8] = 2;
-        let err = Checkpoint::from_bytes(&newer, "c.ckpt")
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("version 2"), "{err}");
+        for other in [CHECKPOINT_VERSION - 1, CHECKPOINT_VERSION + 1] {
+            let mut b = bytes.clone();
+            b[8..12].copy_from_slice(&other.to_le_bytes());
+            let err = Checkpoint::from_bytes(&b, "c.ckpt")
+                .unwrap_err()
+                .to_string();
+            assert!(err.contains(&format!("version {other}")), "{err}");
+        }
     }
 
     #[test]

@@ -13,10 +13,15 @@
 //! # restitution = 0.8              # instead of damping/dissipation: central ε_n
 //! # restitution_speed = 1.0        # m/s, where ε_n is matched (hertz only)
 //! density = 1140.0                 # kg/m³ (or give `mass` per particle / gas)
+//! # friction = 0.2                 # Coulomb µ (default 0: frictionless)
+//! # tangential_stiffness = 1600.0  # N/m: k_t of the history spring
+//! # tangential_damping = 0.0       # kg/s: γ_t
+//! # tangential = "history"         # or "coulomb" (pure sliding, |F_t| = µ F_n)
 //! [[particles]]                    # an explicit list ...
 //! radius = 0.1
 //! position = [0.03, -0.5, 0.0]
 //! velocity = [1.25, 2.5, 0.0]      # optional, default at rest
+//! # angular_velocity = [0.0, 0.0, 10.0] # rad/s, optional, default no spin
 //! # mass = 4.0                     # optional, overrides the density
 //! # [gas]                          # ... or a generated gas
 //! # count = 32768
@@ -53,7 +58,10 @@ use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
 use crate::system::System;
-use emdstar_contact::{ForceLaw, LinearDashpot, Model, PairProperties, Sphere, ViscoelasticHertz};
+use emdstar_contact::{
+    ForceLaw, Friction, LinearDashpot, Model, PairProperties, Sphere, TangentialModel,
+    ViscoelasticHertz,
+};
 use serde::{Deserialize, Serialize};
 
 /// The whole config file.
@@ -77,8 +85,8 @@ pub struct Config {
     pub md: Option<MdConfig>,
 }
 
-/// `[material]`: the force law and the density.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+/// `[material]`: the force law, the friction and the density.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialConfig {
     pub model: String,
@@ -93,17 +101,32 @@ pub struct MaterialConfig {
     /// Normal impact speed in m/s at which `restitution` holds (Hertz only).
     pub restitution_speed: Option<f64>,
     pub density: Option<f64>,
+    /// Coulomb's friction coefficient µ (default 0: frictionless).
+    pub friction: Option<f64>,
+    /// k_t of the tangential history spring in N/m.
+    pub tangential_stiffness: Option<f64>,
+    /// γ_t of the tangential dashpot in kg/s.
+    pub tangential_damping: Option<f64>,
+    /// "history" (default) or "coulomb".
+    pub tangential: Option<String>,
 }
 
 /// One `[[particles]]` entry.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleConfig {
     pub radius: f64,
     pub position: [f64; 3],
     #[serde(default)]
     pub velocity: [f64; 3],
+    /// rad/s.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub angular_velocity: [f64; 3],
     pub mass: Option<f64>,
+}
+
+fn is_zero(v: &[f64; 3]) -> bool {
+    *v == [0.0; 3]
 }
 
 /// `[box]`.
@@ -208,7 +231,12 @@ impl Config {
                     let index = species_index(&mut species, s);
                     let x = finite3(&format!("particles[{i}].position"), pc.position)?;
                     let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
+                    let w = finite3(
+                        &format!("particles[{i}].angular_velocity"),
+                        pc.angular_velocity,
+                    )?;
                     particles.push(&species, index, x, v);
+                    particles.angular_velocity[i] = w;
                 }
             }
             (Some(gas), true) => {
@@ -233,10 +261,12 @@ impl Config {
         }
         // species[0]: the [gas] sphere or the first [[particles]] entry.
         let material = self.material.force_law(&species[0])?;
+        let friction = self.material.friction()?;
         let system = System {
             particles,
             species,
             material,
+            friction,
             domain: Domain {
                 sim_box,
                 walls,
@@ -352,6 +382,50 @@ impl MaterialConfig {
         let pair = PairProperties::spheres(&sphere, &sphere);
         emdstar_mor::with_restitution(&law, &pair, speed, e)
             .map_err(|err| SystemError::Invalid(format!("material.restitution: {err}")))
+    }
+
+    /// The friction of the material; absent keys mean no friction. Tangential keys
+    /// without `friction` are refused (they would have no effect).
+    pub fn friction(&self) -> Result<Friction> {
+        let model: TangentialModel = match &self.tangential {
+            Some(t) => t
+                .parse()
+                .map_err(|e| SystemError::Invalid(format!("material.tangential: {e}")))?,
+            None => TangentialModel::History,
+        };
+        let Some(mu) = self.friction else {
+            let set = [
+                ("tangential_stiffness", self.tangential_stiffness.is_some()),
+                ("tangential_damping", self.tangential_damping.is_some()),
+                ("tangential", self.tangential.is_some()),
+            ];
+            if let Some((name, _)) = set.iter().find(|(_, s)| *s) {
+                return invalid!(
+                    "material.{name} has no effect without material.friction (Coulomb's µ);                      add friction = µ or remove it"
+                );
+            }
+            return Ok(Friction::NONE);
+        };
+        if model == TangentialModel::Coulomb {
+            for (name, v) in [
+                ("tangential_stiffness", self.tangential_stiffness),
+                ("tangential_damping", self.tangential_damping),
+            ] {
+                if v.is_some() {
+                    return invalid!(
+                        "material.{name} does not belong to tangential = \"coulomb\" (pure \
+                         sliding has no spring or dashpot); remove it or use \"history\""
+                    );
+                }
+            }
+        }
+        Friction::new(
+            mu,
+            self.tangential_stiffness.unwrap_or(0.0),
+            self.tangential_damping.unwrap_or(0.0),
+            model,
+        )
+        .map_err(|e| SystemError::Invalid(format!("material.{e}")))
     }
 
     /// One line saying which dissipation `restitution` gave `law`, for the user; `None`

@@ -1,6 +1,7 @@
 //! Particle state as a structure of arrays, and the species it refers to.
 
-use emdstar_contact::Sphere;
+use emdstar_contact::vec3::{cross, norm2};
+use emdstar_contact::{SOLID_SPHERE_INERTIA, Sphere};
 
 /// One kind of sphere: every particle of a species has its radius and mass.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -26,11 +27,13 @@ impl Species {
 /// `radius` and `mass` duplicate the species' values so that engines read them
 /// without an indirection; [`Particles::push`] keeps them consistent. `id` is the
 /// particle's number in the config (engines may reorder particles for locality and use
-/// it to report in the original order).
+/// it to report in the original order). `angular_velocity` is in rad/s; every particle
+/// is a solid sphere, I = (2/5) m R².
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Particles {
     pub position: Vec<[f64; 3]>,
     pub velocity: Vec<[f64; 3]>,
+    pub angular_velocity: Vec<[f64; 3]>,
     pub species: Vec<u32>,
     pub radius: Vec<f64>,
     pub mass: Vec<f64>,
@@ -69,6 +72,7 @@ impl Particles {
         Ok(Self {
             position,
             velocity,
+            angular_velocity: vec![[0.0; 3]; n],
             species,
             radius,
             mass,
@@ -76,7 +80,8 @@ impl Particles {
         })
     }
 
-    /// Appends a particle of species number `species_index` (see `species`).
+    /// Appends a particle of species number `species_index` (see `species`), without
+    /// spin.
     pub fn push(
         &mut self,
         species: &[Species],
@@ -88,6 +93,7 @@ impl Particles {
         self.id.push(self.position.len() as u32);
         self.position.push(position);
         self.velocity.push(velocity);
+        self.angular_velocity.push([0.0; 3]);
         self.species.push(species_index);
         self.radius.push(s.radius);
         self.mass.push(s.mass);
@@ -97,6 +103,7 @@ impl Particles {
     pub fn permute(&mut self, order: &[u32]) {
         permute(&mut self.position, order);
         permute(&mut self.velocity, order);
+        permute(&mut self.angular_velocity, order);
         permute(&mut self.species, order);
         permute(&mut self.radius, order);
         permute(&mut self.mass, order);
@@ -126,6 +133,42 @@ impl Particles {
             .zip(&self.velocity)
             .map(|(m, v)| 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]))
             .sum()
+    }
+
+    /// The moment of inertia of particle `i` in kg m², (2/5) m R² (a solid sphere).
+    #[inline]
+    pub fn inertia(&self, i: usize) -> f64 {
+        SOLID_SPHERE_INERTIA * self.mass[i] * self.radius[i] * self.radius[i]
+    }
+
+    /// Rotational kinetic energy Σ ½ I ω² in J.
+    pub fn rotational_energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| 0.5 * self.inertia(i) * norm2(self.angular_velocity[i]))
+            .sum()
+    }
+
+    /// Total angular momentum about the origin, Σ m x × v + I ω, in kg m²/s.
+    pub fn angular_momentum(&self) -> [f64; 3] {
+        let mut l = [0.0; 3];
+        for i in 0..self.len() {
+            let orbital = cross(self.position[i], self.velocity[i]);
+            let spin = self.angular_velocity[i];
+            for k in 0..3 {
+                l[k] += self.mass[i] * orbital[k] + self.inertia(i) * spin[k];
+            }
+        }
+        l
+    }
+
+    /// Rotational temperature T_rot = Σ I ω² / (3N) in J: the rotational kinetic energy
+    /// is (3/2) N T_rot (Brilliantov & Pöschel, Kinetic Theory of Granular Gases, with
+    /// k_B = 1; three rotational degrees of freedom per sphere).
+    pub fn rotational_temperature(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        2.0 * self.rotational_energy() / (3.0 * self.len() as f64)
     }
 
     /// Granular temperature T = Σ m |v − V|² / (3N) in J, with V the centre-of-mass
@@ -175,8 +218,16 @@ mod tests {
         assert!((p.granular_temperature() - 4.0 / 6.0).abs() < 1e-15);
         assert_eq!(p.momentum(), [8.0, 0.0, 0.0]);
         assert_eq!(p.kinetic_energy(), 10.0);
+        assert_eq!(p.rotational_energy(), 0.0);
+        // I = 0.4·2·0.01 = 0.008 kg m²: ½ I ω² = 0.016 J, T_rot = 2·0.016/6.
+        p.angular_velocity[1] = [0.0, 0.0, 2.0];
+        assert!((p.rotational_energy() - 0.016).abs() < 1e-15);
+        assert!((p.rotational_temperature() - 0.032 / 6.0).abs() < 1e-15);
+        // L = m x × v + I ω: particle 1 at x = (1, 0, 0) moves along x, so only its spin counts.
+        assert!((p.angular_momentum()[2] - 0.016).abs() < 1e-15);
         p.permute(&[1, 0]);
         assert_eq!(p.id, vec![1, 0]);
+        assert_eq!(p.angular_velocity[0], [0.0, 0.0, 2.0]);
         assert_eq!(p.velocity[0], [3.0, 0.0, 0.0]);
     }
 }

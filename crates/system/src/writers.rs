@@ -28,7 +28,8 @@ fn open(path: &Path, append: bool) -> Result<(File, String)> {
 }
 
 /// Writes frames in extended XYZ, which OVITO reads with the columns
-/// `id species pos velo radius` and the `Lattice`, `Origin`, `pbc` and `Time` fields.
+/// `id species pos velo radius omega` (omega: the angular velocity in rad/s) and the
+/// `Lattice`, `Origin`, `pbc` and `Time` fields.
 ///
 /// In free space the lattice is the particles' bounding box (grown by the largest
 /// radius) and `pbc="F F F"`. Each frame is formatted in memory and written at once,
@@ -82,7 +83,7 @@ impl XyzWriter {
         writeln!(
             w,
             "Lattice=\"{:e} 0 0 0 {:e} 0 0 0 {:e}\" Origin=\"{:e} {:e} {:e}\" \
-             Properties=id:I:1:species:I:1:pos:R:3:velo:R:3:radius:R:1 Time={t:e} pbc=\"{} {} {}\"",
+             Properties=id:I:1:species:I:1:pos:R:3:velo:R:3:radius:R:1:omega:R:3 Time={t:e} pbc=\"{} {} {}\"",
             size[0],
             size[1],
             size[2],
@@ -96,9 +97,10 @@ impl XyzWriter {
         .map_err(&err)?;
         for i in 0..particles.len() {
             let (x, v) = (particles.position[i], particles.velocity[i]);
+            let o = particles.angular_velocity[i];
             writeln!(
                 w,
-                "{} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e}",
+                "{} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e}",
                 particles.id[i],
                 particles.species[i],
                 x[0],
@@ -107,7 +109,10 @@ impl XyzWriter {
                 v[0],
                 v[1],
                 v[2],
-                particles.radius[i]
+                particles.radius[i],
+                o[0],
+                o[1],
+                o[2]
             )
             .map_err(&err)?;
         }
@@ -127,12 +132,16 @@ pub struct Thermo {
     pub t: f64,
     /// Engine steps (time steps or events) so far.
     pub step: u64,
-    /// Σ ½ m v² in J.
+    /// Σ ½ m v² in J (translation only).
     pub kinetic_energy: f64,
+    /// Σ ½ I ω² in J.
+    pub rotational_energy: f64,
     /// Elastic contact energy plus gravitational potential energy in J.
     pub potential_energy: f64,
     /// Granular temperature in J, see [`Particles::granular_temperature`].
     pub granular_temperature: f64,
+    /// Rotational temperature in J, see [`Particles::rotational_temperature`].
+    pub rotational_temperature: f64,
     /// Σ m v in kg m/s.
     pub momentum: [f64; 3],
     /// Pairs (and particle–wall pairs) in contact.
@@ -140,9 +149,9 @@ pub struct Thermo {
 }
 
 impl Thermo {
-    /// Kinetic plus potential energy in J.
+    /// Kinetic (translational and rotational) plus potential energy in J.
     pub fn total_energy(&self) -> f64 {
-        self.kinetic_energy + self.potential_energy
+        self.kinetic_energy + self.rotational_energy + self.potential_energy
     }
 }
 
@@ -160,7 +169,8 @@ impl ThermoLog {
         writeln!(
             out,
             "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
-             granular_temperature[J] px[kg*m/s] py pz contacts"
+             granular_temperature[J] px[kg*m/s] py pz contacts rotational_energy[J] \
+             rotational_temperature[J]"
         )
         .map_err(io_error(&name))?;
         Ok(Self { out, path: name })
@@ -175,7 +185,7 @@ impl ThermoLog {
     /// Appends one line.
     pub fn write(&mut self, th: &Thermo) -> Result<()> {
         let line = format!(
-            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {}\n",
+            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {} {:e} {:e}\n",
             th.t,
             th.step,
             th.kinetic_energy,
@@ -185,7 +195,9 @@ impl ThermoLog {
             th.momentum[0],
             th.momentum[1],
             th.momentum[2],
-            th.contacts
+            th.contacts,
+            th.rotational_energy,
+            th.rotational_temperature
         );
         self.out
             .write_all(line.as_bytes())

@@ -1,5 +1,6 @@
 //! The MD engine: state, velocity-Verlet steps, neighbour-list upkeep, thermo.
 
+mod rotation;
 mod snapshot;
 
 use crate::forces::{ForceKernel, ForceModel, PairForce, WALL, add_force};
@@ -9,6 +10,7 @@ use crate::options::{MdError, MdOptions, prepare_system};
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
 use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
+use rotation::Rotation;
 
 /// Particles per chunk of the force loop. Fixed, so that the order in which forces are
 /// summed does not depend on the number of threads.
@@ -40,6 +42,9 @@ pub struct Md {
     /// first half kick of the next step is fused with the last one of the previous
     /// (see [`Md::synchronise`]).
     lagging: bool,
+    /// Friction: spins, torques and springs. `None` for a frictionless material,
+    /// whose steps never touch the spins.
+    rotation: Option<Box<Rotation>>,
 }
 
 /// v + g·dt/2, component by component (the gravity half kick of a synchronisation).
@@ -68,6 +73,10 @@ impl Md {
         let interactions = system.interactions()?;
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
+        let rotation = system
+            .friction
+            .is_active()
+            .then(|| Box::new(Rotation::new(system.friction, &system.particles)));
         let mut md = Self {
             system,
             opts,
@@ -84,8 +93,15 @@ impl Md {
             v_max: 0.0,
             rebuilds: 0,
             lagging: false,
+            rotation,
         };
         md.rebuild()?;
+        if md.rotation.is_some() {
+            md.frictional_sweep(0.0);
+            md.apply_frictional_forces();
+            md.v_max = p_max_speed(&md.system.particles);
+            return Ok(md);
+        }
         // Forces at t = 0 with the velocities themselves (h = 0).
         let kernel = md.kernel(0.0);
         let p = &md.system.particles;
@@ -146,6 +162,7 @@ impl Md {
     pub fn particles_in_config_order(&self) -> Particles {
         let mut p = self.system.particles.clone();
         p.velocity = self.velocities_now();
+        p.angular_velocity = self.spins_now();
         let mut order = vec![0u32; p.len()];
         for (k, &id) in p.id.iter().enumerate() {
             order[id as usize] = k as u32;
@@ -188,6 +205,7 @@ impl Md {
         self.lagging = false;
         let dt = self.opts.dt;
         self.kick_contacts(0.5 * dt);
+        self.kick_spins(0.5 * dt);
         let g = self.system.domain.gravity;
         let mut v2_max: f64 = 0.0;
         for v in &mut self.system.particles.velocity {
@@ -232,6 +250,7 @@ impl Md {
     /// gravity, so it holds for every particle.
     fn step(&mut self, kick: f64, dt: f64) -> Result<(), MdError> {
         let touched_v2 = self.kick_contacts(kick);
+        self.kick_spins(kick);
         let g = self.system.domain.gravity;
         let g_kick = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * kick;
         let v_bound = max_nan(self.v_max, touched_v2.sqrt()) + g_kick;
@@ -250,14 +269,22 @@ impl Md {
         let gk = [g[0] * kick, g[1] * kick, g[2] * kick];
         self.steps += 1;
         let h = 0.5 * self.opts.dt;
-        let v2 = if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
+        let v2 = if self.rotation.is_some() {
+            let v2 = self.drift_all(gk, dt);
+            self.frictional_sweep(h);
+            v2
+        } else if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
             self.sweep_fused(gk, dt, h)
         } else {
             self.sweep_parallel(gk, dt, h)
         };
         self.v_max = v2.sqrt();
         self.drift_bound += self.v_max * dt;
-        self.apply_forces();
+        if self.rotation.is_some() {
+            self.apply_frictional_forces();
+        } else {
+            self.apply_forces();
+        }
         Ok(())
     }
 
@@ -334,10 +361,18 @@ impl Md {
     /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
     /// drift everything, then find the contacts. Same numbers, same order.
     fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let v2 = self.drift_all(gk, dt);
+        let buffers = std::mem::take(&mut self.buffers);
+        self.find_contacts_parallel(h, buffers);
+        v2
+    }
+
+    /// The gravity kick and the drift of every particle, in parallel over fixed chunks.
+    /// Returns max |v|².
+    fn drift_all(&mut self, gk: [f64; 3], dt: f64) -> f64 {
         let gravity = gk != [0.0; 3];
         let p = &mut self.system.particles;
-        let v2 = p
-            .position
+        p.position
             .par_chunks_mut(CHUNK)
             .zip(p.velocity.par_chunks_mut(CHUNK))
             .map(|(x, v)| {
@@ -356,8 +391,11 @@ impl Md {
                 }
                 v2_max
             })
-            .reduce(|| 0.0, f64::max);
-        let mut buffers = std::mem::take(&mut self.buffers);
+            .reduce(|| 0.0, f64::max)
+    }
+
+    /// The sweep's second pass (see [`Self::sweep_parallel`]).
+    fn find_contacts_parallel(&mut self, h: f64, mut buffers: Vec<Vec<PairForce>>) {
         let kernel = self.kernel(h);
         let (position, velocity) = (
             &self.system.particles.position,
@@ -375,7 +413,6 @@ impl Md {
             }
         });
         self.buffers = buffers;
-        v2
     }
 
     /// Replaces the contact accelerations by the forces just found, chunk by chunk and
@@ -419,9 +456,16 @@ impl Md {
         p.permute(&order);
         permute(&mut self.inv_mass, &order);
         permute(&mut self.contact_acc, &order);
+        if let Some(rot) = self.rotation.as_mut() {
+            rot.permute(&order);
+        }
         self.touched.clear();
         for (i, a) in self.contact_acc.iter().enumerate() {
-            if *a != [0.0; 3] {
+            let spun = self
+                .rotation
+                .as_ref()
+                .is_some_and(|r| r.angular_acc[i] != [0.0; 3]);
+            if *a != [0.0; 3] || spun {
                 self.touched.push(i as u32);
             }
         }
@@ -439,6 +483,7 @@ impl Md {
         let p = if self.lagging {
             synced = Particles {
                 velocity: self.velocities_now(),
+                angular_velocity: self.spins_now(),
                 ..self.system.particles.clone()
             };
             &synced
@@ -446,7 +491,7 @@ impl Md {
             &self.system.particles
         };
         let model = self.model();
-        let mut potential = 0.0;
+        let mut potential = self.rotation.as_ref().map_or(0.0, |r| r.spring_energy());
         let mut contacts = 0;
         for i in 0..p.len() {
             let xi = p.position[i];
@@ -460,8 +505,10 @@ impl Md {
             t: self.time(),
             step: self.steps,
             kinetic_energy: p.kinetic_energy(),
+            rotational_energy: p.rotational_energy(),
             potential_energy: potential,
             granular_temperature: p.granular_temperature(),
+            rotational_temperature: p.rotational_temperature(),
             momentum: p.momentum(),
             contacts,
         }

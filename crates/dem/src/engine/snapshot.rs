@@ -1,6 +1,7 @@
 //! Saving MD's whole state and putting it back (checkpoints).
 
 use super::Md;
+use crate::frictional::Springs;
 use crate::neighbour::NeighbourList;
 use crate::options::ContactEnd;
 use emdstar_system::Particles;
@@ -23,6 +24,9 @@ struct MdState<'a> {
     pub v_max: f64,
     pub rebuilds: u64,
     pub lagging: bool,
+    /// Friction: the angular accelerations and the springs (empty without).
+    pub angular_acc: Cow<'a, [[f64; 3]]>,
+    pub springs: Cow<'a, Springs>,
 }
 
 impl Md {
@@ -42,6 +46,14 @@ impl Md {
             v_max: self.v_max,
             rebuilds: self.rebuilds,
             lagging: self.lagging,
+            angular_acc: match &self.rotation {
+                Some(r) => Cow::Borrowed(&r.angular_acc),
+                None => Cow::Owned(Vec::new()),
+            },
+            springs: match &self.rotation {
+                Some(r) => Cow::Borrowed(&r.springs),
+                None => Cow::Owned(Springs::default()),
+            },
         }
     }
 
@@ -59,6 +71,11 @@ impl Md {
         self.v_max = s.v_max;
         self.rebuilds = s.rebuilds;
         self.lagging = s.lagging;
+        if let Some(rot) = self.rotation.as_mut() {
+            rot.reset_inertia(&self.system.particles);
+            rot.angular_acc = s.angular_acc.into_owned();
+            rot.springs = s.springs.into_owned();
+        }
     }
 
     /// The whole state in the checkpoint encoding.
@@ -93,6 +110,18 @@ impl Md {
                 self.options().dt,
                 self.options().contact_end
             ));
+        }
+        let spins = if self.rotation.is_some() {
+            self.system().particles.len()
+        } else {
+            0
+        };
+        if state.angular_acc.len() != spins {
+            return Err(
+                "the checkpoint was written with another friction than this config's: resume \
+                 with the config the checkpoint was written from"
+                    .into(),
+            );
         }
         self.set_state(state);
         Ok(())

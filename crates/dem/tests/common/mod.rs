@@ -37,6 +37,7 @@ pub fn free_system(material: ForceLaw, bodies: &[(Vec3, Vec3)]) -> System {
         particles,
         species,
         material,
+        friction: Default::default(),
         domain: Domain::default(),
     }
 }

@@ -207,6 +207,15 @@ impl<Q: EventQueue> Prepared<Q> {
             id: (0..n as u32).collect(),
             species: particles.species.clone(),
             pending_vel: vec![[0.0; 3]; n],
+            spin: (0..n)
+                .map(|i| {
+                    particles
+                        .angular_velocity
+                        .get(i)
+                        .copied()
+                        .unwrap_or([0.0; 3])
+                })
+                .collect(),
             resort_every: if n >= RESORT_MIN_PARTICLES {
                 20 * n as u64
             } else {

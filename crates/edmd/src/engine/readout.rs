@@ -114,6 +114,8 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         Particles {
             position,
             velocity,
+            // Frictionless collisions exert no torque: the spins stay as given.
+            angular_velocity: s.spin.clone(),
             species,
             radius,
             mass,
@@ -135,8 +137,10 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             t: self.state.time,
             step: self.state.stats.events,
             kinetic_energy: p.kinetic_energy(),
+            rotational_energy: p.rotational_energy(),
             potential_energy: potential,
             granular_temperature: p.granular_temperature(),
+            rotational_temperature: p.rotational_temperature(),
             momentum: p.momentum(),
             contacts: 0,
         }

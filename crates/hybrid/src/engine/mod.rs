@@ -97,6 +97,14 @@ impl Hybrid {
         mor: Box<dyn MorSource>,
         t_end: f64,
     ) -> Result<Self, HybridError> {
+        if system.friction.is_active() {
+            return Err(HybridError::Invalid(format!(
+                "friction = {} cannot be run by the hybrid yet: its event-driven part \
+                 (eMD*) has no frictional collision rule; run it with the MD engine \
+                 (--engine md), or set friction = 0",
+                system.friction.friction
+            )));
+        }
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         if skin == 0.0 {
             // Event-driven particles only see partners within the skin.

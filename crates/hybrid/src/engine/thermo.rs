@@ -62,8 +62,10 @@ impl Hybrid {
             t: self.time(),
             step: self.steps,
             kinetic_energy: kinetic,
+            rotational_energy: p.rotational_energy(),
             potential_energy: potential,
             granular_temperature: p.granular_temperature(),
+            rotational_temperature: p.rotational_temperature(),
             momentum,
             contacts,
         }
