@@ -225,7 +225,8 @@ def run(path=None, *, toml: "str | None" = None, engine: str = "md", t_end=None,
     ``"table"``; ``"exact"``). The engines take their defaults as ``emdstar run``
     does (MD: 1/50 of the shortest contact time per step).
 
-    Returns a dict: ``t`` (frames,), ``id``, ``radius``, ``mass`` (n,), ``position``
+    Returns a dict: ``t`` (frames,; the engine's time at each sample: MD stops at the
+    step nearest it), ``id``, ``radius``, ``mass`` (n,), ``position``
     and ``velocity`` (frames, n, 3; a particle inside an eMD* collision shows the
     velocity it leaves with), the thermo log ``kinetic_energy``,
     ``potential_energy``, ``granular_temperature``, ``contacts`` (frames,) and

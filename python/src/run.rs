@@ -69,8 +69,8 @@ pub fn run_config<'py>(
     let first = engine.sim().particles();
     let n = first.len();
     let mut t = Vec::with_capacity(frames);
-    let mut position = Vec::with_capacity(frames * n * 3);
-    let mut velocity = Vec::with_capacity(frames * n * 3);
+    let mut position: Vec<f64> = Vec::with_capacity(frames * n * 3);
+    let mut velocity: Vec<f64> = Vec::with_capacity(frames * n * 3);
     let (mut kinetic, mut potential, mut temperature) = (vec![], vec![], vec![]);
     let (mut momentum, mut contacts) = (vec![], vec![]);
     for k in 0..frames {

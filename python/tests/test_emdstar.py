@@ -157,7 +157,9 @@ def test_run_reads_files_and_refuses_bad_input(tmp_path):
     path = tmp_path / "head_on.toml"
     path.write_text(HEAD_ON)
     out = emdstar.run(path, engine="md", t_end=0.2, frames=3)
-    assert out["t"].tolist() == pytest.approx([0.0, 0.1, 0.2])
+    # Samples fall on the engine's own steps: MD takes the step nearest each time.
+    assert out["t"][0] == 0.0 and out["t"][-1] == pytest.approx(0.2)
+    assert abs(out["t"][1] - 0.1) < 0.01
     with pytest.raises(ValueError, match="the engines are"):
         emdstar.run(path, engine="lammps")
     with pytest.raises(ValueError, match="t_end"):

@@ -18,7 +18,7 @@
 //! engine.sim_mut().advance_to(config.t_end)?;
 //! engine.sim_mut().synchronise()?;
 //! println!("T = {}", engine.sim().thermo().granular_temperature);
-//! # Ok::<(), anyhow::Error>(())
+//! # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
 //! ```
 
 mod engine;
