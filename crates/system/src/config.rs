@@ -156,7 +156,7 @@ pub struct MdConfig {
 impl Config {
     /// Parses TOML text; unknown keys are errors.
     pub fn from_toml(text: &str) -> Result<Self> {
-        let config: Self = toml::from_str(text).map_err(|e| SystemError::Parse(e.to_string()))?;
+        let config: Self = crate::parse::from_toml(text)?;
         positive("t_end", config.t_end)?;
         Ok(config)
     }
