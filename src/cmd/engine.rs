@@ -51,9 +51,12 @@ pub struct MdArgs {
     pub skin: Option<f64>,
 }
 
-/// Reads and builds a config.
-pub fn load(path: &Path) -> Result<(Config, System)> {
+/// Reads and builds a config, refusing one whose particles would not fit into memory
+/// unless `force`.
+pub fn load(path: &Path, force: bool) -> Result<(Config, System)> {
     let config = Config::from_file(path).with_context(|| format!("reading {}", path.display()))?;
+    super::resources::check_memory(&config, force)
+        .with_context(|| format!("in {}", path.display()))?;
     let system = config
         .build()
         .with_context(|| format!("in {}", path.display()))?;

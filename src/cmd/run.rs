@@ -72,6 +72,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Start even if the particles seem not to fit into the free memory or the
+    /// trajectory into the free disk space (both are checked before the run starts).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: &RunArgs) -> Result<ExitCode> {
@@ -150,7 +154,7 @@ fn resume(engine: &mut AnyEngine, path: &Path, config: &Config) -> Result<f64> {
 }
 
 fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
-    let (config, system) = load(&args.config)?;
+    let (config, system) = load(&args.config, args.force)?;
     let n = system.particles.len();
     let species = system.species.len();
     let total_mass = system.particles.total_mass();
@@ -184,8 +188,10 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
             "trajectory_interval",
         )?;
         let gsd = traj_path.extension().is_some_and(|e| e == "gsd");
-        let frames = ((t_end - t_now) / every).floor() + 2.0;
+        let ticks = Ticks::new(every, step, t_now, fresh);
+        let frames = ((t_end - t_now) / ticks.interval()).floor() + 2.0;
         let bytes = frames * Trajectory::frame_bytes(gsd, n, species) as f64;
+        super::resources::check_disk(&traj_path, bytes, args.force)?;
         if n >= 100_000 || bytes > 1e8 {
             eprintln!(
                 "trajectory {}: about {frames:.0} frames of {n} particles, {:.1} GB{}",
@@ -212,11 +218,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
                 traj_path.display()
             ),
         };
-        Some((
-            traj_path.clone(),
-            writer,
-            Ticks::new(every, step, t_now, fresh),
-        ))
+        Some((traj_path.clone(), writer, ticks))
     };
     let log_path = output_path(&args.log, &output.log, &args.config, "log");
     let log_every = interval(output.log_interval, config.t_end / 100.0, "log_interval")?;

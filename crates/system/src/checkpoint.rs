@@ -151,9 +151,9 @@ impl Checkpoint {
     /// Reads a checkpoint file.
     pub fn read(path: &Path) -> Result<Self> {
         let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| SystemError::Io {
+        let bytes = std::fs::read(path).map_err(|io| SystemError::Io {
             path: name.clone(),
-            source,
+            io,
         })?;
         Self::from_bytes(&bytes, &name)
     }
@@ -162,9 +162,9 @@ impl Checkpoint {
 /// Writes `bytes` to `path` through a temporary file next to it, synced and renamed into
 /// place: readers see the old file or the whole new one, never a part.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |source| SystemError::Io {
+    let io = |io| SystemError::Io {
         path: path.display().to_string(),
-        source,
+        io,
     };
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".partial");

@@ -48,7 +48,7 @@
 //! system and is engine-independent.
 
 use crate::domain::Domain;
-use crate::error::{Result, SystemError, finite3, invalid, positive};
+use crate::error::{Result, SystemError, finite3, invalid, positive, representable_energy};
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
@@ -163,9 +163,9 @@ impl Config {
 
     /// Reads and parses a config file.
     pub fn from_file(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
+        let text = std::fs::read_to_string(path).map_err(|io| SystemError::Io {
             path: path.display().to_string(),
-            source,
+            io,
         })?;
         Self::from_toml(&text)
     }
@@ -208,6 +208,7 @@ impl Config {
                     let index = species_index(&mut species, s);
                     let x = finite3(&format!("particles[{i}].position"), pc.position)?;
                     let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
+                    representable_energy(&format!("particles[{i}].velocity"), s.mass, v)?;
                     particles.push(&species, index, x, v);
                 }
             }

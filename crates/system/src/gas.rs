@@ -112,6 +112,14 @@ pub(crate) fn generate_gas(
     if !(rms.is_finite() && rms >= 0.0) {
         return invalid!("gas.rms_speed = {rms} must be a finite number ≥ 0");
     }
+    // Maxwell speeds reach a few times the rms; every engine squares them.
+    let energy = 0.5 * gas.count as f64 * species[0].mass * (10.0 * rms).powi(2);
+    if !energy.is_finite() {
+        return invalid!(
+            "gas.rms_speed = {rms:e} m/s is too large: the gas's kinetic energy overflows double \
+             precision; give a speed of a physical size"
+        );
+    }
     if gas.count == 1 && rms > 0.0 {
         return invalid!(
             "a single particle with zero total momentum cannot move: set gas.rms_speed = 0 or count > 1"
