@@ -110,7 +110,9 @@ fn statvfs_free(dir: &Path) -> Option<u64> {
     }
     // SAFETY: statvfs succeeded, so it filled the record.
     let stat = unsafe { stat.assume_init() };
-    Some((stat.f_bavail as u64).saturating_mul(stat.f_frsize as u64))
+    #[allow(clippy::unnecessary_cast)] // u64 here, narrower on other platforms
+    let (blocks, block_size) = (stat.f_bavail as u64, stat.f_frsize as u64);
+    Some(blocks.saturating_mul(block_size))
 }
 
 #[cfg(not(unix))]

@@ -35,6 +35,11 @@ use std::process::ExitCode;
 /// stopped and resumed ends in bitwise the same state as one that ran through. With
 /// --t-end a run stops earlier or goes on later than the config's t_end.
 ///
+/// Before it starts, a run is refused if its particles seem not to fit into the free
+/// memory (about 500 bytes each) or its trajectory not onto its disk; --force starts
+/// it anyway. A full disk during the run stops it with the file named; what was
+/// written is kept.
+///
 /// Ctrl-C (SIGINT) or SIGTERM stop the run at the next step or event: the log and
 /// trajectory are closed whole, a checkpoint is written (to --checkpoint, or next to
 /// the trajectory), and the summary says "interrupted"; the exit code is 130 or 143.
