@@ -114,7 +114,10 @@ fn explain(path: &str, message: &str) -> (String, String) {
                 format!("write it as {example}"),
             );
         }
-        return (format!("expected {expected}, got {got} values"), KEYS.into());
+        return (
+            format!("expected {expected}, got {got} values"),
+            KEYS.into(),
+        );
     }
     if let Some(rest) = message.strip_prefix("invalid type: ") {
         // "invalid type: string \"a\", expected f64"
@@ -159,7 +162,9 @@ fn plain_type(expected: &str) -> String {
             "an array of {} values",
             other.trim_start_matches("an array of length ")
         ),
-        other if other.starts_with("struct ") => "a table (a [section] or { key = value, … })".into(),
+        other if other.starts_with("struct ") => {
+            "a table (a [section] or { key = value, … })".into()
+        }
         other => other.into(),
     }
 }
@@ -230,6 +235,9 @@ mod tests {
     #[test]
     fn a_syntax_error_says_where() {
         let err = error("[[particles]\n");
-        assert!(err.contains("line 6") && err.contains("TOML syntax"), "{err}");
+        assert!(
+            err.contains("line 6") && err.contains("TOML syntax"),
+            "{err}"
+        );
     }
 }

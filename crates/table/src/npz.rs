@@ -340,7 +340,8 @@ pub fn read_npz(bytes: &[u8]) -> Result<Vec<(String, Array)>, TableError> {
         .find(|&i| u32_at(i) == Some(0x0605_4b50))
         .ok_or_else(|| truncated("the zip end-of-archive record"))?;
     let n = u16_at(eocd + 10).ok_or_else(|| truncated("the zip end-of-archive record"))? as usize;
-    let mut p = u32_at(eocd + 16).ok_or_else(|| truncated("the zip end-of-archive record"))? as usize;
+    let mut p =
+        u32_at(eocd + 16).ok_or_else(|| truncated("the zip end-of-archive record"))? as usize;
     let mut members = Vec::with_capacity(n);
     for _ in 0..n {
         if u32_at(p) != Some(0x0201_4b50) {
@@ -350,9 +351,12 @@ pub fn read_npz(bytes: &[u8]) -> Result<Vec<(String, Array)>, TableError> {
         let crc = u32_at(p + 16).ok_or_else(|| truncated("the zip central directory"))?;
         let csize = u32_at(p + 20).ok_or_else(|| truncated("the zip central directory"))? as usize;
         let usize_ = u32_at(p + 24).ok_or_else(|| truncated("the zip central directory"))? as usize;
-        let name_len = u16_at(p + 28).ok_or_else(|| truncated("the zip central directory"))? as usize;
-        let extra_len = u16_at(p + 30).ok_or_else(|| truncated("the zip central directory"))? as usize;
-        let comment_len = u16_at(p + 32).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let name_len =
+            u16_at(p + 28).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let extra_len =
+            u16_at(p + 30).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let comment_len =
+            u16_at(p + 32).ok_or_else(|| truncated("the zip central directory"))? as usize;
         let local = u32_at(p + 42).ok_or_else(|| truncated("the zip central directory"))? as usize;
         let name = bytes
             .get(p + 46..p + 46 + name_len)
@@ -364,8 +368,12 @@ pub fn read_npz(bytes: &[u8]) -> Result<Vec<(String, Array)>, TableError> {
                 "member {name} is compressed or zip64; save tables with numpy.savez (not savez_compressed)"
             )));
         }
-        let lname = u16_at(local + 26).ok_or_else(|| truncated(&format!("the header of member {name}")))? as usize;
-        let lextra = u16_at(local + 28).ok_or_else(|| truncated(&format!("the header of member {name}")))? as usize;
+        let lname = u16_at(local + 26)
+            .ok_or_else(|| truncated(&format!("the header of member {name}")))?
+            as usize;
+        let lextra = u16_at(local + 28)
+            .ok_or_else(|| truncated(&format!("the header of member {name}")))?
+            as usize;
         let start = local + 30 + lname + lextra;
         let body = bytes
             .get(start..start + csize)

@@ -15,7 +15,10 @@ pub const MAX_PARTICLES: u64 = 64;
 /// Whether the config describes few enough particles to be set up quickly.
 pub fn small_enough(config: &Config) -> bool {
     config.particles.len() as u64 <= MAX_PARTICLES
-        && config.gas.as_ref().is_none_or(|g| (g.count as u64) <= MAX_PARTICLES)
+        && config
+            .gas
+            .as_ref()
+            .is_none_or(|g| (g.count as u64) <= MAX_PARTICLES)
 }
 
 /// The engines `emdstar run` builds.
@@ -81,7 +84,9 @@ pub fn build(kind: Kind, config: &Config, system: System) -> Option<Built> {
         }
         Kind::Hybrid => {
             let opts = HybridOptions::with_dt(dt);
-            Built::Hybrid(Box::new(Hybrid::new(system, opts, table()?, config.t_end).ok()?))
+            Built::Hybrid(Box::new(
+                Hybrid::new(system, opts, table()?, config.t_end).ok()?,
+            ))
         }
     })
 }
