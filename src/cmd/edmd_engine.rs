@@ -2,12 +2,12 @@
 //! options, the source of the matrix of restitution, and their counters.
 
 use super::engine::EngineKind;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Materials, Physics, Stats};
 use emdstar_system::System;
-use emdstar_table::Table;
+use emdstar_table::{Table, TableError};
 use serde_json::{Value, json};
 use std::path::PathBuf;
 
@@ -93,8 +93,12 @@ pub fn mor_source(system: &System, args: &EdmdArgs) -> Result<Box<dyn MorSource>
     Ok(match (args.mor, &args.table) {
         (MorChoice::Exact, _) => Box::new(ExactMor),
         (_, Some(path)) => {
-            let table = Table::open(path)
-                .with_context(|| format!("reading the MoR table {}", path.display()))?;
+            let table = Table::open(path).map_err(|e| match e {
+                // Names the path already.
+                TableError::Io(_) => anyhow::Error::new(e),
+                e => anyhow::Error::new(e)
+                    .context(format!("reading the MoR table {}", path.display())),
+            })?;
             Box::new(TableMorSource::from_table(table, fallback))
         }
         (_, None) => Box::new(TableMorSource::new(

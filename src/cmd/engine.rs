@@ -4,7 +4,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
-use emdstar_system::{Config, System, Thermo};
+use emdstar_system::{Config, System, SystemError, Thermo};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -54,7 +54,11 @@ pub struct MdArgs {
 /// Reads and builds a config, refusing one whose particles would not fit into memory
 /// unless `force`.
 pub fn load(path: &Path, force: bool) -> Result<(Config, System)> {
-    let config = Config::from_file(path).with_context(|| format!("reading {}", path.display()))?;
+    let config = Config::from_file(path).map_err(|e| match e {
+        // Names the path already.
+        SystemError::Io { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(format!("reading {}", path.display())),
+    })?;
     super::resources::check_memory(&config, force)
         .with_context(|| format!("in {}", path.display()))?;
     let system = config

@@ -135,7 +135,7 @@ pub fn write_checkpoint(engine: &AnyEngine, path: &Path, config_digest: u64) -> 
         state: sim.save_state(),
     }
     .write(path)
-    .with_context(|| format!("writing the checkpoint {}", path.display()))
+    .context("writing the checkpoint")
 }
 
 /// Writes one log line, naming the time in the error.

@@ -76,17 +76,20 @@ fn a_position_of_two_numbers_is_named_with_its_line() {
 #[test]
 fn a_truncated_table_says_what_is_missing_and_what_to_do() {
     let dir = scratch("table");
-    let full = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/hertz.npz"))
-        .unwrap();
+    let full =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/hertz.npz")).unwrap();
     std::fs::write(dir.join("cut.npz"), &full[..full.len() / 3]).unwrap();
     let config = write(&dir, "gas.toml", &gas("1.0", 64, ""));
     let err = error_in(
         &dir,
-        &["run", &config, "--engine", "emdstar", "--table", "cut.npz", "--quiet"],
+        &[
+            "run", &config, "--engine", "emdstar", "--table", "cut.npz", "--quiet",
+        ],
     );
     assert!(
         err.contains("cut.npz")
-            && err.contains("the table file is truncated: the zip end-of-archive record is missing")
+            && err
+                .contains("the table file is truncated: the zip end-of-archive record is missing")
             && err.contains("regenerate it"),
         "{err}"
     );
@@ -105,23 +108,58 @@ fn a_full_disk_is_reported_once_with_the_path_and_the_log_is_kept() {
         let err = error_in(
             &dir,
             &[
-                "run", &config, "--engine", engine, "--trajectory", "/dev/full", "--log",
-                "kept.log", "--quiet",
+                "run",
+                &config,
+                "--engine",
+                engine,
+                "--trajectory",
+                "/dev/full",
+                "--log",
+                "kept.log",
+                "--quiet",
             ],
         );
         assert_eq!(count(&err, "/dev/full"), 1, "{engine}: {err}");
         assert_eq!(count(&err, "No space left"), 1, "{engine}: {err}");
-        assert!(err.contains("trajectory") && err.contains("free space"), "{err}");
+        assert!(
+            err.contains("trajectory") && err.contains("free space"),
+            "{err}"
+        );
         // The log's line at t = 0 was written before the first frame failed.
         let log = std::fs::read_to_string(dir.join("kept.log")).unwrap();
         assert!(log.lines().count() >= 2, "{engine}: {log}");
     }
+    // An unwritable path: named once, with what to do.
+    let err = error_in(
+        &dir,
+        &[
+            "run",
+            &config,
+            "--trajectory",
+            "no/such/dir/t.xyz",
+            "--quiet",
+        ],
+    );
+    assert_eq!(count(&err, "no/such/dir/t.xyz"), 1, "{err}");
+    assert!(err.contains("check the path"), "{err}");
     // A device that cannot be synced is no error: a run may write to /dev/null.
     let out = emdstar_in(
         &dir,
-        &["run", &config, "--trajectory", "/dev/null", "--log", "/dev/null", "--quiet"],
+        &[
+            "run",
+            &config,
+            "--trajectory",
+            "/dev/null",
+            "--log",
+            "/dev/null",
+            "--quiet",
+        ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let err = error_in(&dir, &["run", &config, "--log", "/dev/full", "--quiet"]);
     assert_eq!(count(&err, "/dev/full"), 1, "{err}");
     assert_eq!(count(&err, "No space left"), 1, "{err}");
@@ -164,9 +202,20 @@ fn a_trajectory_larger_than_the_disk_is_refused_before_the_run() {
     let out = emdstar_in(
         &dir,
         &[
-            "run", &config, "--engine", "emdstar", "--trajectory", "none", "--t-end", "0.01",
+            "run",
+            &config,
+            "--engine",
+            "emdstar",
+            "--trajectory",
+            "none",
+            "--t-end",
+            "0.01",
             "--quiet",
         ],
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
