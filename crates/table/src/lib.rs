@@ -82,6 +82,7 @@ mod error;
 mod fastmath;
 mod format;
 pub mod npz;
+mod pair_map;
 mod physical;
 mod piece;
 mod poly;
@@ -95,10 +96,11 @@ pub use defaults::{default_table, default_table_bytes};
 pub use emdstar_contact::Mor;
 pub use error::TableError;
 pub use format::{FORMAT_VERSION, QUANTITIES, TableInfo, fnv1a64};
-pub use physical::{PairLookup, PairMap, Source, WithFallback};
+pub use pair_map::PairMap;
+pub use physical::{Source, WithFallback};
 pub use piece::{LEAF, Piece, PieceParts};
 pub use poly::{NQ, Terms};
 pub use table::{
-    BMap, PIECES, PhysicalLookup, SharedTable, Table, TableParts, mor_from_logs, mor_to_logs,
-    piece_box,
+    BMap, PIECES, PairLookup, PhysicalLookup, SharedTable, Table, TableParts, mor_from_logs,
+    mor_to_logs, piece_box,
 };

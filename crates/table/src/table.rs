@@ -2,7 +2,7 @@
 
 use crate::TableInfo;
 use crate::error::TableError;
-use crate::physical::{PairLookup, PairMap};
+use crate::pair_map::PairMap;
 use crate::piece::{Piece, PieceParts};
 use crate::poly::NQ;
 use emdstar_contact::{
@@ -40,6 +40,40 @@ pub struct PhysicalLookup {
     pub time: f64,
     /// X, m.
     pub length: f64,
+}
+
+/// A table and a [`PairMap`]: lookups of one pair's impacts.
+#[derive(Debug, Clone, Copy)]
+pub struct PairLookup<'t> {
+    table: &'t Table,
+    map: PairMap,
+}
+
+impl<'t> PairLookup<'t> {
+    /// Checks that `table` is for the law's model and builds the map.
+    pub fn new(table: &'t Table, law: &PairLaw, pair: &PairProperties) -> Result<Self, TableError> {
+        table.expect_model(law.model())?;
+        Ok(Self {
+            table,
+            map: PairMap::new(law, pair)?,
+        })
+    }
+
+    /// The table this handle looks up.
+    pub fn table(&self) -> &'t Table {
+        self.table
+    }
+
+    /// The pair's constants.
+    pub fn map(&self) -> &PairMap {
+        &self.map
+    }
+
+    /// MoR, time and length scale of one impact of the pair.
+    #[inline]
+    pub fn lookup(&self, impact: &Impact) -> Result<PhysicalLookup, TableError> {
+        self.table.lookup_pair(&self.map, impact)
+    }
 }
 
 /// A matrix-of-restitution table over the rectangle of a parameter box.
