@@ -84,6 +84,17 @@ fn location(text: &str, e: &toml::de::Error) -> String {
 /// The message of a shape error at `path` ("." is the top level).
 fn shape(text: &str, path: &str, e: &toml::de::Error) -> String {
     let message = e.message().trim_end();
+    // The path of an unknown key ends with the key itself: name its table.
+    let path = match message.strip_prefix("unknown field `") {
+        Some(rest) => {
+            let key = rest.split('`').next().unwrap_or("");
+            match path.strip_suffix(key) {
+                Some(parent) => parent.strip_suffix('.').unwrap_or(parent),
+                None => path,
+            }
+        }
+        None => path,
+    };
     let (what, hint) = explain(path, message);
     let at = location(text, e);
     match path {
@@ -227,7 +238,8 @@ mod tests {
         );
         let err = error("[output]\ntrajectori = \"a.xyz\"\n");
         assert!(
-            err.contains("unknown key `trajectori`") && err.contains("`trajectory`"),
+            err.contains("config: output: unknown key `trajectori`")
+                && err.contains("`trajectory`"),
             "{err}"
         );
     }
