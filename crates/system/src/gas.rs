@@ -3,7 +3,7 @@
 
 use crate::domain::Domain;
 use crate::error::{Result, invalid, positive};
-use crate::geometry::SimBox;
+use crate::geometry::{SimBox, bounded_cell_width};
 use crate::state::{Particles, Species};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -218,21 +218,10 @@ fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
 }
 
 /// Cells per axis of a grid over a box of `size` whose cells are at least `d` wide,
-/// `limit` cells at most: in a dilute gas the cells grow beyond `d` (a cell of width d
-/// each would take memory without bound).
+/// `limit` cells at most (see [`bounded_cell_width`]).
 fn grid_dims(size: [f64; 3], d: f64, limit: f64) -> [usize; 3] {
-    let mut width = d;
-    loop {
-        let dims: [f64; 3] = std::array::from_fn(|k| (size[k] / width).floor().max(1.0));
-        let total = dims[0] * dims[1] * dims[2];
-        if total <= limit {
-            return dims.map(|n| n as usize);
-        }
-        // Widen the cells of the axes that have more than one, so that their count
-        // falls to the limit (floors and axes dropping to one cell only lower it).
-        let split = dims.iter().filter(|&&n| n > 1.0).count() as f64;
-        width *= (total / limit).powf(1.0 / split) * (1.0 + 1e-12);
-    }
+    let width = bounded_cell_width(size, d, limit);
+    std::array::from_fn(|k| (size[k] / width).floor().max(1.0) as usize)
 }
 
 /// Random sequential addition: uniform trial positions, rejected if they overlap a
