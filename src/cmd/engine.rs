@@ -2,14 +2,21 @@
 //! figures of the summary.
 
 use anyhow::{Context, Result};
-use emdstar_system::{Config, System, Thermo};
+use emdstar_system::{Config, System, SystemError, Thermo};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{Value, json};
 use std::path::Path;
 
-/// Reads and builds a config.
-pub fn load(path: &Path) -> Result<(Config, System)> {
-    let config = Config::from_file(path).with_context(|| format!("reading {}", path.display()))?;
+/// Reads and builds a config, refusing one whose particles would not fit into memory
+/// unless `force`.
+pub fn load(path: &Path, force: bool) -> Result<(Config, System)> {
+    let config = Config::from_file(path).map_err(|e| match e {
+        // Names the path already.
+        SystemError::Io { .. } => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(format!("reading {}", path.display())),
+    })?;
+    super::resources::check_memory(&config, force)
+        .with_context(|| format!("in {}", path.display()))?;
     let system = config
         .build()
         .with_context(|| format!("in {}", path.display()))?;

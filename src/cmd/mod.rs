@@ -13,6 +13,7 @@ pub mod hybrid_engine;
 pub mod lammps;
 pub mod mor;
 pub mod pair;
+pub mod resources;
 pub mod run;
 pub mod run_loop;
 pub mod stop;

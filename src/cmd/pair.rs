@@ -37,7 +37,7 @@ pub struct PairArgs {
 }
 
 pub fn run(args: &PairArgs) -> Result<()> {
-    let (config, system) = load(&args.config)?;
+    let (config, system) = load(&args.config, false)?;
     let mut engine = AnyEngine::build(&args.engine, &config, system, PAIR_DT_FRACTION)?;
     engine
         .sim_mut()

@@ -36,6 +36,11 @@ use std::process::ExitCode;
 /// stopped and resumed ends in bitwise the same state as one that ran through. With
 /// --t-end a run stops earlier or goes on later than the config's t_end.
 ///
+/// Before it starts, a run is refused if its particles seem not to fit into the free
+/// memory (about 500 bytes each) or its trajectory not onto its disk; --force starts
+/// it anyway. A full disk during the run stops it with the file named; what was
+/// written is kept.
+///
 /// Ctrl-C (SIGINT) or SIGTERM stop the run at the next step or event: the log and
 /// trajectory are closed whole, a checkpoint is written (to --checkpoint, or next to
 /// the trajectory), and the summary says "interrupted"; the exit code is 130 or 143.
@@ -73,6 +78,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Start even if the particles seem not to fit into the free memory or the
+    /// trajectory into the free disk space (both are checked before the run starts).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: &RunArgs) -> Result<ExitCode> {
@@ -151,7 +160,7 @@ fn resume(engine: &mut AnyEngine, path: &Path, config: &Config) -> Result<f64> {
 }
 
 fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
-    let (config, system) = load(&args.config)?;
+    let (config, system) = load(&args.config, args.force)?;
     let n = system.particles.len();
     let species = system.species.len();
     let total_mass = system.particles.total_mass();
@@ -185,8 +194,10 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
             "trajectory_interval",
         )?;
         let gsd = traj_path.extension().is_some_and(|e| e == "gsd");
-        let frames = ((t_end - t_now) / every).floor() + 2.0;
+        let ticks = Ticks::new(every, step, t_now, fresh);
+        let frames = ((t_end - t_now) / ticks.interval()).floor() + 2.0;
         let bytes = frames * Trajectory::frame_bytes(gsd, n, species) as f64;
+        super::resources::check_disk(&traj_path, bytes, args.force)?;
         if n >= 100_000 || bytes > 1e8 {
             eprintln!(
                 "trajectory {}: about {frames:.0} frames of {n} particles, {:.1} GB{}",
@@ -213,11 +224,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
                 traj_path.display()
             ),
         };
-        Some((
-            traj_path.clone(),
-            writer,
-            Ticks::new(every, step, t_now, fresh),
-        ))
+        Some((traj_path.clone(), writer, ticks))
     };
     let log_path = output_path(&args.log, &output.log, &args.config, "log");
     let log_every = interval(output.log_interval, config.t_end / 100.0, "log_interval")?;

@@ -40,6 +40,11 @@ impl Ticks {
         ticks
     }
 
+    /// The time between ticks (a whole number of steps for a step engine).
+    pub fn interval(&self) -> f64 {
+        self.interval
+    }
+
     /// The time of the next tick.
     pub fn time(&self) -> f64 {
         self.next as f64 * self.interval
@@ -78,10 +83,10 @@ impl Trajectory {
 
     fn write_frame(&mut self, t: f64, p: &Particles, sim_box: Option<&SimBox>) -> Result<()> {
         match self {
-            Self::Xyz(w) => w.write_frame(t, p, sim_box)?,
-            Self::Gsd { writer, species } => writer.write_frame(t, p, *species, sim_box)?,
+            Self::Xyz(w) => w.write_frame(t, p, sim_box),
+            Self::Gsd { writer, species } => writer.write_frame(t, p, *species, sim_box),
         }
-        Ok(())
+        .with_context(|| format!("stopped at t = {t} s: writing the trajectory frame"))
     }
 
     fn flush(&mut self) -> Result<()> {
@@ -131,7 +136,13 @@ pub fn write_checkpoint(engine: &AnyEngine, path: &Path, config_digest: u64) -> 
         state: sim.save_state(),
     }
     .write(path)
-    .with_context(|| format!("writing the checkpoint {}", path.display()))
+    .context("writing the checkpoint")
+}
+
+/// Writes one log line, naming the time in the error.
+fn write_log(log: &mut ThermoLog, thermo: &Thermo) -> Result<()> {
+    log.write(thermo)
+        .with_context(|| format!("stopped at t = {} s: writing the thermo log", thermo.t))
 }
 
 /// Runs `engine` to `plan.t_end` (see the module docs).
@@ -155,7 +166,7 @@ pub fn drive(
     let mut last = first;
     let mut logged_at = f64::NAN;
     if plan.fresh {
-        plan.log.1.write(&first)?;
+        write_log(&mut plan.log.1, &first)?;
         logged_at = t_start;
         mode_counts.extend(engine.mode_point(0.0));
         if let Some((_, traj, ticks)) = &mut plan.trajectory {
@@ -192,7 +203,7 @@ pub fn drive(
         let t = engine.sim().time();
         if plan.log.2.take(t, tolerance) {
             last = engine.sim().thermo();
-            plan.log.1.write(&last)?;
+            write_log(&mut plan.log.1, &last)?;
             logged_at = t;
             mode_counts.extend(engine.mode_point(start.elapsed().as_secs_f64()));
             bar.set_message(engine.status());
@@ -217,7 +228,7 @@ pub fn drive(
     let t = engine.sim().time();
     if logged_at != t {
         last = engine.sim().thermo();
-        plan.log.1.write(&last)?;
+        write_log(&mut plan.log.1, &last)?;
         mode_counts.extend(engine.mode_point(wall_seconds));
     }
     if interrupted.is_none()

@@ -192,7 +192,8 @@ fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<()> {
-    std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+    // Through a temporary file renamed into place: never a table cut short.
+    emdstar_system::write_atomically(path, bytes).context("cannot write the table")?;
     println!("wrote {} ({} bytes)", path.display(), bytes.len());
     Ok(())
 }

@@ -214,6 +214,8 @@ fn write_report(args: &ValidateArgs, outputs: &[(&str, StageOutput)], seconds: f
     write(&dir.join("report.md"), &(md.join("\n") + "\n"))
 }
 
+/// Writes a report through a temporary file renamed into place (never half a report).
 fn write(path: &Path, text: &str) -> Result<()> {
-    std::fs::write(path, text).map_err(|e| anyhow!("cannot write {}: {e}", path.display()))
+    emdstar_system::write_atomically(path, text.as_bytes())
+        .map_err(|e| anyhow!("cannot write the report: {e}"))
 }

@@ -5,6 +5,7 @@ mod examples;
 mod hybrid;
 mod md;
 mod mor;
+mod reliability;
 mod restart;
 mod restitution;
 mod table;

@@ -150,32 +150,39 @@ fn wrong_checkpoints_are_refused_with_reasons() {
 fn a_killed_run_leaves_whole_lines_and_frames() {
     let dir = scratch("kill");
     let cfg = long_config(&dir);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
-        .current_dir(&dir)
-        .args(["run", cfg.to_str().unwrap(), "--engine", "md", "--quiet"])
-        .args(["--trajectory", "k.xyz", "--log", "k.log"])
-        .stdout(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while std::fs::read_to_string(dir.join("k.xyz")).map_or(0, |t| t.lines().count()) < 3 * 502 {
+    for engine in ["md", "emdstar", "hybrid"] {
+        let (traj, log) = (format!("{engine}.xyz"), format!("{engine}.log"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
+            .current_dir(&dir)
+            .args(["run", cfg.to_str().unwrap(), "--engine", engine, "--quiet"])
+            .args(["--trajectory", &traj, "--log", &log])
+            .stdout(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let start = Instant::now();
+        while std::fs::read_to_string(dir.join(&traj)).map_or(0, |t| t.lines().count()) < 3 * 502 {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "{engine}: no frames written"
+            );
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        child.kill().unwrap();
+        child.wait().unwrap();
+        let text = std::fs::read_to_string(dir.join(&log)).unwrap();
+        assert!(text.ends_with('\n'), "{engine}");
         assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no frames written"
+            text.lines()
+                .skip(1)
+                .all(|l| l.split_whitespace().count() == 12),
+            "{engine}"
         );
-        std::thread::sleep(Duration::from_millis(5));
+        let frames = std::fs::read_to_string(dir.join(&traj)).unwrap();
+        assert!(
+            frames.ends_with('\n') && frames.lines().count() % 502 == 0,
+            "{engine}"
+        );
     }
-    child.kill().unwrap();
-    child.wait().unwrap();
-    let text = std::fs::read_to_string(dir.join("k.log")).unwrap();
-    assert!(text.ends_with('\n'));
-    assert!(
-        text.lines()
-            .skip(1)
-            .all(|l| l.split_whitespace().count() == 12)
-    );
-    let frames = std::fs::read_to_string(dir.join("k.xyz")).unwrap();
-    assert!(frames.ends_with('\n') && frames.lines().count() % 502 == 0);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -191,13 +198,12 @@ fn long_config(dir: &Path) -> PathBuf {
 fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
     let dir = scratch("signals");
     let cfg = long_config(&dir);
-    for (engine, signal, code) in [
-        ("md", "INT", 130),
-        ("emdstar", "TERM", 143),
-        ("hybrid", "INT", 130),
-    ] {
-        let traj = format!("{engine}.xyz");
-        let log = format!("{engine}.log");
+    for (engine, signal, code) in ["md", "emdstar", "hybrid"]
+        .into_iter()
+        .flat_map(|e| [(e, "INT", 130), (e, "TERM", 143)])
+    {
+        let traj = format!("{engine}-{signal}.xyz");
+        let log = format!("{engine}-{signal}.log");
         let child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
             .current_dir(&dir)
             .args(["run", cfg.to_str().unwrap(), "--engine", engine, "--quiet"])
@@ -246,7 +252,7 @@ fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
             "{engine}: a frame cut short"
         );
         // The checkpoint next to the trajectory resumes the run.
-        let ckpt = format!("{engine}.ckpt");
+        let ckpt = format!("{engine}-{signal}.ckpt");
         assert!(dir.join(&ckpt).exists(), "{engine}");
         let resumed = emdstar_in(
             &dir,

@@ -2,12 +2,12 @@
 //! the matrix of restitution, the event engine's physics.
 
 use crate::options::{EngineKind, EventChoice, InterferenceChoice, MdChoice, MorChoice};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{Engine, Interference, Materials, Physics};
 use emdstar_system::{Config, System};
-use emdstar_table::Table;
+use emdstar_table::{Table, TableError};
 
 /// The MD options (`md` over the config's `[md]`). Without an explicit dt the step is
 /// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
@@ -55,8 +55,12 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
     Ok(match (choice.mor, &choice.table) {
         (MorChoice::Exact, _) => Box::new(ExactMor),
         (_, Some(path)) => {
-            let table = Table::open(path)
-                .with_context(|| format!("reading the MoR table {}", path.display()))?;
+            let table = Table::open(path).map_err(|e| match e {
+                // Names the path already.
+                TableError::Io(_) => anyhow::Error::new(e),
+                e => anyhow::Error::new(e)
+                    .context(format!("reading the MoR table {}", path.display())),
+            })?;
             Box::new(TableMorSource::from_table(table, fallback))
         }
         (_, None) => Box::new(TableMorSource::new(

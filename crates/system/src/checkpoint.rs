@@ -152,9 +152,9 @@ impl Checkpoint {
     /// Reads a checkpoint file.
     pub fn read(path: &Path) -> Result<Self> {
         let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| SystemError::Io {
+        let bytes = std::fs::read(path).map_err(|io| SystemError::Io {
             path: name.clone(),
-            source,
+            io,
         })?;
         Self::from_bytes(&bytes, &name)
     }
@@ -163,18 +163,23 @@ impl Checkpoint {
 /// Writes `bytes` to `path` through a temporary file next to it, synced and renamed into
 /// place: readers see the old file or the whole new one, never a part.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |source| SystemError::Io {
+    let io = |io| SystemError::Io {
         path: path.display().to_string(),
-        source,
+        io,
     };
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".partial");
     let tmp = std::path::PathBuf::from(tmp);
-    let mut file = std::fs::File::create(&tmp).map_err(io)?;
-    file.write_all(bytes).map_err(io)?;
-    file.sync_all().map_err(io)?;
-    drop(file);
-    std::fs::rename(&tmp, path).map_err(io)
+    let written = std::fs::File::create(&tmp).and_then(|mut file| {
+        file.write_all(bytes)?;
+        file.sync_all()
+    });
+    if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
+        // A full disk: no part-file left behind, the old file (if any) kept.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io(e));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

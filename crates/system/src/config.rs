@@ -53,7 +53,7 @@
 //! system and is engine-independent.
 
 use crate::domain::Domain;
-use crate::error::{Result, SystemError, finite3, invalid, positive};
+use crate::error::{Result, SystemError, finite3, invalid, positive, representable_energy};
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
@@ -179,16 +179,16 @@ pub struct MdConfig {
 impl Config {
     /// Parses TOML text; unknown keys are errors.
     pub fn from_toml(text: &str) -> Result<Self> {
-        let config: Self = toml::from_str(text).map_err(|e| SystemError::Parse(e.to_string()))?;
+        let config: Self = crate::parse::from_toml(text)?;
         positive("t_end", config.t_end)?;
         Ok(config)
     }
 
     /// Reads and parses a config file.
     pub fn from_file(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|source| SystemError::Io {
+        let text = std::fs::read_to_string(path).map_err(|io| SystemError::Io {
             path: path.display().to_string(),
-            source,
+            io,
         })?;
         Self::from_toml(&text)
     }
@@ -231,6 +231,7 @@ impl Config {
                     let index = species_index(&mut species, s);
                     let x = finite3(&format!("particles[{i}].position"), pc.position)?;
                     let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
+                    representable_energy(&format!("particles[{i}].velocity"), s.mass, v)?;
                     let w = finite3(
                         &format!("particles[{i}].angular_velocity"),
                         pc.angular_velocity,

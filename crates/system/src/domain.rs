@@ -2,7 +2,7 @@
 //! of a state against it that every engine relies on.
 
 use crate::error::{Result, SystemError, invalid};
-use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounding_box};
+use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box};
 use crate::state::Particles;
 use emdstar_contact::vec3::{norm, norm2, sub};
 
@@ -122,7 +122,8 @@ impl Domain {
         }
         let (lo, extent, periodic) = self.search_region(&p.position);
         let max_radius = p.radius.iter().copied().fold(0.0, f64::max);
-        let mut grid = CellGrid::new(lo, extent, periodic, 2.0 * max_radius);
+        let width = bounded_cell_width(extent, 2.0 * max_radius, 8.0 * p.len() as f64 + 64.0);
+        let mut grid = CellGrid::new(lo, extent, periodic, width);
         grid.bin(&p.position);
         let mut worst: Option<(usize, usize, f64, f64)> = None;
         for i in 0..p.len() {
@@ -168,6 +169,22 @@ mod tests {
         p.push(&s, 0, [0.0; 3], v);
         p.push(&s, 0, [1.0, 0.0, 0.0], [0.0; 3]);
         p
+    }
+
+    #[test]
+    fn far_apart_particles_are_checked_with_a_small_grid() {
+        // Two spheres of 1 µm 1 km apart in free space: a cell of 2 µm each would be
+        // 5e8 cells along x alone; the grid stays small and the check answers.
+        let s = [Species {
+            radius: 1e-6,
+            mass: 1.0,
+        }];
+        let mut p = Particles::default();
+        p.push(&s, 0, [0.0; 3], [0.0; 3]);
+        p.push(&s, 0, [1e3, 1e3, 1e3], [0.0; 3]);
+        p.push(&s, 0, [1e3, 1e3, 1e3 + 1e-6], [0.0; 3]);
+        let err = Domain::default().check(&p).unwrap_err().to_string();
+        assert!(err.contains("particles 1 and 2 overlap"), "{err}");
     }
 
     #[test]

@@ -38,12 +38,25 @@ pub enum SystemError {
     /// A checkpoint could not be read or does not belong to this run.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
-    /// A file could not be written.
-    #[error("{path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
+    /// A file could not be read or written.
+    #[error("{path}: {io}{}", io_hint(io))]
+    Io { path: String, io: std::io::Error },
+}
+
+/// What to do about an I/O error of a kind users meet.
+fn io_hint(e: &std::io::Error) -> &'static str {
+    use std::io::ErrorKind;
+    match e.kind() {
+        ErrorKind::StorageFull | ErrorKind::QuotaExceeded => {
+            "; free space on that disk or write the file elsewhere (what was written before \
+             is kept)"
+        }
+        ErrorKind::PermissionDenied | ErrorKind::ReadOnlyFilesystem => {
+            "; choose a path you may write to"
+        }
+        ErrorKind::NotFound => "; check the path (does its directory exist?)",
+        _ => "",
+    }
 }
 
 /// Shorthand for results of this crate.
@@ -70,5 +83,18 @@ pub fn positive(name: &str, value: f64) -> Result<f64> {
         Ok(value)
     } else {
         invalid!("{name} = {value} must be a finite number greater than zero")
+    }
+}
+
+/// `v` if the kinetic energy ½ m v² of a particle of mass `m` is a finite double (every
+/// engine squares speeds), else an error naming the quantity.
+pub fn representable_energy(name: &str, m: f64, v: [f64; 3]) -> Result<[f64; 3]> {
+    if (0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])).is_finite() {
+        Ok(v)
+    } else {
+        invalid!(
+            "{name} = {v:?} m/s is too large: the particle's kinetic energy overflows double \
+             precision; give a speed of a physical size"
+        )
     }
 }

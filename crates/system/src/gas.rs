@@ -3,7 +3,7 @@
 
 use crate::domain::Domain;
 use crate::error::{Result, invalid, positive};
-use crate::geometry::SimBox;
+use crate::geometry::{SimBox, bounded_cell_width};
 use crate::state::{Particles, Species};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -112,6 +112,14 @@ pub(crate) fn generate_gas(
     if !(rms.is_finite() && rms >= 0.0) {
         return invalid!("gas.rms_speed = {rms} must be a finite number ≥ 0");
     }
+    // Maxwell speeds reach a few times the rms; every engine squares them.
+    let energy = 0.5 * gas.count as f64 * species[0].mass * (10.0 * rms).powi(2);
+    if !energy.is_finite() {
+        return invalid!(
+            "gas.rms_speed = {rms:e} m/s is too large: the gas's kinetic energy overflows double \
+             precision; give a speed of a physical size"
+        );
+    }
     if gas.count == 1 && rms > 0.0 {
         return invalid!(
             "a single particle with zero total momentum cannot move: set gas.rms_speed = 0 or count > 1"
@@ -209,6 +217,13 @@ fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
         .collect())
 }
 
+/// Cells per axis of a grid over a box of `size` whose cells are at least `d` wide,
+/// `limit` cells at most (see [`bounded_cell_width`]).
+fn grid_dims(size: [f64; 3], d: f64, limit: f64) -> [usize; 3] {
+    let width = bounded_cell_width(size, d, limit);
+    std::array::from_fn(|k| (size[k] / width).floor().max(1.0) as usize)
+}
+
 /// Random sequential addition: uniform trial positions, rejected if they overlap a
 /// placed sphere (or leave the box along a closed axis).
 fn random_placement(
@@ -218,7 +233,7 @@ fn random_placement(
     rng: &mut ChaCha8Rng,
 ) -> Result<Vec<[f64; 3]>> {
     let d = 2.0 * radius;
-    let dims: [usize; 3] = std::array::from_fn(|k| ((b.size[k] / d).floor() as usize).max(1));
+    let dims = grid_dims(b.size, d, 8.0 * count as f64 + 64.0);
     let cell: [f64; 3] = std::array::from_fn(|k| b.size[k] / dims[k] as f64);
     let mut cells: Vec<Vec<u32>> = vec![Vec::new(); dims.iter().product()];
     let mut placed: Vec<[f64; 3]> = Vec::with_capacity(count);
@@ -311,6 +326,39 @@ fn maxwell_velocities(count: usize, rms: f64, rng: &mut ChaCha8Rng) -> Vec<[f64;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_dilute_random_gas_needs_a_small_grid() {
+        // 8 spheres of radius 1 µm in a 10 km box: 5e9 cells of 2 µm per axis.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [1e4; 3],
+            periodic: [true; 3],
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let x = random_placement(8, 1e-6, &b, &mut rng).unwrap();
+        assert_eq!(x.len(), 8);
+        // A long thin box: cells grow along the long axis only.
+        let long = grid_dims([1e9, 1e-9, 1e-9], 1e-10, 128.0);
+        assert!(
+            long[1] == 1 && long[2] == 1 && (64..=128).contains(&long[0]),
+            "{long:?}"
+        );
+        for (size, d, limit) in [
+            ([1e4; 3], 2e-6, 128.0),
+            ([1e9, 1e-9, 1e-9], 1e-10, 128.0),
+            ([1.0; 3], 0.1, 1e6),
+        ] {
+            let dims = grid_dims(size, d, limit);
+            let total: f64 = dims.iter().map(|&n| n as f64).product();
+            assert!(total <= limit, "{dims:?}");
+            for k in 0..3 {
+                assert!(dims[k] == 1 || size[k] / dims[k] as f64 >= d, "{dims:?}");
+            }
+        }
+        // A dense box keeps cells of width d.
+        assert_eq!(grid_dims([1.0; 3], 0.1, 1e6), [10; 3]);
+    }
 
     #[test]
     fn maxwell_velocities_have_zero_momentum_and_the_rms_speed() {

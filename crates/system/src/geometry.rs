@@ -105,6 +105,28 @@ pub enum Stencil {
     Backward,
 }
 
+/// The width of cells, at least `min_width`, with which a grid over `extent` has at
+/// most `limit` cells: where particles are few and far apart the cells widen (a cell of
+/// the contact size each would take memory without bound).
+pub(crate) fn bounded_cell_width(extent: [f64; 3], min_width: f64, limit: f64) -> f64 {
+    let mut width = min_width;
+    for _ in 0..64 {
+        let dims: [f64; 3] = std::array::from_fn(|k| {
+            let n = (extent[k] / width).floor();
+            if n.is_finite() { n.max(1.0) } else { f64::MAX }
+        });
+        let total = dims[0] * dims[1] * dims[2];
+        if total <= limit {
+            return width;
+        }
+        // Widen the cells of the axes that have more than one, so that their count
+        // falls to the limit (floors and axes dropping to one cell only lower it).
+        let split = dims.iter().filter(|&&n| n > 1.0).count().max(1) as f64;
+        width *= (total / limit).powf(1.0 / split).min(1e300) * (1.0 + 1e-12);
+    }
+    f64::INFINITY
+}
+
 /// Particles binned into cuboid cells by a counting sort.
 ///
 /// Along periodic axes the grid covers the box exactly and wraps; along closed axes it

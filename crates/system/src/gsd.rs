@@ -271,7 +271,7 @@ impl GsdWriter {
             block.resize((self.index_capacity * ENTRY_BYTES) as usize, 0);
             self.write_at(self.index_location, &block)?;
             self.end += block.len() as u64;
-            self.file.sync_data().map_err(io_error(&self.path))?;
+            crate::writers::sync_data(&self.file).map_err(io_error(&self.path))?;
             let header = self.header();
             self.write_at(0, &header)?;
         } else {
@@ -367,8 +367,8 @@ fn rows(name: &str, rows: u64, cols: u32, kind: Type, bytes: Vec<u8>) -> Chunk {
 }
 
 fn io_error(path: &str) -> impl Fn(std::io::Error) -> SystemError + '_ {
-    move |source| SystemError::Io {
+    move |io| SystemError::Io {
         path: path.to_string(),
-        source,
+        io,
     }
 }

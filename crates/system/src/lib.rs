@@ -25,6 +25,7 @@ mod gas;
 mod geometry;
 pub mod gsd;
 mod interactions;
+mod parse;
 mod simulation;
 mod state;
 mod system;

@@ -8,9 +8,19 @@ use std::io::Write;
 use std::path::Path;
 
 fn io_error(path: &str) -> impl Fn(std::io::Error) -> SystemError + '_ {
-    move |source| SystemError::Io {
+    move |io| SystemError::Io {
         path: path.to_string(),
-        source,
+        io,
+    }
+}
+
+/// Writes what the operating system buffers of `file` to its disk. A file that cannot
+/// be synced (a device such as /dev/null, a pipe: EINVAL) has nothing to lose and
+/// passes.
+pub(crate) fn sync_data(file: &File) -> std::io::Result<()> {
+    match file.sync_data() {
+        Err(e) if e.kind() == std::io::ErrorKind::InvalidInput => Ok(()),
+        other => other,
     }
 }
 
@@ -121,7 +131,7 @@ impl XyzWriter {
 
     /// Writes what the operating system still buffers to the disk.
     pub fn flush(&mut self) -> Result<()> {
-        self.out.sync_data().map_err(io_error(&self.path))
+        sync_data(&self.out).map_err(io_error(&self.path))
     }
 }
 
@@ -206,6 +216,6 @@ impl ThermoLog {
 
     /// Writes what the operating system still buffers to the disk.
     pub fn flush(&mut self) -> Result<()> {
-        self.out.sync_data().map_err(io_error(&self.path))
+        sync_data(&self.out).map_err(io_error(&self.path))
     }
 }

@@ -48,7 +48,9 @@ impl fmt::Display for TableError {
             ),
             Self::Truncated(what) => write!(
                 f,
-                "the table file is truncated ({what} is missing or cut short); copy or regenerate it"
+                "the table file is truncated: {what} is missing or cut short (an interrupted \
+                 copy or download?); copy the file again or regenerate it with `emdstar table \
+                 build SPEC`"
             ),
             Self::Corrupt(why) => write!(
                 f,

@@ -338,38 +338,46 @@ pub fn read_npz(bytes: &[u8]) -> Result<Vec<(String, Array)>, TableError> {
         .rev()
         .take(22 + 65535)
         .find(|&i| u32_at(i) == Some(0x0605_4b50))
-        .ok_or_else(|| truncated("no zip end-of-archive record"))?;
-    let n = u16_at(eocd + 10).ok_or_else(|| truncated("zip end record"))? as usize;
-    let mut p = u32_at(eocd + 16).ok_or_else(|| truncated("zip end record"))? as usize;
+        .ok_or_else(|| truncated("the zip end-of-archive record"))?;
+    let n = u16_at(eocd + 10).ok_or_else(|| truncated("the zip end-of-archive record"))? as usize;
+    let mut p =
+        u32_at(eocd + 16).ok_or_else(|| truncated("the zip end-of-archive record"))? as usize;
     let mut members = Vec::with_capacity(n);
     for _ in 0..n {
         if u32_at(p) != Some(0x0201_4b50) {
-            return Err(truncated("zip central directory"));
+            return Err(truncated("the zip central directory"));
         }
-        let method = u16_at(p + 10).ok_or_else(|| truncated("central directory"))?;
-        let crc = u32_at(p + 16).ok_or_else(|| truncated("central directory"))?;
-        let csize = u32_at(p + 20).ok_or_else(|| truncated("central directory"))? as usize;
-        let usize_ = u32_at(p + 24).ok_or_else(|| truncated("central directory"))? as usize;
-        let name_len = u16_at(p + 28).ok_or_else(|| truncated("central directory"))? as usize;
-        let extra_len = u16_at(p + 30).ok_or_else(|| truncated("central directory"))? as usize;
-        let comment_len = u16_at(p + 32).ok_or_else(|| truncated("central directory"))? as usize;
-        let local = u32_at(p + 42).ok_or_else(|| truncated("central directory"))? as usize;
+        let method = u16_at(p + 10).ok_or_else(|| truncated("the zip central directory"))?;
+        let crc = u32_at(p + 16).ok_or_else(|| truncated("the zip central directory"))?;
+        let csize = u32_at(p + 20).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let usize_ = u32_at(p + 24).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let name_len =
+            u16_at(p + 28).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let extra_len =
+            u16_at(p + 30).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let comment_len =
+            u16_at(p + 32).ok_or_else(|| truncated("the zip central directory"))? as usize;
+        let local = u32_at(p + 42).ok_or_else(|| truncated("the zip central directory"))? as usize;
         let name = bytes
             .get(p + 46..p + 46 + name_len)
             .map(|s| String::from_utf8_lossy(s).into_owned())
-            .ok_or_else(|| truncated("central directory"))?;
+            .ok_or_else(|| truncated("the zip central directory"))?;
         p += 46 + name_len + extra_len + comment_len;
         if method != 0 || csize != usize_ || csize == u32::MAX as usize {
             return Err(TableError::Corrupt(format!(
                 "member {name} is compressed or zip64; save tables with numpy.savez (not savez_compressed)"
             )));
         }
-        let lname = u16_at(local + 26).ok_or_else(|| truncated(&name))? as usize;
-        let lextra = u16_at(local + 28).ok_or_else(|| truncated(&name))? as usize;
+        let lname = u16_at(local + 26)
+            .ok_or_else(|| truncated(&format!("the header of member {name}")))?
+            as usize;
+        let lextra = u16_at(local + 28)
+            .ok_or_else(|| truncated(&format!("the header of member {name}")))?
+            as usize;
         let start = local + 30 + lname + lextra;
         let body = bytes
             .get(start..start + csize)
-            .ok_or_else(|| truncated(&format!("member {name}")))?;
+            .ok_or_else(|| truncated(&format!("the data of member {name}")))?;
         let found = crc32(body);
         if found != crc {
             return Err(TableError::ChecksumMismatch(format!(

@@ -341,10 +341,15 @@ mod rejections {
         for cut in [bytes.len() - 1, bytes.len() / 2, 100] {
             let msg = message(Table::from_bytes(&bytes[..cut]));
             assert!(
-                msg.starts_with("the table file is truncated"),
+                msg.starts_with("the table file is truncated: the zip ")
+                    && msg.contains(" is missing or cut short")
+                    && msg.contains("emdstar table build"),
                 "{cut}: {msg}"
             );
         }
+        // The message is one sentence: no doubled negation of the missing record.
+        let msg = message(Table::from_bytes(&bytes[..bytes.len() - 1]));
+        assert!(!msg.contains("no zip"), "{msg}");
         let msg = message(Table::from_bytes(b"hello"));
         assert!(msg.starts_with("not an emdstar MoR table"), "{msg}");
     }

@@ -1,0 +1,221 @@
+//! Input that `emdstar run` must refuse quickly, with a message that names what was
+//! wrong: extreme speeds in every engine, configs of the wrong shape, truncated tables,
+//! full disks, runs too large for the memory or the disk.
+
+use crate::{emdstar_in, error_in};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("emdstar-reliable-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const MATERIAL: &str = "[material]\nmodel = \"hertz\"\nyoung = 1e9\npoisson = 0.3\n\
+                        density = 2500.0\n";
+
+/// A gas of 64 spheres in a periodic box with `rms_speed` and `count`.
+fn gas(rms_speed: &str, count: u64, extra: &str) -> String {
+    format!(
+        "t_end = 1.0\n{extra}{MATERIAL}[gas]\ncount = {count}\nradius = 0.01\n\
+         arrangement = \"lattice\"\npacking_fraction = 0.01\nrms_speed = {rms_speed}\n"
+    )
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    std::fs::write(dir.join(name), text).unwrap();
+    name.to_string()
+}
+
+#[test]
+fn extreme_speeds_are_refused_by_every_engine_within_a_second_naming_the_key() {
+    let dir = scratch("extreme");
+    let hot = write(&dir, "hot.toml", &gas("1e300", 64, ""));
+    let fast = write(
+        &dir,
+        "fast.toml",
+        &format!(
+            "t_end = 1.0\n{MATERIAL}[[particles]]\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n\
+             velocity = [1e308, 0.0, 0.0]\n"
+        ),
+    );
+    for (config, key) in [(&hot, "gas.rms_speed"), (&fast, "particles[0].velocity")] {
+        for engine in ["md", "emdstar", "hybrid"] {
+            let start = Instant::now();
+            let err = error_in(&dir, &["run", config, "--engine", engine, "--quiet"]);
+            let took = start.elapsed();
+            assert!(
+                err.contains(key) && err.contains("too large"),
+                "{engine}, {config}: {err}"
+            );
+            assert!(took < Duration::from_secs(1), "{engine}: {took:?}");
+        }
+    }
+    // Refused before any file is written.
+    assert!(!dir.join("hot.xyz").exists() && !dir.join("fast.log").exists());
+}
+
+#[test]
+fn a_position_of_two_numbers_is_named_with_its_line() {
+    let dir = scratch("shape");
+    let config = write(
+        &dir,
+        "short.toml",
+        &format!("t_end = 1.0\n{MATERIAL}[[particles]]\nradius = 0.01\nposition = [0.0, 0.0]\n"),
+    );
+    let err = error_in(&dir, &["run", &config, "--quiet"]);
+    assert!(
+        err.contains("particles[0].position: expected 3 numbers, got 2 (line 9, column 12)"),
+        "{err}"
+    );
+    assert!(!err.contains("invalid length"), "{err}");
+}
+
+#[test]
+fn a_truncated_table_says_what_is_missing_and_what_to_do() {
+    let dir = scratch("table");
+    let full =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tables/hertz.npz")).unwrap();
+    std::fs::write(dir.join("cut.npz"), &full[..full.len() / 3]).unwrap();
+    let config = write(&dir, "gas.toml", &gas("1.0", 64, ""));
+    let err = error_in(
+        &dir,
+        &[
+            "run", &config, "--engine", "emdstar", "--table", "cut.npz", "--quiet",
+        ],
+    );
+    assert!(
+        err.contains("cut.npz")
+            && err
+                .contains("the table file is truncated: the zip end-of-archive record is missing")
+            && err.contains("regenerate it"),
+        "{err}"
+    );
+}
+
+/// Counts the occurrences of `what` in `text`.
+fn count(text: &str, what: &str) -> usize {
+    text.matches(what).count()
+}
+
+#[test]
+fn a_full_disk_is_reported_once_with_the_path_and_the_log_is_kept() {
+    let dir = scratch("full");
+    let config = write(&dir, "gas.toml", &gas("1.0", 64, ""));
+    for engine in ["md", "emdstar", "hybrid"] {
+        let err = error_in(
+            &dir,
+            &[
+                "run",
+                &config,
+                "--engine",
+                engine,
+                "--trajectory",
+                "/dev/full",
+                "--log",
+                "kept.log",
+                "--quiet",
+            ],
+        );
+        assert_eq!(count(&err, "/dev/full"), 1, "{engine}: {err}");
+        assert_eq!(count(&err, "No space left"), 1, "{engine}: {err}");
+        assert!(
+            err.contains("trajectory") && err.contains("free space"),
+            "{err}"
+        );
+        // The log's line at t = 0 was written before the first frame failed.
+        let log = std::fs::read_to_string(dir.join("kept.log")).unwrap();
+        assert!(log.lines().count() >= 2, "{engine}: {log}");
+    }
+    // An unwritable path: named once, with what to do.
+    let err = error_in(
+        &dir,
+        &[
+            "run",
+            &config,
+            "--trajectory",
+            "no/such/dir/t.xyz",
+            "--quiet",
+        ],
+    );
+    assert_eq!(count(&err, "no/such/dir/t.xyz"), 1, "{err}");
+    assert!(err.contains("check the path"), "{err}");
+    // A device that cannot be synced is no error: a run may write to /dev/null.
+    let out = emdstar_in(
+        &dir,
+        &[
+            "run",
+            &config,
+            "--trajectory",
+            "/dev/null",
+            "--log",
+            "/dev/null",
+            "--quiet",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = error_in(&dir, &["run", &config, "--log", "/dev/full", "--quiet"]);
+    assert_eq!(count(&err, "/dev/full"), 1, "{err}");
+    assert_eq!(count(&err, "No space left"), 1, "{err}");
+}
+
+#[test]
+fn a_gas_too_large_for_the_memory_is_refused_at_once() {
+    let dir = scratch("memory");
+    let config = write(&dir, "huge.toml", &gas("1.0", 100_000_000, ""));
+    for engine in ["md", "emdstar", "hybrid"] {
+        let start = Instant::now();
+        let err = error_in(&dir, &["run", &config, "--engine", engine, "--quiet"]);
+        assert!(
+            err.contains("100000000 particles need about") && err.contains("--force"),
+            "{engine}: {err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(1));
+    }
+}
+
+#[test]
+fn a_trajectory_larger_than_the_disk_is_refused_before_the_run() {
+    let dir = scratch("disk");
+    // 10^10 frames of 64 particles: far beyond any disk.
+    let config = write(
+        &dir,
+        "often.toml",
+        &gas("1.0", 64, "[output]\ntrajectory_interval = 1e-10\n"),
+    );
+    let err = error_in(&dir, &["run", &config, "--engine", "emdstar", "--quiet"]);
+    assert!(
+        err.contains("often.xyz would take about")
+            && err.contains("free")
+            && err.contains("--force"),
+        "{err}"
+    );
+    // Refused before the run: neither file was opened.
+    assert!(!dir.join("often.xyz").exists() && !dir.join("often.log").exists());
+    // Without a trajectory the same config runs.
+    let out = emdstar_in(
+        &dir,
+        &[
+            "run",
+            &config,
+            "--engine",
+            "emdstar",
+            "--trajectory",
+            "none",
+            "--t-end",
+            "0.01",
+            "--quiet",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
