@@ -2,7 +2,7 @@
 //! layouts the engines need: half (MD) and full with an upper part (the hybrid).
 
 use crate::options::MdError;
-use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
+use emdstar_system::{CellGrid, SimBox, Stencil, bounded_cell_width, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -91,13 +91,22 @@ impl NeighbourList {
                 (lo, extent, [false; 3])
             }
         };
-        let mut grid = if per_cell > 0.0 {
+        let cell = if per_cell > 0.0 {
             let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
-            let cell = min_cell.max((per_cell * volume / positions.len().max(1) as f64).cbrt());
-            CellGrid::new(lo, extent, periodic, cell)
+            min_cell.max((per_cell * volume / positions.len().max(1) as f64).cbrt())
         } else {
-            CellGrid::new(lo, extent, periodic, min_cell)
+            min_cell
         };
+        // Particles few and far apart (free space, a huge box) would need cells without
+        // bound; beyond 64 per particle (plus 2²¹) the cells widen, which only adds
+        // candidates.
+        let limit = 64.0 * positions.len() as f64 + f64::from(1u32 << 21);
+        let mut grid = CellGrid::new(
+            lo,
+            extent,
+            periodic,
+            bounded_cell_width(extent, cell, limit),
+        );
         if let Some(b) = sim_box {
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
             for k in 0..3 {

@@ -5,6 +5,7 @@
 mod common;
 
 use common::*;
+use emdstar_contact::Vec3;
 use emdstar_dem::ContactEnd;
 
 /// Errors for 25 … 800 steps per contact (dt halved five times) and the fitted order.
@@ -54,4 +55,30 @@ fn hertz_converges_faster_than_first_order() {
         assert!(errors[5] < 5e-6, "{name}: error {:e}", errors[5]);
         assert!(order > 1.4, "{name}: observed order {order}");
     }
+}
+
+/// Spheres 10⁴ m apart along every axis in free space: the list's grid widens its cells
+/// instead of asking for one cell per contact distance over the whole span (10¹³ cells,
+/// found by fuzzing), and a pair there still collides as a lone pair would.
+#[test]
+fn far_apart_spheres_in_free_space_get_a_small_grid() {
+    let far = 1e4;
+    let system = free_system(
+        linear(0.0),
+        &[
+            (Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 0.0)),
+            (Vec3::new(far, far, far), Vec3::new(0.0, 0.0, 0.0)),
+            (Vec3::new(far + 0.3, far, far), Vec3::new(-1.0, 0.0, 0.0)),
+        ],
+    );
+    let start = std::time::Instant::now();
+    let mut md = engine(system, 1e-4, 1.0);
+    md.advance(4000).unwrap();
+    assert!(start.elapsed().as_secs_f64() < 10.0);
+    // Equal masses, elastic, head-on: the moving sphere stops, the one it hit moves on.
+    let v = md.particles_in_config_order().velocity;
+    assert!(
+        v[2][0].abs() < 1e-3 && (v[1][0] + 1.0).abs() < 1e-3,
+        "{v:?}"
+    );
 }

@@ -108,7 +108,7 @@ pub enum Stencil {
 /// The width of cells, at least `min_width`, with which a grid over `extent` has at
 /// most `limit` cells: where particles are few and far apart the cells widen (a cell of
 /// the contact size each would take memory without bound).
-pub(crate) fn bounded_cell_width(extent: [f64; 3], min_width: f64, limit: f64) -> f64 {
+pub fn bounded_cell_width(extent: [f64; 3], min_width: f64, limit: f64) -> f64 {
     let mut width = min_width;
     for _ in 0..64 {
         let dims: [f64; 3] = std::array::from_fn(|k| {
