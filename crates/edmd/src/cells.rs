@@ -8,6 +8,7 @@
 //! lost if a particle leaves the region.
 
 use crate::detect::time_to_face;
+use emdstar_system::cell_along;
 
 /// Sentinel for "no particle".
 pub const NONE: u32 = u32::MAX;
@@ -24,14 +25,7 @@ pub fn auto_cell_width(max_contact: f64, volume: f64, n: usize) -> f64 {
 /// Cells per axis of a grid over `size` with cells at least `min_width` wide: at least
 /// one, at most 1024 (Morton keys and spans use 10 bits per axis).
 pub fn cells_per_axis(size: [f64; 3], min_width: f64) -> [usize; 3] {
-    std::array::from_fn(|k| {
-        let cells = (size[k] / min_width).floor();
-        if cells.is_finite() && cells >= 1.0 {
-            (cells as usize).min(1 << 10)
-        } else {
-            1
-        }
-    })
+    emdstar_system::cells_per_axis(size, min_width, 1 << 10)
 }
 
 /// The geometry of a cell grid: cuboid cells over `[lo, lo + size]`, periodic or
@@ -63,20 +57,20 @@ impl CellShape {
     #[inline]
     pub fn coords_of(&self, p: [f64; 3]) -> [u32; 3] {
         std::array::from_fn(|k| {
-            let c = ((p[k] - self.lo[k]) / self.width[k]).floor();
-            let top = self.dims[k] - 1;
-            if c < 0.0 {
-                if self.periodic[k] { top as u32 } else { 0 }
-            } else {
-                (c as usize).min(top) as u32
-            }
+            cell_along(
+                p[k],
+                self.lo[k],
+                self.width[k],
+                self.dims[k],
+                self.periodic[k],
+            ) as u32
         })
     }
 }
 
 /// A cell grid with a linked list of particles per cell: O(1) insertion, removal and
 /// moves, for particles that change cell one event at a time. (The static grids of
-/// neighbour lists bin all particles at once instead: `emdstar_system::LinkedCells`.)
+/// neighbour lists bin all particles at once instead: `emdstar_system::CellGrid`.)
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct LinkedCells {
     pub shape: CellShape,

@@ -143,17 +143,36 @@ pub struct CellGrid {
     cell_of: Vec<u32>,
 }
 
+/// Cells along each axis of `extent`, each at least `min_width` wide: at least one and at
+/// most `cap` per axis (the rule of every cell grid of the workspace).
+pub fn cells_per_axis(extent: [f64; 3], min_width: f64, cap: usize) -> [usize; 3] {
+    std::array::from_fn(|k| {
+        let n = (extent[k] / min_width).floor();
+        if n.is_finite() && n >= 1.0 {
+            (n as usize).min(cap)
+        } else {
+            1
+        }
+    })
+}
+
+/// The cell along one axis of a coordinate `x` in a grid of `dims` cells of `width` from
+/// `lo`: below the grid it wraps to the top cell on a periodic axis and stays in the
+/// first cell on a closed one; above it stays in the top cell.
+#[inline]
+pub fn cell_along(x: f64, lo: f64, width: f64, dims: usize, periodic: bool) -> usize {
+    let c = ((x - lo) / width).floor();
+    if c < 0.0 {
+        if periodic { dims - 1 } else { 0 }
+    } else {
+        (c as usize).min(dims - 1)
+    }
+}
+
 impl CellGrid {
     /// An empty grid over `[lo, lo + extent]` with cells at least `min_cell` wide.
     pub fn new(lo: [f64; 3], extent: [f64; 3], periodic: [bool; 3], min_cell: f64) -> Self {
-        let dims: [usize; 3] = std::array::from_fn(|k| {
-            let n = (extent[k] / min_cell).floor();
-            if n.is_finite() && n >= 1.0 {
-                (n as usize).min(1 << 20)
-            } else {
-                1
-            }
-        });
+        let dims = cells_per_axis(extent, min_cell, 1 << 20);
         let cell_size = std::array::from_fn(|k| extent[k] / dims[k] as f64);
         Self {
             lo,
@@ -178,16 +197,13 @@ impl CellGrid {
     #[inline]
     pub fn coords(&self, p: [f64; 3]) -> [usize; 3] {
         std::array::from_fn(|k| {
-            let c = ((p[k] - self.lo[k]) / self.cell_size[k]).floor();
-            if c < 0.0 {
-                if self.periodic[k] {
-                    self.dims[k] - 1
-                } else {
-                    0
-                }
-            } else {
-                (c as usize).min(self.dims[k] - 1)
-            }
+            cell_along(
+                p[k],
+                self.lo[k],
+                self.cell_size[k],
+                self.dims[k],
+                self.periodic[k],
+            )
         })
     }
 

@@ -38,7 +38,9 @@ pub use config::{
 pub use domain::Domain;
 pub use error::{Result, SystemError};
 pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
-pub use geometry::{CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box};
+pub use geometry::{
+    CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
+};
 pub use interactions::{Interaction, Interactions};
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
