@@ -18,6 +18,25 @@ pub(crate) fn region(
     }
 }
 
+/// The link cells of `n` particles: at least `cell` wide, and wider where the particles
+/// are few and far apart (beyond 64 cells per particle plus 2²¹, free space), where a
+/// cell per contact size would take memory without bound and every φ is small anyway.
+fn link_cells(
+    lo: [f64; 3],
+    extent: [f64; 3],
+    periodic: [bool; 3],
+    cell: f64,
+    n: usize,
+) -> CellGrid {
+    let limit = 64.0 * n as f64 + f64::from(1u32 << 21);
+    CellGrid::new(
+        lo,
+        extent,
+        periodic,
+        emdstar_system::bounded_cell_width(extent, cell, limit),
+    )
+}
+
 /// The local volume fraction of every particle: the solid volume (4/3)πR³ of the
 /// particles in its link cell and the neighbouring cells, over the volume of those
 /// cells (HAET, Sec. 5–6: the link cell and its 26 neighbours in 3-D; fewer at closed
@@ -30,7 +49,7 @@ pub fn local_volume_fractions(
     (lo, extent, periodic): ([f64; 3], [f64; 3], [bool; 3]),
     cell: f64,
 ) -> Vec<f64> {
-    let mut grid = CellGrid::new(lo, extent, periodic, cell);
+    let mut grid = link_cells(lo, extent, periodic, cell, positions.len());
     grid.bin(positions);
     volume_fractions_on(&grid, positions, radius, cell)
 }
@@ -135,7 +154,7 @@ pub(crate) fn any_dense(
     phi: f64,
     scratch: &mut DenseScratch,
 ) -> bool {
-    let grid = CellGrid::new(lo, extent, periodic, cell);
+    let grid = link_cells(lo, extent, periodic, cell, positions.len());
     let DenseScratch { solid, cell_of } = scratch;
     if solid.len() < grid.len() {
         solid.resize(grid.len(), 0.0);
@@ -215,6 +234,22 @@ mod tests {
         assert!((phi[0] - 0.2 / 3.0).abs() < 1e-12, "{phi:?}");
         assert!((phi[1] - 0.1).abs() < 1e-12);
         assert!((phi[2] - 0.2 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn far_apart_particles_get_a_small_grid() {
+        // Two touching spheres and one 10⁴ m away along every axis (free space): one cell
+        // of 0.3 m per contact size would be 3·10¹³ cells (found by fuzzing the hybrid).
+        let x = [[0.0; 3], [0.2, 0.0, 0.0], [1e4; 3]];
+        let region = ([0.0; 3], [1e4; 3], [false; 3]);
+        let phi = local_volume_fractions(&x, &[0.1; 3], region, 0.3);
+        assert!(
+            phi.iter().all(|p| p.is_finite() && *p >= 0.0 && *p < 1e-6),
+            "{phi:?}"
+        );
+        let mut scratch = DenseScratch::default();
+        assert!(!any_dense(&x, &[0.1; 3], region, 0.3, 0.2, &mut scratch));
+        assert!(scratch.solid.len() < 1 << 23);
     }
 
     #[test]
