@@ -2,7 +2,7 @@
 //! layouts the engines need: half (MD) and full with an upper part (the hybrid).
 
 use crate::options::MdError;
-use emdstar_system::{CellGrid, SimBox, Stencil, bounded_cell_width, bounding_box};
+use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box, sparse_cell_width};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -97,15 +97,12 @@ impl NeighbourList {
         } else {
             min_cell
         };
-        // Particles few and far apart (free space, a huge box) would need cells without
-        // bound; beyond 64 per particle (plus 2²¹) the cells widen, which only adds
-        // candidates.
-        let limit = 64.0 * positions.len() as f64 + f64::from(1u32 << 21);
+        // Where particles are few and far apart the cells widen.
         let mut grid = CellGrid::new(
             lo,
             extent,
             periodic,
-            bounded_cell_width(extent, cell, limit),
+            sparse_cell_width(extent, cell, positions.len()),
         );
         if let Some(b) = sim_box {
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);

@@ -142,10 +142,8 @@ impl LinkedCells {
         min_width: f64,
         n: usize,
     ) -> Self {
-        // Particles few and far apart (free space) would need cells without bound;
-        // beyond 64 per particle (plus 2²¹) the cells widen, which only adds candidates.
-        let limit = 64.0 * n as f64 + f64::from(1u32 << 21);
-        let min_width = emdstar_system::bounded_cell_width(size, min_width, limit);
+        // Where particles are few and far apart the cells widen.
+        let min_width = emdstar_system::sparse_cell_width(size, min_width, n);
         let shape = CellShape::new(lo, size, periodic, min_width);
         let dims = shape.dims;
         let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];

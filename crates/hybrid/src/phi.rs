@@ -28,12 +28,11 @@ fn link_cells(
     cell: f64,
     n: usize,
 ) -> CellGrid {
-    let limit = 64.0 * n as f64 + f64::from(1u32 << 21);
     CellGrid::new(
         lo,
         extent,
         periodic,
-        emdstar_system::bounded_cell_width(extent, cell, limit),
+        emdstar_system::sparse_cell_width(extent, cell, n),
     )
 }
 

@@ -105,6 +105,15 @@ pub enum Stencil {
     Backward,
 }
 
+/// The width of cells for a grid of `n` particles over `extent`: `min_width`, widened
+/// only where the particles are few and far apart (beyond 64 cells per particle plus
+/// 2²¹, e.g. in free space), where a cell per contact size would take memory without
+/// bound. Wider cells only add candidates. Every engine's grid over user positions
+/// uses this bound.
+pub fn sparse_cell_width(extent: [f64; 3], min_width: f64, n: usize) -> f64 {
+    bounded_cell_width(extent, min_width, 64.0 * n as f64 + f64::from(1u32 << 21))
+}
+
 /// The width of cells, at least `min_width`, with which a grid over `extent` has at
 /// most `limit` cells: where particles are few and far apart the cells widen (a cell of
 /// the contact size each would take memory without bound).
