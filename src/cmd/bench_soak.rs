@@ -150,9 +150,10 @@ fn soak(
         }
         bar.set_position(done);
         bar.set_message(format!(
-            "K/K₀ = {:.2e}, max overlap {:.1e}",
+            "K/K₀ = {:.2e}, max overlap {:.1e}, re-contacts {}",
             e.kinetic_energy() / k0,
-            e.stats().max_impact_overlap
+            e.stats().max_impact_overlap,
+            e.stats().recontacts
         ));
     }
     bar.finish_and_clear();
@@ -172,6 +173,9 @@ fn soak(
         "simulated_time": e.time(),
         "kinetic_energy_ratio": k1 / k0,
         "max_impact_overlap_over_contact": s.max_impact_overlap / contact,
+        "recontacts": s.recontacts,
+        "max_recontact_overlap_over_contact": s.max_recontact_overlap / contact,
+        "max_recontact_overlap_over_placed": s.max_recontact_overlap_ratio,
         "separation_bins_ulp": (-8..=8).collect::<Vec<i64>>(),
         "separation_histogram": s.separation_histogram,
         "stabilising_collisions": s.stabilising,
@@ -225,6 +229,17 @@ fn print_soak(v: &Value, s: &Stats) {
         s.stabilising,
         v["stabilising_per_event"].as_f64().unwrap_or(0.0),
     );
+    if s.recontacts > 0 {
+        println!(
+            "  {} re-contacts of pairs that eMD* left overlapping (at most {:.2e} σ, {:.10} of \
+             the overlap the pair was left at)",
+            s.recontacts,
+            v["max_recontact_overlap_over_contact"]
+                .as_f64()
+                .unwrap_or(0.0),
+            s.max_recontact_overlap_ratio,
+        );
+    }
     println!(
         "  momentum drift {:.2e} (relative to the initial thermal momentum {:.2e}, \
          to the final {:.2e}); kinetic energy K/K₀ = {:.3e}",

@@ -26,5 +26,10 @@ pub fn stats_json(s: &Stats) -> Value {
             "exact_mor": s.mor_fallbacks,
         },
         "max_impact_overlap": s.max_impact_overlap,
+        "recontacts": {
+            "count": s.recontacts,
+            "max_overlap": s.max_recontact_overlap,
+            "max_overlap_over_placed": s.max_recontact_overlap_ratio,
+        },
     })
 }

@@ -231,6 +231,19 @@ fn bad_restitution_is_refused_with_a_reason() {
             "--plot belongs to --restitution-curve",
         ),
         (
+            with(&[
+                "--dissipation",
+                "1e-4",
+                "--speed",
+                "1",
+                "--eccentricity",
+                "0",
+                "--curve-points",
+                "5",
+            ]),
+            "--curve-points belongs to --restitution-curve",
+        ),
+        (
             vec![
                 "mor",
                 "--model",

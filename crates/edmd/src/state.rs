@@ -3,7 +3,7 @@
 //! the operations both broad phases use on them (delayed updates, periodic images,
 //! keeping the earliest prediction, queueing).
 
-use crate::collision::{NONE, RotationProbe};
+use crate::collision::{LastContact, NONE, RotationProbe};
 use crate::physics::Physics;
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -107,6 +107,8 @@ pub struct State<Q: EventQueue> {
     pub(crate) species: Vec<u32>,
     /// eMD*: the velocity the pending E^v event applies.
     pub(crate) pending_vel: Vec<[f64; 3]>,
+    /// eMD*: each particle's last pair collision (partners renumbered with the slots).
+    pub(crate) last_contact: Vec<LastContact>,
     /// Angular velocities by original particle number: constant, as no collision rule
     /// of this engine exerts a torque.
     pub(crate) spin: Vec<[f64; 3]>,
@@ -317,11 +319,16 @@ impl<Q: EventQueue> State<Q> {
         permute(&mut self.id, order, &mut s_u);
         let mut s_v = Vec::new();
         permute(&mut self.pending_vel, order, &mut s_v);
+        let mut s_c = Vec::new();
+        permute(&mut self.last_contact, order, &mut s_c);
         // Particles below n are renumbered; walls (n + w) and NONE keep their numbers.
         let renumber = |j: u32| new_index.get(j as usize).copied().unwrap_or(j);
         for e in self.slot.iter_mut().map(|s| &mut s.ev) {
             e.partner = renumber(e.partner);
             e.coll_partner = renumber(e.coll_partner);
+        }
+        for c in &mut self.last_contact {
+            c.partner = renumber(c.partner);
         }
     }
 

@@ -35,14 +35,31 @@ pub struct Stats {
     pub mor_fallbacks: u64,
     /// Spatial re-sorts of the particle order.
     pub resorts: u64,
-    /// Largest overlap (contact distance − centre distance) at a pair impact.
+    /// Largest overlap (contact distance − centre distance) at a pair impact, re-contacts
+    /// apart.
     pub max_impact_overlap: f64,
     /// Impact separations (|r| − σ) in units of σ·2⁻⁵², bins −8..=8 (outer bins
-    /// collect everything beyond).
+    /// collect everything beyond), re-contacts apart.
     pub separation_histogram: [u64; 17],
+    /// eMD*: impacts of two spheres that their last collision left overlapping and that
+    /// meet again before separating (see `collision::recontact`).
+    pub recontacts: u64,
+    /// Largest overlap at a re-contact.
+    pub max_recontact_overlap: f64,
+    /// Largest ratio of a re-contact's overlap to the overlap l(1 − ε_r) its pair was
+    /// left at (at most 1: the overlap never grew).
+    pub max_recontact_overlap_ratio: f64,
 }
 
 impl Stats {
+    /// Records a re-contact at `overlap` of a pair left at overlap `placed`.
+    #[inline]
+    pub fn record_recontact(&mut self, overlap: f64, placed: f64) {
+        self.recontacts += 1;
+        self.max_recontact_overlap = self.max_recontact_overlap.max(overlap);
+        self.max_recontact_overlap_ratio = self.max_recontact_overlap_ratio.max(overlap / placed);
+    }
+
     /// Pair plus wall collisions.
     pub fn collisions(&self) -> u64 {
         self.pair_collisions + self.wall_collisions

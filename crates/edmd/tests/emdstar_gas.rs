@@ -99,3 +99,33 @@ fn epochs_and_crossings_run_the_same_emdstar_events() {
         .count();
     assert!(resolved > 0, "no interference among the compared events");
 }
+
+/// A dissipative contact ends before the overlap is gone, so eMD* leaves each pair
+/// overlapping by l(1 − ε_r) until it separates; when a third particle turns one of
+/// them back in that time the pair meets again inside that overlap. Every other impact
+/// must come from outside contact (overlap at round-off, Bannerman et al. 2014), and a
+/// re-contact's overlap must never exceed the one the pair was left at.
+#[test]
+fn impacts_come_from_outside_contact_except_recontacts_within_the_placed_overlap() {
+    let sphere = Sphere::from_density(0.1, 1140.0).unwrap();
+    let (eta, sigma) = (0.05, 0.2);
+    let density = eta / (4.0 / 3.0 * std::f64::consts::PI * 0.001);
+    let setup = fcc(5, density, sigma, sphere.mass, sphere.mass * 4.0 / 3.0, 5);
+    let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e8, 0.4, 1e-5).unwrap());
+    for interference in [Interference::HitOnly, Interference::BothPartners] {
+        let physics = Physics::EmdStar {
+            materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+            mor: Box::new(ExactMor),
+            interference,
+        };
+        let mut e: Engine = Engine::new(&setup.0, &setup.1, physics).unwrap();
+        e.run_collisions(40_000).unwrap();
+        let s = *e.stats();
+        eprintln!("{interference:?}: {s:?}");
+        assert!(s.recontacts > 0, "no re-contact to check: {s:?}");
+        // The overlap eMD* places is far above round-off here (ε_r < 1 − 1e-5).
+        assert!(s.max_recontact_overlap > 1e-7 * sigma, "{s:?}");
+        assert!(s.max_recontact_overlap_ratio <= 1.0 + 1e-6, "{s:?}");
+        assert!(s.max_impact_overlap < 1e-12 * sigma, "{s:?}");
+    }
+}

@@ -14,8 +14,9 @@ use std::path::Path;
 const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 
 /// The version of the layout and of every engine's state encoding (2: particles carry
-/// angular velocities, MD its tangential springs).
-pub const CHECKPOINT_VERSION: u32 = 2;
+/// angular velocities, MD its tangential springs; 3: the event engines keep each
+/// particle's last pair collision).
+pub const CHECKPOINT_VERSION: u32 = 3;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]

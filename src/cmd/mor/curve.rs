@@ -37,12 +37,12 @@ pub fn run(args: &MorArgs, model: Model) -> Result<()> {
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         bail!("--curve-speeds LO HI needs 0 < LO < HI (m/s), got {lo} and {hi}");
     }
-    if args.curve_points < 2 {
+    let n = args.curve_points.unwrap_or(21);
+    if n < 2 {
         bail!("--curve-points must be at least 2");
     }
     let (law, pair, fitted) = material(args, model)?;
     let pair_law = PairLaw::same_material(&law, pair.r_eff)?;
-    let n = args.curve_points;
     let mut points = Vec::with_capacity(n);
     for k in 0..n {
         let speed = lo * (hi / lo).powf(k as f64 / (n - 1) as f64);

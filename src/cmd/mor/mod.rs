@@ -114,9 +114,9 @@ pub struct MorArgs {
     /// to 100].
     #[arg(long, num_args = 2, value_names = ["LO", "HI"])]
     pub curve_speeds: Option<Vec<f64>>,
-    /// Speeds on the curve, evenly spaced in log(speed).
-    #[arg(long, value_name = "N", default_value_t = 21)]
-    pub curve_points: usize,
+    /// Speeds on the curve, evenly spaced in log(speed) [default: 21].
+    #[arg(long, value_name = "N")]
+    pub curve_points: Option<usize>,
     /// Also draw the curve as a PNG.
     #[arg(long, value_name = "FILE.png")]
     pub plot: Option<PathBuf>,
@@ -141,6 +141,7 @@ pub fn run(args: &MorArgs) -> Result<()> {
     }
     for (flag, given) in [
         ("--curve-speeds", args.curve_speeds.is_some()),
+        ("--curve-points", args.curve_points.is_some()),
         ("--plot", args.plot.is_some()),
     ] {
         if given {

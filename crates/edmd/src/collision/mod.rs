@@ -8,8 +8,10 @@
 //! event-driven part are both hosts.
 
 mod probe;
+mod recontact;
 
 pub use probe::{NONE, RotationProbe, pushes_deeper};
+pub use recontact::{LastContact, recontact};
 
 use crate::error::Result;
 use crate::physics::{Interference, Physics};
@@ -62,6 +64,9 @@ pub trait Host {
     fn clear_transient(&mut self, i: usize);
     /// Notes that `i`'s trajectory jumped (predictions involving it are stale).
     fn changed(&mut self, i: usize);
+    /// eMD*: `i`'s last pair collision (see [`LastContact`]).
+    fn last_contact(&self, i: usize) -> LastContact;
+    fn set_last_contact(&mut self, i: usize, c: LastContact);
 
     /// Puts `i` at `x` now (an E^φ displacement): wrapped into the box and filed
     /// where the host finds it.
@@ -185,7 +190,15 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
     let v = sub(h.velocity(i), h.velocity(j));
     let contact = h.radius(i) + h.radius(j);
     let distance = dot(r, r).sqrt();
-    h.stats().record_impact(distance, contact);
+    let emdstar = matches!(h.rule().0, Physics::EmdStar { .. });
+    let last = [h.last_contact(i), h.last_contact(j)];
+    match emdstar
+        .then(|| recontact(i, j, last, contact - distance))
+        .flatten()
+    {
+        Some(placed) => h.stats().record_recontact(contact - distance, placed),
+        None => h.stats().record_impact(distance, contact),
+    }
     h.stats().pair_collisions += 1;
     let (si, sj) = (h.species(i), h.species(j));
     let eps = match h.rule() {
@@ -196,6 +209,10 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
         }
         (Physics::EmdStar { .. }, _) => emdstar_pair(h, i, j, r, v)?,
     };
+    if emdstar && eps.is_some() {
+        // No E^φ placed the pair (exception a): it leaves from outside contact.
+        note_contact(h, i, j, 0.0);
+    }
     if let Some(eps) = eps {
         kick_pair(h, i, j, r, v, eps);
     }
@@ -212,11 +229,30 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
             h.restore(p as usize, probe.before[slot]);
             h.clear_transient(p as usize);
         }
+        note_contact(h, i, j, 0.0);
         kick_pair(h, i, j, r, v, probe.fallback);
         h.predict(i);
         h.predict(j);
     }
     Ok(true)
+}
+
+/// Notes that `i` and `j` collided last with each other, left at `overlap`.
+fn note_contact<H: Host>(h: &mut H, i: usize, j: usize, overlap: f64) {
+    h.set_last_contact(
+        i,
+        LastContact {
+            partner: j as u32,
+            overlap,
+        },
+    );
+    h.set_last_contact(
+        j,
+        LastContact {
+            partner: i as u32,
+            overlap,
+        },
+    );
 }
 
 /// The E^φ event of eMD* for a pair (Sec. VI B 2). Returns the eMD restitution to
@@ -272,6 +308,8 @@ fn emdstar_pair<H: Host>(
         fallback: -m.eps_rdot,
         blocked: false,
     });
+    // Eq. (28): the pair overlaps by l(1 − ε_r) until it has separated.
+    note_contact(h, i, j, l - l * m.eps_r);
     let g = h.gravity();
     let end = h.now() + out.duration;
     let partners = [j as u32, i as u32];

@@ -3,6 +3,7 @@
 use super::EventEngine;
 use crate::broad_phase::{BroadPhase, Crossings, Epochs};
 use crate::cells::{NONE, auto_cell_width};
+use crate::collision::LastContact;
 use crate::error::{EngineError, Result};
 use crate::physics::{BroadPhaseKind, Physics};
 use crate::queue::EventQueue;
@@ -207,6 +208,7 @@ impl<Q: EventQueue> Prepared<Q> {
             id: (0..n as u32).collect(),
             species: particles.species.clone(),
             pending_vel: vec![[0.0; 3]; n],
+            last_contact: vec![LastContact::NONE; n],
             spin: (0..n)
                 .map(|i| {
                     particles

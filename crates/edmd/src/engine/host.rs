@@ -2,7 +2,7 @@
 
 use super::EventEngine;
 use crate::broad_phase::BroadPhase;
-use crate::collision::{Host, NONE, RotationProbe};
+use crate::collision::{Host, LastContact, NONE, RotationProbe};
 use crate::physics::Physics;
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
@@ -106,6 +106,16 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
     fn changed(&mut self, i: usize) {
         let ev = &mut self.state.slot[i].ev;
         ev.counter = ev.counter.wrapping_add(1);
+    }
+
+    #[inline]
+    fn last_contact(&self, i: usize) -> LastContact {
+        self.state.last_contact[i]
+    }
+
+    #[inline]
+    fn set_last_contact(&mut self, i: usize, c: LastContact) {
+        self.state.last_contact[i] = c;
     }
 
     /// Puts particle `p` at position `x` now (wrapped, re-filed).

@@ -5,7 +5,7 @@ use super::Hybrid;
 use super::record::Saved;
 use crate::options::Mode;
 use emdstar_contact::vec3::{add, sub};
-use emdstar_edmd::collision::{Host, NONE, RotationProbe};
+use emdstar_edmd::collision::{Host, LastContact, NONE, RotationProbe};
 use emdstar_edmd::rules::HertzRestitution;
 use emdstar_edmd::{Physics, Stats};
 use emdstar_system::Wall;
@@ -108,6 +108,16 @@ impl Host for Hybrid {
     #[inline]
     fn changed(&mut self, i: usize) {
         self.ed[i].counter = self.ed[i].counter.wrapping_add(1);
+    }
+
+    #[inline]
+    fn last_contact(&self, i: usize) -> LastContact {
+        self.ed[i].last_contact
+    }
+
+    #[inline]
+    fn set_last_contact(&mut self, i: usize, c: LastContact) {
+        self.ed[i].last_contact = c;
     }
 
     /// Moves `i` by the jump to `x` in its own coordinates (the list's image shifts

@@ -1,7 +1,7 @@
 //! What the hybrid keeps per event-driven particle: its event record, and its state
 //! before an E^φ (for exception (a)'s undo).
 
-use emdstar_edmd::collision::NONE;
+use emdstar_edmd::collision::{LastContact, NONE};
 
 /// The event state of one particle (meaningful while it is ED).
 #[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
@@ -30,6 +30,8 @@ pub(crate) struct EdRec {
     /// (axis·2 + 1 if moving up).
     pub cross_time: f64,
     pub cross_face: u8,
+    /// eMD*: the last pair collision.
+    pub last_contact: LastContact,
 }
 
 impl Default for EdRec {
@@ -48,6 +50,7 @@ impl Default for EdRec {
             frozen: false,
             cross_time: f64::INFINITY,
             cross_face: 0,
+            last_contact: LastContact::NONE,
         }
     }
 }
