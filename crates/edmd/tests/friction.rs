@@ -85,7 +85,11 @@ fn a_perfectly_rough_elastic_gas_keeps_its_energy_and_spins_up() {
     // equipartition, T_rot = T_tr, as their equilibrium).
     let t = e.thermo();
     let ratio = t.rotational_temperature / t.granular_temperature;
-    assert!(ratio > 0.5 && ratio < 1.5, "T_rot/T_tr = {ratio}");
+    eprintln!(
+        "rough elastic gas: energy drift {:e}, T_rot/T_tr {ratio}",
+        (e1 - e0) / e0
+    );
+    assert!(ratio > 0.85 && ratio < 1.15, "T_rot/T_tr = {ratio}");
 }
 
 #[test]
