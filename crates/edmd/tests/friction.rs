@@ -261,3 +261,54 @@ fn emdstar_refuses_friction_and_names_the_engines_that_run_it() {
         "{err}"
     );
 }
+
+#[test]
+fn a_frictional_gas_between_walls_under_gravity_never_gains_energy() {
+    // Periodic along x and y, a floor and a lid along z, gravity down: walls take part
+    // in most collisions, and their impulses change spins too.
+    let (mut p, d) = fcc(4, 0.05, 1.0, 1.0, 1.0, 17);
+    spin_up(&mut p, 1.0);
+    let b = d.sim_box.unwrap();
+    let (lo, hi) = (b.lo[2], b.lo[2] + b.size[2]);
+    // Lift every sphere off the faces (the lattice may touch them).
+    for x in &mut p.position {
+        x[2] = lo + 0.6 + (x[2] - lo) * (hi - lo - 1.2) / (hi - lo);
+    }
+    let d = Domain {
+        sim_box: Some(emdstar_system::SimBox {
+            periodic: [true, true, false],
+            ..b
+        }),
+        walls: vec![
+            Wall {
+                normal: [0.0, 0.0, 1.0],
+                point: [0.0, 0.0, lo],
+            },
+            Wall {
+                normal: [0.0, 0.0, -1.0],
+                point: [0.0, 0.0, hi],
+            },
+        ],
+        gravity: [0.0, 0.0, -0.5],
+    };
+    let mut e: Engine = Engine::new(&p, &d, hard(0.9))
+        .unwrap()
+        .with_friction(Walton::new(0.4, 0.2).unwrap())
+        .unwrap();
+    let total = |e: &Engine| {
+        let t = e.thermo();
+        t.kinetic_energy + t.rotational_energy + t.potential_energy
+    };
+    let mut energy = total(&e);
+    let scale = e.thermo().kinetic_energy;
+    for _ in 0..20 {
+        e.run_collisions(500).unwrap();
+        let now = total(&e);
+        assert!(
+            now <= energy + 1e-12 * scale,
+            "energy rose {energy} → {now}"
+        );
+        energy = now;
+    }
+    assert!(e.stats().wall_collisions > 500, "{:?}", e.stats());
+}
