@@ -312,3 +312,29 @@ fn a_frictional_gas_between_walls_under_gravity_never_gains_energy() {
     }
     assert!(e.stats().wall_collisions > 500, "{:?}", e.stats());
 }
+
+#[test]
+fn a_rough_collision_of_unequal_spheres_keeps_the_angular_momentum_about_the_origin() {
+    // Free space, away from the origin: orbital plus spin angular momentum is conserved
+    // because the impulse acts at the contact point.
+    let mut p = Particles::from_columns(
+        vec![[3.0, 2.0, -1.0], [3.6, 2.1, -0.9]],
+        vec![[1.0, 0.2, 0.1], [-0.5, 0.0, 0.0]],
+        vec![0.12, 0.3],
+        vec![0.4, 2.5],
+        vec![0, 1],
+    )
+    .unwrap();
+    p.angular_velocity = vec![[4.0, -2.0, 7.0], [0.0, 3.0, -1.0]];
+    let mut e: Engine = Engine::new(&p, &Domain::default(), hard(0.8))
+        .unwrap()
+        .with_friction(Walton::new(0.3, 0.4).unwrap())
+        .unwrap();
+    let l0 = p.angular_momentum();
+    while !matches!(e.step().unwrap(), Event::Collision(..)) {}
+    let after = e.particles();
+    assert_ne!(after.angular_velocity, p.angular_velocity);
+    let l1 = after.angular_momentum();
+    let scale = norm(l0) + 1.0;
+    assert!(norm(sub(l1, l0)) < 1e-14 * scale, "{l0:?} → {l1:?}");
+}
