@@ -249,3 +249,49 @@ fn bench_soak_conserves_momentum_and_counts_what_it_did() {
     assert_eq!(hs["exceptions_rotation"], 0);
     assert_eq!(hs["fallbacks_exact_mor"], 0);
 }
+
+/// Two spinning spheres meeting obliquely, with Walton's rule for the event engines.
+const WALTON_PAIR: &str = r#"
+t_end = 0.4
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+friction = 0.3
+tangential_restitution = 0.4
+[[particles]]
+radius = 0.1
+position = [0.03, -0.5, 0.0]
+velocity = [1.25, 2.5, 0.0]
+angular_velocity = [0.0, 0.0, 20.0]
+[[particles]]
+radius = 0.1
+position = [-0.03, 0.5, 0.0]
+velocity = [1.25, -2.5, 0.0]
+"#;
+
+#[test]
+fn emd_runs_walton_friction_and_md_and_emdstar_refuse_it() {
+    let path = std::env::temp_dir().join(format!("emdstar_walton_{}.toml", std::process::id()));
+    std::fs::write(&path, WALTON_PAIR).unwrap();
+    let p = path.to_str().unwrap();
+    let v = emdstar_json(&["pair", p, "--engine", "emd", "--json"]);
+    let spin = |i: usize, k: usize| v["particles"][i]["angular_velocity"][k].as_f64().unwrap();
+    // The second sphere spun up from rest about z; the first one's spin changed.
+    assert!(
+        spin(1, 2).abs() > 1.0 && (spin(0, 2) - 20.0).abs() > 1.0,
+        "{v}"
+    );
+    let md = emdstar_error(&["pair", p, "--engine", "md"]);
+    let star = emdstar_error(&["pair", p, "--engine", "emdstar"]);
+    std::fs::remove_file(&path).unwrap();
+    assert!(
+        md.contains("tangential_restitution") && md.contains("tangential_stiffness"),
+        "{md}"
+    );
+    assert!(
+        star.contains("eMD*") && star.contains("--engine emd"),
+        "{star}"
+    );
+}

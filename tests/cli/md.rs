@@ -200,7 +200,7 @@ fn a_ball_bounces_on_the_floor_and_stays_in_the_box() {
 }
 
 #[test]
-fn a_frictional_pair_prints_its_spins_and_only_md_runs_it() {
+fn a_frictional_pair_prints_its_spins_and_engines_without_its_tangential_law_refuse_it() {
     let path = config("oblique_frictional.toml");
     let out = emdstar(&["pair", &path, "--engine", "md", "--json", "--dt", "1e-4"]);
     assert!(

@@ -13,6 +13,8 @@
 //! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
 //! - [`Friction`]: the tangential force of a contact (Cundall–Strack history spring or
 //!   pure Coulomb sliding), the slip velocity, the spring's turning and the torques;
+//! - [`Walton`]: Walton's three-parameter rule for instantaneous collisions of rough
+//!   spheres (e, µ, β₀), [`rough_pair`] and [`rough_wall`];
 //! - [`vec3`]: the `[f64; 3]` operations the engines share;
 //! - [`ParameterBox`] and [`RectBounds`]: the rectangularised coordinates (a, b, c) in
 //!   both directions, with the paper's Tab. I and Tab. II as presets.
@@ -37,6 +39,7 @@ mod rect;
 mod scaled;
 mod tangential;
 pub mod vec3;
+mod walton;
 
 pub use error::{ContactError, Result};
 pub use impact::Impact;
@@ -52,6 +55,7 @@ pub use tangential::{
     Friction, SOLID_SPHERE_INERTIA, Tangential, TangentialModel, lever_arm, slip_velocity, torque,
     turn_spring,
 };
+pub use walton::{Rough, RoughOutcome, Walton, rough_pair, rough_wall};
 
 /// A 3-vector in the laboratory frame.
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -59,6 +59,11 @@ pub struct Friction {
     /// γ_t in kg/s (history model).
     pub damping: f64,
     pub model: TangentialModel,
+    /// β₀ of Walton's rule for the event-driven engines ([`crate::Walton`]); `None` for a
+    /// material of force-based MD. A material has one or the other: with β₀ it has no
+    /// spring (k_t = 0) and MD refuses it.
+    #[serde(default)]
+    pub tangential_restitution: Option<f64>,
 }
 
 impl Default for Friction {
@@ -74,6 +79,7 @@ impl Friction {
         stiffness: 0.0,
         damping: 0.0,
         model: TangentialModel::History,
+        tangential_restitution: None,
     };
 
     /// Checks the parameters: µ, k_t and γ_t finite and not negative, and a history
@@ -89,16 +95,38 @@ impl Friction {
             stiffness: non_negative("tangential_stiffness", stiffness)?,
             damping: non_negative("tangential_damping", damping)?,
             model,
+            tangential_restitution: None,
         };
         if f.friction > 0.0 && model == TangentialModel::History && f.stiffness == 0.0 {
             return Err(ContactError::OutOfRange {
                 name: "tangential_stiffness",
                 value: 0.0,
                 allowed: "(0, ∞) when friction > 0 with the history model (give \
-                          tangential_stiffness, or tangential = \"coulomb\")",
+                          tangential_stiffness, or tangential = \"coulomb\", for MD; or \
+                          tangential_restitution for Walton's rule of the event engines)",
             });
         }
         Ok(f)
+    }
+
+    /// The friction of Walton's rule (event-driven engines): Coulomb's µ and the
+    /// tangential restitution β₀ ∈ [−1, 1] of sticking impacts, no spring.
+    pub fn walton(friction: f64, tangential_restitution: f64) -> Result<Self> {
+        let w = crate::Walton::new(friction, tangential_restitution)?;
+        Ok(Self {
+            friction: w.friction,
+            tangential_restitution: Some(w.tangential_restitution),
+            ..Self::NONE
+        })
+    }
+
+    /// Walton's rule of this material, if it has β₀ and friction (µ > 0).
+    pub fn walton_rule(&self) -> Option<crate::Walton> {
+        let b = self.tangential_restitution?;
+        self.is_active().then_some(crate::Walton {
+            friction: self.friction,
+            tangential_restitution: b,
+        })
     }
 
     /// True if contacts exchange tangential forces.

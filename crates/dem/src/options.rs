@@ -66,6 +66,12 @@ pub enum MdError {
     },
     #[error("time step dt = {0} must be a finite number greater than zero")]
     BadDt(f64),
+    #[error(
+        "material.tangential_restitution is Walton's rule of the event-driven engines; MD \
+         needs a tangential force law: give tangential_stiffness (the history spring) or \
+         tangential = \"coulomb\" instead"
+    )]
+    NoTangentialLaw,
     #[error("skin = {0} must be a finite number ≥ 0")]
     BadSkin(f64),
     #[error(

@@ -340,3 +340,26 @@ fn a_restored_frictional_run_continues_bitwise() {
         .unwrap_err();
     assert!(e.contains("friction"), "{e}");
 }
+
+/// A material with Walton's β₀ and no tangential force law has nothing for MD to
+/// integrate (k_t = 0 would divide by zero at the Coulomb cap): refused, saying what to
+/// give instead.
+#[test]
+fn a_material_for_waltons_rule_is_refused_with_the_keys_md_needs() {
+    let text = oblique_pair("").replace(
+        "tangential_stiffness = 600.0\ntangential_damping = 0.3\n",
+        "tangential_restitution = 0.4\n",
+    );
+    let s = system(&text);
+    assert!(s.friction.walton_rule().is_some());
+    let opts = MdOptions {
+        dt: 1e-4,
+        contact_end: ContactEnd::ForceZero,
+        skin: None,
+    };
+    let err = Md::new(s, opts, 0.2).err().expect("refused").to_string();
+    assert!(
+        err.contains("tangential_restitution") && err.contains("tangential_stiffness"),
+        "{err}"
+    );
+}

@@ -8,6 +8,7 @@ use crate::error::{EngineError, Result};
 use crate::physics::{BroadPhaseKind, Physics};
 use crate::queue::EventQueue;
 use crate::stats::Stats;
+use emdstar_contact::Walton;
 use emdstar_system::{Domain, Particles};
 
 /// The event-driven engine for hard spheres, eMD and eMD*, on the broad phase
@@ -166,5 +167,23 @@ impl<Q: EventQueue> Engine<Q> {
     /// The collision rule.
     pub fn physics(&self) -> &Physics {
         on_engine!(self, e => e.physics())
+    }
+
+    /// Friction by Walton's rule, if collisions are frictional.
+    pub fn friction(&self) -> Option<Walton> {
+        on_engine!(self, e => e.friction())
+    }
+
+    /// Makes collisions frictional by Walton's rule (see [`EventEngine::with_friction`]).
+    pub fn with_friction(self, walton: Walton) -> Result<Self> {
+        Ok(match self {
+            Self::Crossings(e) => Self::Crossings(e.with_friction(walton)?),
+            Self::Epochs(e) => Self::Epochs(e.with_friction(walton)?),
+        })
+    }
+
+    /// Angular velocities in rad/s, by particle number.
+    pub fn angular_velocities(&self) -> Vec<[f64; 3]> {
+        on_engine!(self, e => e.angular_velocities())
     }
 }

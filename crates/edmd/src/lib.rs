@@ -37,6 +37,9 @@
 //!   both partners, [`Interference`]); a rotation that would push into a third
 //!   particle or a wall falls back to the eMD rule (exception a). All are counted in
 //!   [`Stats`].
+//! - friction (hard spheres and eMD, [`Engine::with_friction`]): Walton's rule
+//!   (`emdstar_contact::rough_pair`) replaces the central kick; spins are kept per
+//!   particle outside the slots and change only at collisions.
 
 /// `$body` with `$e` bound to the engine of whichever broad phase runs.
 macro_rules! on_engine {

@@ -8,6 +8,7 @@ use crate::physics::Physics;
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::stats::Stats;
+use emdstar_contact::Walton;
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::{Domain, SimBox};
 use serde::{Deserialize, Serialize};
@@ -109,8 +110,8 @@ pub struct State<Q: EventQueue> {
     pub(crate) pending_vel: Vec<[f64; 3]>,
     /// eMD*: each particle's last pair collision (partners renumbered with the slots).
     pub(crate) last_contact: Vec<LastContact>,
-    /// Angular velocities by original particle number: constant, as no collision rule
-    /// of this engine exerts a torque.
+    /// Angular velocities by original particle number (out of the slots, which
+    /// frictionless runs never need them in): changed only by Walton's rule.
     pub(crate) spin: Vec<[f64; 3]>,
     /// Events between spatial re-sorts (0: never), and events since the last.
     pub(crate) resort_every: u64,
@@ -127,6 +128,10 @@ pub struct State<Q: EventQueue> {
     /// Not saved: a restored engine keeps the physics it was built with.
     #[serde(skip, default = "unset_physics")]
     pub(crate) physics: Physics,
+    /// Friction by Walton's rule (µ > 0; hard spheres and eMD), part of the physics:
+    /// not saved either.
+    #[serde(skip)]
+    pub(crate) walton: Option<Walton>,
     /// A cache of exact values (rebuilt on demand).
     #[serde(skip)]
     pub(crate) hertz: HertzRestitution,

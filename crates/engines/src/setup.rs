@@ -9,7 +9,8 @@ use emdstar_edmd::{Engine, Interference, Materials, Physics};
 use emdstar_system::{Config, System};
 use emdstar_table::{Table, TableError};
 
-/// The MD options (`md` over the config's `[md]`). Without an explicit dt the step is
+/// The MD options (`md` over the config's `[md]`); a material with Walton's rule
+/// (`tangential_restitution`) and friction is refused. Without an explicit dt the step is
 /// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
 /// shortened so that the config's `t_end` is a whole number of steps (a run stopped
 /// earlier or resumed later keeps this step).
@@ -19,6 +20,14 @@ pub fn md_options(
     md: &MdChoice,
     default_fraction: f64,
 ) -> Result<MdOptions> {
+    if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
+        bail!(
+            "material.tangential_restitution is Walton's rule of the event-driven engines \
+             (--engine emd); MD's friction is a tangential spring: replace it by \
+             tangential_stiffness (and tangential_damping), or by tangential = \"coulomb\", \
+             to run MD"
+        );
+    }
     let section = config.md.clone().unwrap_or_default();
     let contact_end: ContactEnd = match md.contact_end.as_ref().or(section.contact_end.as_ref()) {
         Some(s) => s.parse().map_err(anyhow::Error::msg)?,
@@ -70,15 +79,31 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
     })
 }
 
-/// The event engine (`kind` emd or emdstar) for `system`.
+/// The event engine (`kind` emd or emdstar) for `system`: with friction, emd runs
+/// Walton's rule (the material needs `tangential_restitution`) and eMD* refuses.
 pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> Result<Engine> {
-    if system.friction.is_active() {
-        bail!(
-            "friction = {} cannot be run by the event-driven engines yet: their collision \
-             rules are frictionless; run it with --engine md, or set friction = 0",
-            system.friction.friction
-        );
-    }
+    let friction = &system.friction;
+    let walton = match kind {
+        _ if !friction.is_active() => None,
+        EngineKind::EmdStar => bail!(
+            "friction = {} cannot be run by eMD* yet: its three-event collision rule is \
+             frictionless. Friction runs on --engine md (tangential_stiffness or tangential = \
+             \"coulomb\") and --engine emd (Walton's rule, tangential_restitution); or set \
+             friction = 0",
+            friction.friction
+        ),
+        _ => match friction.walton_rule() {
+            Some(w) => Some(w),
+            None => bail!(
+                "friction = {} with --engine {} needs material.tangential_restitution, the \
+                 tangential restitution β₀ ∈ [-1, 1] of sticking impacts in Walton's rule \
+                 (-1 smooth, 1 perfectly rough) instead of MD's tangential_stiffness, \
+                 tangential_damping and tangential; or run --engine md",
+                friction.friction,
+                kind.name()
+            ),
+        },
+    };
     let materials = Materials::from_system(system)?;
     let physics = match kind {
         EngineKind::Emd => Physics::Emd(materials),
@@ -92,12 +117,16 @@ pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> 
         },
         EngineKind::Md | EngineKind::Hybrid => bail!("this engine is not purely event-driven"),
     };
-    Ok(Engine::with_broad_phase(
+    let engine = Engine::with_broad_phase(
         &system.particles,
         &system.domain,
         physics,
         choice.broad_phase.into(),
-    )?)
+    )?;
+    Ok(match walton {
+        Some(w) => engine.with_friction(w)?,
+        None => engine,
+    })
 }
 
 /// The name of the MoR source of eMD* physics (empty for the other rules).

@@ -17,6 +17,8 @@
 //! # tangential_stiffness = 1600.0  # N/m: k_t of the history spring
 //! # tangential_damping = 0.0       # kg/s: γ_t
 //! # tangential = "history"         # or "coulomb" (pure sliding, |F_t| = µ F_n)
+//! # tangential_restitution = 0.4   # β₀ ∈ [-1, 1] of Walton's rule (event engines),
+//! #                                # instead of the three tangential keys above (MD)
 //! [[particles]]                    # an explicit list ...
 //! radius = 0.1
 //! position = [0.03, -0.5, 0.0]
@@ -109,6 +111,9 @@ pub struct MaterialConfig {
     pub tangential_damping: Option<f64>,
     /// "history" (default) or "coulomb".
     pub tangential: Option<String>,
+    /// β₀ ∈ [−1, 1] of Walton's rule, the event-driven engines' friction, instead of
+    /// MD's tangential law.
+    pub tangential_restitution: Option<f64>,
 }
 
 /// One `[[particles]]` entry.
@@ -386,8 +391,27 @@ impl MaterialConfig {
     }
 
     /// The friction of the material; absent keys mean no friction. Tangential keys
-    /// without `friction` are refused (they would have no effect).
+    /// without `friction` are refused (they would have no effect), and so is a material
+    /// with both MD's tangential law (`tangential_stiffness`, `tangential_damping`,
+    /// `tangential`) and Walton's rule of the event-driven engines
+    /// (`tangential_restitution`): each engine runs one of them.
     pub fn friction(&self) -> Result<Friction> {
+        if let (Some(mu), Some(b)) = (self.friction, self.tangential_restitution) {
+            let md_keys = [
+                ("tangential_stiffness", self.tangential_stiffness.is_some()),
+                ("tangential_damping", self.tangential_damping.is_some()),
+                ("tangential", self.tangential.is_some()),
+            ];
+            if let Some((name, _)) = md_keys.iter().find(|(_, set)| *set) {
+                return invalid!(
+                    "material.{name} belongs to force-based MD's tangential law and \
+                     material.tangential_restitution to Walton's rule of the event-driven \
+                     engines (emd): a material has one or the other; remove one of them"
+                );
+            }
+            return Friction::walton(mu, b)
+                .map_err(|e| SystemError::Invalid(format!("material.{e}")));
+        }
         let model: TangentialModel = match &self.tangential {
             Some(t) => t
                 .parse()
@@ -399,10 +423,15 @@ impl MaterialConfig {
                 ("tangential_stiffness", self.tangential_stiffness.is_some()),
                 ("tangential_damping", self.tangential_damping.is_some()),
                 ("tangential", self.tangential.is_some()),
+                (
+                    "tangential_restitution",
+                    self.tangential_restitution.is_some(),
+                ),
             ];
             if let Some((name, _)) = set.iter().find(|(_, s)| *s) {
                 return invalid!(
-                    "material.{name} has no effect without material.friction (Coulomb's µ);                      add friction = µ or remove it"
+                    "material.{name} has no effect without material.friction (Coulomb's µ); \
+                     add friction = µ or remove it"
                 );
             }
             return Ok(Friction::NONE);

@@ -51,6 +51,25 @@ fn friction_and_spins_are_read() {
 }
 
 #[test]
+fn walton_friction_is_read_for_the_event_engines() {
+    let text = config("friction = 0.3\ntangential_restitution = -0.25", "");
+    let s = Config::from_toml(&text).unwrap().build().unwrap();
+    assert_eq!(s.friction.tangential_restitution, Some(-0.25));
+    let w = s.friction.walton_rule().unwrap();
+    assert_eq!((w.friction, w.tangential_restitution), (0.3, -0.25));
+    // No spring: MD's law is absent.
+    assert_eq!(s.friction.stiffness, 0.0);
+    // Without friction there is no rule to run.
+    let text = config("friction = 0.0\ntangential_restitution = 0.5", "");
+    let s = Config::from_toml(&text).unwrap().build().unwrap();
+    assert!(!s.friction.is_active() && s.friction.walton_rule().is_none());
+    // MD's materials have no β₀.
+    let text = config("friction = 0.3\ntangential_stiffness = 10.0", "");
+    let s = Config::from_toml(&text).unwrap().build().unwrap();
+    assert!(s.friction.walton_rule().is_none());
+}
+
+#[test]
 fn bad_friction_gets_a_clear_message() {
     let cases = [
         (
@@ -79,6 +98,31 @@ fn bad_friction_gets_a_clear_message() {
             "does not belong to tangential = \"coulomb\"",
         ),
         ("friction = nan\ntangential_stiffness = 1.0", "finite"),
+        (
+            "friction = 0.1\ntangential_restitution = 1.5",
+            "tangential_restitution = 1.5 is outside the allowed range [-1, 1]",
+        ),
+        (
+            "friction = 0.1\ntangential_restitution = -1.2",
+            "tangential_restitution = -1.2 is outside",
+        ),
+        (
+            "friction = 0.1\ntangential_restitution = nan",
+            "tangential_restitution must be a finite number",
+        ),
+        (
+            "tangential_restitution = 0.5",
+            "tangential_restitution has no effect without material.friction",
+        ),
+        (
+            "friction = 0.1\ntangential_restitution = 0.5\ntangential_stiffness = 1.0",
+            "one or the other",
+        ),
+        (
+            "friction = 0.1\ntangential_restitution = 0.5\ntangential = \"coulomb\"",
+            "material.tangential belongs to force-based MD",
+        ),
+        ("friction = 0.1", "tangential_restitution"),
     ];
     for (material, want) in cases {
         let e = error(material);

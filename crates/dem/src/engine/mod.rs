@@ -69,6 +69,9 @@ impl Md {
     /// Prepares `system` for integration with `opts` up to `t_end` (which only enters
     /// the check of the time step against the shortest expected contact time).
     pub fn new(mut system: System, opts: MdOptions, t_end: f64) -> Result<Self, MdError> {
+        if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
+            return Err(MdError::NoTangentialLaw);
+        }
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         let interactions = system.interactions()?;
         let n = system.particles.len();

@@ -9,6 +9,7 @@
 
 mod probe;
 mod recontact;
+mod rough;
 
 pub use probe::{NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
@@ -18,7 +19,7 @@ use crate::physics::{Interference, Physics};
 use crate::rules::{HertzRestitution, restitution_kick};
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, from_na, sub, to_na};
-use emdstar_contact::{Impact, scale};
+use emdstar_contact::{Impact, Walton, scale};
 use emdstar_mor::rule::{Body, resolve, resolve_wall};
 use emdstar_system::Wall;
 
@@ -44,6 +45,10 @@ pub trait Host {
     fn position(&self, i: usize) -> [f64; 3];
     fn velocity(&self, i: usize) -> [f64; 3];
     fn set_velocity(&mut self, i: usize, v: [f64; 3]);
+    /// Angular velocity in rad/s (constant between collisions: nothing else exerts a
+    /// torque).
+    fn spin(&self, i: usize) -> [f64; 3];
+    fn set_spin(&mut self, i: usize, w: [f64; 3]);
     fn radius(&self, i: usize) -> f64;
     fn mass(&self, i: usize) -> f64;
     fn species(&self, i: usize) -> u32;
@@ -87,6 +92,9 @@ pub trait Host {
     fn stats(&mut self) -> &mut Stats;
     /// The collision rule and the cache of central restitution it uses.
     fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution);
+    /// Walton's rule if collisions are frictional (hard spheres and eMD only), `None`
+    /// for smooth spheres.
+    fn walton(&self) -> Option<Walton>;
 }
 
 /// The part of gravity that acts on a particle's velocity over an eMD* transient
@@ -164,8 +172,11 @@ fn settle_transients<H: Host>(h: &mut H, parties: &[usize]) -> bool {
 }
 
 /// Adds the instantaneous kick of restitution `eps` to the pair (see
-/// [`restitution_kick`]).
+/// [`restitution_kick`]), with friction by Walton's rule where the host has it.
 fn kick_pair<H: Host>(h: &mut H, i: usize, j: usize, r: [f64; 3], v: [f64; 3], eps: f64) {
+    if let Some(w) = h.walton() {
+        return rough::pair(h, i, j, r, eps, &w);
+    }
     let (di, dj) = restitution_kick(r, v, h.mass(i), h.mass(j), eps);
     let (vi, vj) = (h.velocity(i), h.velocity(j));
     h.set_velocity(i, std::array::from_fn(|k| vi[k] + di[k]));
@@ -372,6 +383,9 @@ pub fn wall_collision<H: Host>(h: &mut H, i: usize, w: usize) -> Result<()> {
         }
     };
     let kick_wall = |h: &mut H, eps: f64| {
+        if let Some(walton) = h.walton() {
+            return rough::wall(h, i, n, eps, &walton);
+        }
         let kick = (1.0 + eps) * vn;
         let v = h.velocity(i);
         h.set_velocity(i, std::array::from_fn(|k| v[k] - kick * n[k]));

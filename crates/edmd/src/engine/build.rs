@@ -238,6 +238,7 @@ impl<Q: EventQueue> Prepared<Q> {
             domain,
             has_gravity,
             physics,
+            walton: None,
             hertz: HertzRestitution::default(),
             stats: Stats::default(),
             zero_streak: 0,

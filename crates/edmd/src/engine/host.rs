@@ -8,6 +8,7 @@ use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::state::Saved;
 use crate::stats::Stats;
+use emdstar_contact::Walton;
 use emdstar_system::Wall;
 
 impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
@@ -42,6 +43,17 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
     #[inline]
     fn set_velocity(&mut self, i: usize, v: [f64; 3]) {
         self.state.slot[i].kin.vel = v;
+    }
+
+    /// Spins are kept by original particle number, out of the slots.
+    #[inline]
+    fn spin(&self, i: usize) -> [f64; 3] {
+        self.state.spin[self.state.id[i] as usize]
+    }
+
+    #[inline]
+    fn set_spin(&mut self, i: usize, w: [f64; 3]) {
+        self.state.spin[self.state.id[i] as usize] = w;
     }
 
     #[inline]
@@ -159,5 +171,10 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
     #[inline]
     fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution) {
         (&mut self.state.physics, &mut self.state.hertz)
+    }
+
+    #[inline]
+    fn walton(&self) -> Option<Walton> {
+        self.state.walton
     }
 }

@@ -17,6 +17,7 @@ use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::state::State;
 use crate::stats::Stats;
+use emdstar_contact::Walton;
 
 /// What [`EventEngine::step`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,6 +74,28 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// The collision rule.
     pub fn physics(&self) -> &crate::physics::Physics {
         &self.state.physics
+    }
+
+    /// Friction by Walton's rule, if collisions are frictional.
+    pub fn friction(&self) -> Option<Walton> {
+        self.state.walton
+    }
+
+    /// Makes collisions of spheres and with walls frictional by Walton's rule
+    /// (`emdstar_contact::Walton`; docs/physics.md): spins change at collisions. For
+    /// hard spheres and eMD; eMD* refuses (its three events are frictionless). µ = 0 is
+    /// frictionless and keeps the frictionless rule, bit for bit.
+    pub fn with_friction(mut self, walton: Walton) -> Result<Self> {
+        if let crate::physics::Physics::EmdStar { .. } = self.state.physics {
+            return Err(EngineError::Invalid(
+                "eMD* has no frictional collision rule yet: friction (Walton's rule) runs on \
+                 hard spheres and eMD, force-based friction on MD"
+                    .into(),
+            ));
+        }
+        Walton::new(walton.friction, walton.tangential_restitution)?;
+        self.state.walton = (walton.friction > 0.0).then_some(walton);
+        Ok(self)
     }
 
     /// Full prediction for particle `i` at the current time: all neighbours, walls and

@@ -87,6 +87,12 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         self.sync();
         particles.position = self.positions();
         particles.velocity = self.settled_velocities();
+        particles.angular_velocity = self.state.spin.clone();
+    }
+
+    /// Angular velocities in rad/s, by original particle number.
+    pub fn angular_velocities(&self) -> Vec<[f64; 3]> {
+        self.state.spin.clone()
     }
 
     /// Radii and masses, in particle order.
@@ -114,7 +120,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         Particles {
             position,
             velocity,
-            // Frictionless collisions exert no torque: the spins stay as given.
+            // Kept by original particle number already.
             angular_velocity: s.spin.clone(),
             species,
             radius,

@@ -19,7 +19,7 @@ where
     }
 
     /// Replaces the state by one [`EventEngine::save_state`] gave, keeping this engine's
-    /// physics (the same config and options must have built both).
+    /// physics and friction (the same config and options must have built both).
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<()> {
         let mut saved: Self = postcard::from_bytes(bytes).map_err(|e| {
             EngineError::Invalid(format!(
@@ -36,6 +36,7 @@ where
             )));
         }
         std::mem::swap(&mut saved.state.physics, &mut self.state.physics);
+        saved.state.walton = self.state.walton;
         *self = saved;
         Ok(())
     }

@@ -4,6 +4,7 @@
 use super::Hybrid;
 use super::record::Saved;
 use crate::options::Mode;
+use emdstar_contact::Walton;
 use emdstar_contact::vec3::{add, sub};
 use emdstar_edmd::collision::{Host, LastContact, NONE, RotationProbe};
 use emdstar_edmd::rules::HertzRestitution;
@@ -43,6 +44,16 @@ impl Host for Hybrid {
     fn set_velocity(&mut self, i: usize, v: [f64; 3]) {
         self.system.particles.velocity[i] = v;
         self.note_speed(v);
+    }
+
+    #[inline]
+    fn spin(&self, i: usize) -> [f64; 3] {
+        self.system.particles.angular_velocity[i]
+    }
+
+    #[inline]
+    fn set_spin(&mut self, i: usize, w: [f64; 3]) {
+        self.system.particles.angular_velocity[i] = w;
     }
 
     #[inline]
@@ -169,5 +180,11 @@ impl Host for Hybrid {
     #[inline]
     fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution) {
         (&mut self.physics, &mut self.hertz)
+    }
+
+    /// The hybrid refuses friction: its collisions are smooth.
+    #[inline]
+    fn walton(&self) -> Option<Walton> {
+        None
     }
 }

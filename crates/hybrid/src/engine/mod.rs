@@ -100,8 +100,9 @@ impl Hybrid {
         if system.friction.is_active() {
             return Err(HybridError::Invalid(format!(
                 "friction = {} cannot be run by the hybrid yet: its event-driven part \
-                 (eMD*) has no frictional collision rule; run it with the MD engine \
-                 (--engine md), or set friction = 0",
+                 (eMD*) has no frictional collision rule; run it with --engine md \
+                 (tangential_stiffness or tangential = \"coulomb\"), with --engine emd \
+                 (Walton's rule, tangential_restitution), or set friction = 0",
                 system.friction.friction
             )));
         }
