@@ -4,7 +4,8 @@
 //! FMA: the same bits on every machine.
 //!
 //! - [`exp4`]: Cody–Waite reduction x = n·ln 2 + r, |r| ≤ ln 2 / 2, the Taylor
-//!   polynomial of e^r to degree 12 (truncation below 2e-16 relative), and the scale 2^n
+//!   polynomial of e^r to degree 12 (truncation below 2e-16 relative; summed by
+//!   Estrin's scheme), and the scale 2^n
 //!   built from its bits (split in two factors so that subnormal results come out right).
 //! - [`ln`]: x = 2^e·m with m ∈ [1/√2, √2), ln m = 2 atanh(s) with s = (m − 1)/(m + 1),
 //!   |s| ≤ 0.1716, summed to s²³ (truncation below 1e-17 relative), plus e·ln 2 in two
@@ -16,6 +17,44 @@ const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
 const LN2_LO: f64 = f64::from_bits(0x3DEA_39EF_3579_3C76);
 /// 1.5·2^52: adding it rounds to an integer held in the low mantissa bits.
 const ROUND: f64 = 6_755_399_441_055_744.0;
+
+/// Σ_{j<4} c[k + j]·t^j by Estrin's scheme (t2 = t²).
+#[inline(always)]
+fn quad(c: &[f64], k: usize, t: f64, t2: f64) -> f64 {
+    (c[k] + t * c[k + 1]) + t2 * (c[k + 2] + t * c[k + 3])
+}
+
+/// 1/k! for k ≤ 12.
+const INV_FACTORIAL: [f64; 13] = [
+    1.0,
+    1.0,
+    1.0 / 2.0,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+    1.0 / 5_040.0,
+    1.0 / 40_320.0,
+    1.0 / 362_880.0,
+    1.0 / 3_628_800.0,
+    1.0 / 39_916_800.0,
+    1.0 / 479_001_600.0,
+];
+
+/// 1/(2k + 3) for k ≤ 10: the series of [`ln`].
+const INV_ODD: [f64; 11] = [
+    1.0 / 3.0,
+    1.0 / 5.0,
+    1.0 / 7.0,
+    1.0 / 9.0,
+    1.0 / 11.0,
+    1.0 / 13.0,
+    1.0 / 15.0,
+    1.0 / 17.0,
+    1.0 / 19.0,
+    1.0 / 21.0,
+    1.0 / 23.0,
+];
 
 /// 2^k for an integer-valued k in [−1022, 1023].
 #[inline(always)]
@@ -35,23 +74,12 @@ pub fn exp(x: f64) -> f64 {
     let clamped = x.clamp(-746.0, 710.0);
     let n = (clamped * std::f64::consts::LOG2_E + ROUND) - ROUND;
     let r = (clamped - n * LN2_HI) - n * LN2_LO;
-    let mut p = 1.0 / 479_001_600.0;
-    for d in [
-        39_916_800.0,
-        3_628_800.0,
-        362_880.0,
-        40_320.0,
-        5_040.0,
-        720.0,
-        120.0,
-        24.0,
-        6.0,
-        2.0,
-        1.0,
-        1.0,
-    ] {
-        p = p * r + 1.0 / d;
-    }
+    // Σ r^k/k! for k ≤ 12 by Estrin's scheme (a short dependency chain; a lookup waits
+    // on latency): pairs in r, pairs of pairs in r², then r⁴ and r⁸.
+    let c = INV_FACTORIAL;
+    let (r2, r4) = (r * r, (r * r) * (r * r));
+    let p = (quad(&c, 0, r, r2) + r4 * quad(&c, 4, r, r2))
+        + (r4 * r4) * (quad(&c, 8, r, r2) + r4 * c[12]);
     // n ∈ [−1076, 1024]: both halves lie in [−538, 512], where 2^k is normal.
     let half = (n * 0.5 + ROUND) - ROUND;
     let y = p * pow2(half) * pow2(n - half);
@@ -97,10 +125,11 @@ pub fn ln(x: f64) -> f64 {
     let f = m - 1.0;
     let s = f / (m + 1.0);
     let z = s * s;
-    let mut p = 1.0 / 23.0;
-    for d in [21.0, 19.0, 17.0, 15.0, 13.0, 11.0, 9.0, 7.0, 5.0, 3.0] {
-        p = p * z + 1.0 / d;
-    }
+    // p = Σ_{k=0}^{10} z^k/(2k + 3) by Estrin's scheme, as in `exp`.
+    let c = INV_ODD;
+    let (z2, z4) = (z * z, (z * z) * (z * z));
+    let p = (quad(&c, 0, z, z2) + z4 * quad(&c, 4, z, z2))
+        + (z4 * z4) * ((c[8] + z * c[9]) + z2 * c[10]);
     // ln m = 2s(1 + z/3 + z²/5 + …) = 2s + 2s·z·p; the small terms are summed first.
     let tail = 2.0 * s * (z * p);
     e * LN2_HI + (2.0 * s + (e * LN2_LO + tail))

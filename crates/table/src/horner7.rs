@@ -1,40 +1,77 @@
-//! Nested Horner evaluation of the degree-7 term sets (the default tables'), written
-//! out term by term: every loop bound is a constant, so the compiler emits straight-line
-//! code (no loop counters) and overlaps the independent z-lines. The arithmetic and its
-//! order are those of [`Terms::eval`](crate::Terms::eval)'s general path, so the results are bitwise
-//! the same. The term lists ((offset, length) of each (i, j) line, grouped by i) follow
-//! the storage order of [`Terms`](crate::Terms).
+//! Evaluation of the degree-7 term sets (the default tables'), written out term by
+//! term: every loop bound is a constant, so the compiler emits straight-line code (no
+//! loop counters). Each (i, j) line is a polynomial in z, each i-group one in y of the
+//! lines, the whole one in x of the groups; all three by Estrin's scheme, whose short
+//! dependency chains let the processor overlap the work (a lookup waits on latency, not
+//! on the number of operations). The term lists ((offset, length) of each (i, j) line,
+//! grouped by i) follow the storage order of [`Terms`](crate::Terms). The results
+//! agree with [`Terms::horner`](crate::Terms::horner) to rounding.
 
-use crate::poly::{Coef, NQ, fmadd};
+use crate::poly::{Coef, NQ};
 
-/// Σ_k c[OFF + k]·z^k by Horner.
+/// a + t·b per quantity (a multiply and an add: no FMA, the same bits everywhere).
 #[inline(always)]
-fn line<K: Coef, const OFF: usize, const NK: usize>(c: &[K], z: f64) -> [f64; NQ] {
-    let mut r = c[OFF + NK - 1].wide();
-    let mut k = NK - 1;
-    while k > 0 {
-        k -= 1;
-        r = fmadd(r, z, &c[OFF + k]);
-    }
-    r
+fn ma(a: [f64; NQ], t: f64, b: [f64; NQ]) -> [f64; NQ] {
+    [
+        a[0] + t * b[0],
+        a[1] + t * b[1],
+        a[2] + t * b[2],
+        a[3] + t * b[3],
+    ]
 }
 
-/// Σ_j v[j]·y^j by Horner, from a zero start (as the general path).
+/// Σ_k v[k]·t^k for up to eight terms by Estrin's scheme (pairs, then pairs of pairs),
+/// with p = [t, t², t⁴]: a dependency chain of three multiply-adds instead of
+/// Horner's seven.
 #[inline(always)]
-fn outer<const M: usize>(v: [[f64; NQ]; M], y: f64) -> [f64; NQ] {
-    let mut p = [0.0; NQ];
-    let mut j = M;
-    while j > 0 {
-        j -= 1;
-        p = fmadd(p, y, &v[j]);
+fn estrin(v: &[[f64; NQ]], p: [f64; 3]) -> [f64; NQ] {
+    match v.len() {
+        0 => [0.0; NQ],
+        n @ 1..=4 => quad(v, 0, n, p),
+        n => ma(quad(v, 0, 4, p), p[2], quad(v, 4, n - 4, p)),
     }
-    p
+}
+
+/// Σ_{k<n} v[at + k]·t^k for n ≤ 4.
+#[inline(always)]
+fn quad(v: &[[f64; NQ]], at: usize, n: usize, p: [f64; 3]) -> [f64; NQ] {
+    let [t, t2, _] = p;
+    match n {
+        1 => v[at],
+        2 => ma(v[at], t, v[at + 1]),
+        3 => ma(ma(v[at], t, v[at + 1]), t2, v[at + 2]),
+        _ => ma(ma(v[at], t, v[at + 1]), t2, ma(v[at + 2], t, v[at + 3])),
+    }
+}
+
+/// Σ_k c[OFF + k]·z^k.
+#[inline(always)]
+fn line<K: Coef, const OFF: usize, const NK: usize>(c: &[K], p: [f64; 3]) -> [f64; NQ] {
+    let mut v = [[0.0; NQ]; NK];
+    for (k, v) in v.iter_mut().enumerate() {
+        *v = c[OFF + k].wide();
+    }
+    estrin(&v, p)
+}
+
+/// Σ_j v[j]·y^j.
+#[inline(always)]
+fn outer<const M: usize>(v: [[f64; NQ]; M], p: [f64; 3]) -> [f64; NQ] {
+    estrin(&v, p)
+}
+
+/// [t, t², t⁴].
+#[inline(always)]
+fn powers(t: f64) -> [f64; 3] {
+    let t2 = t * t;
+    [t, t2, t2 * t2]
 }
 
 macro_rules! nested {
-    ($c:ident, $x:ident, $y:ident, $z:ident; $([$(($off:literal, $nk:literal)),*]),*) => {
-        outer([$(outer([$(line::<K, $off, $nk>(&$c[..], $z)),*], $y)),*], $x)
-    };
+    ($c:ident, $x:ident, $y:ident, $z:ident; $([$(($off:literal, $nk:literal)),*]),*) => {{
+        let (px, py, pz) = (powers($x), powers($y), powers($z));
+        outer([$(outer([$(line::<K, $off, $nk>(&$c[..], pz)),*], py)),*], px)
+    }};
 }
 
 /// Degree 7 over the axes xyz (120 terms).
