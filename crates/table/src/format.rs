@@ -2,13 +2,13 @@
 
 use crate::error::TableError;
 use crate::npz::{Array, Data, read_npz};
-use crate::piece::PieceParts;
+use crate::piece::{LEAF, PieceParts};
 use crate::poly::{NQ, Terms};
 use crate::table::{PIECES, Table, TableParts};
 use emdstar_contact::{Model, Range, RectBounds};
 
 /// The file format version this crate reads and writes.
-pub const FORMAT_VERSION: i64 = 3;
+pub const FORMAT_VERSION: i64 = 4;
 
 /// Names of the four stored quantities, in storage order.
 pub const QUANTITIES: [&str; NQ] = ["ln(1-eps_r)", "ln(-eps_rdot)", "ln(eps_phi)", "ln(eps_t)"];
@@ -46,16 +46,8 @@ pub fn fnv1a64(chunks: &[&[u8]]) -> u64 {
 
 /// The `.npy` members of a piece, named `{piece}_…`.
 #[cfg(feature = "write")]
-fn piece_members(name: &str, p: &PieceParts, terms: &Terms) -> Vec<(String, Array)> {
-    let nt = terms.len();
-    let (mut low, mut high) = (Vec::new(), Vec::new());
-    for (k, c) in p.cheb.iter().enumerate() {
-        if terms.is_low(k % nt) {
-            low.extend(c);
-        } else {
-            high.extend(c.iter().map(|&x| x as f32));
-        }
-    }
+fn piece_members(name: &str, p: &PieceParts, terms: &Terms, quantum: f64) -> Vec<(String, Array)> {
+    let bits = crate::pack::pack(&p.cheb, terms, quantum);
     vec![
         (
             format!("{name}_cells"),
@@ -80,12 +72,12 @@ fn piece_members(name: &str, p: &PieceParts, terms: &Terms) -> Vec<(String, Arra
             Array::f64(vec![p.split.len()], p.split.clone()),
         ),
         (
-            format!("{name}_coef"),
-            Array::f64(vec![low.len() / NQ, NQ], low),
+            format!("{name}_patches"),
+            Array::i64(vec![], vec![(p.cheb.len() / terms.len()) as i64]),
         ),
         (
-            format!("{name}_coef32"),
-            Array::f32(vec![high.len() / NQ, NQ], high),
+            format!("{name}_coef_bits"),
+            Array::u64(vec![bits.len()], bits),
         ),
     ]
 }
@@ -130,12 +122,21 @@ impl Table {
             ),
             ("tolerance".into(), Array::f64(vec![], vec![info.tolerance])),
             (
+                "quantum".into(),
+                Array::f64(vec![], vec![crate::pack::quantum(info.tolerance)]),
+            ),
+            (
                 "estimated_error".into(),
                 Array::f64(vec![NQ], info.estimated_error.to_vec()),
             ),
         ];
         for ((name, _), piece) in PIECES.iter().zip(self.pieces()) {
-            members.extend(piece_members(name, piece.parts(), piece.terms()));
+            members.extend(piece_members(
+                name,
+                piece.parts(),
+                piece.terms(),
+                crate::pack::quantum(info.tolerance),
+            ));
         }
         let npys: Vec<Vec<u8>> = members.iter().map(|(_, a)| a.to_npy()).collect();
         let refs: Vec<&[u8]> = npys.iter().map(Vec::as_slice).collect();
@@ -250,6 +251,18 @@ impl Table {
                 ));
             }
         };
+        let tolerance = floats("tolerance", Some(&[]))?[0];
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return Err(TableError::Corrupt(format!(
+                "the tolerance {tolerance} is not finite and > 0"
+            )));
+        }
+        let quantum = crate::pack::quantum(tolerance);
+        if floats("quantum", Some(&[]))?[0] != quantum {
+            return Err(TableError::Corrupt(format!(
+                "quantum is not {quantum}, the power of two of the tolerance {tolerance}"
+            )));
+        }
         let mut pieces = Vec::with_capacity(4);
         for (name, active) in PIECES {
             let corrupt = |what: &str| TableError::Corrupt(format!("{name}_{what}"));
@@ -263,31 +276,21 @@ impl Table {
                 return Err(corrupt("tree must have shape (n, 2)"));
             }
             let split = floats(&format!("{name}_split"), Some(&[s[0]]))?;
-            let coef = floats(&format!("{name}_coef"), None)?;
-            let coef32 = match &get(&format!("{name}_coef32"))?.data {
-                Data::F32(v) => v.clone(),
-                _ => return Err(corrupt("coef32 is not a float32 array")),
-            };
             let max = std::array::from_fn(|k| if active[k] { degree } else { 0 });
             let terms = Terms::new(degree, max);
-            let (nt, nl) = (terms.len(), terms.low_count());
-            let patches = coef.len() / (NQ * nl);
-            if coef.len() != patches * nl * NQ || coef32.len() != patches * (nt - nl) * NQ {
-                return Err(corrupt(
-                    "coef and coef32 do not hold the same whole number of patches",
-                ));
+            let patches = match ints(&format!("{name}_patches"))? {
+                (v, s) if s.is_empty() && (0..=1 << 28).contains(&v[0]) => v[0] as usize,
+                _ => return Err(corrupt("patches must be one count in 0..=2^28")),
+            };
+            let bits = match &get(&format!("{name}_coef_bits"))?.data {
+                Data::U64(v) => v,
+                _ => return Err(corrupt("coef_bits is not a uint64 array")),
+            };
+            if tree.chunks_exact(2).filter(|n| n[0] == LEAF).count() != patches {
+                return Err(corrupt("patches differs from the number of leaves of tree"));
             }
-            let (mut low, mut high) = (coef.chunks_exact(NQ), coef32.chunks_exact(NQ));
-            let mut cheb = Vec::with_capacity(patches * nt);
-            for k in 0..patches * nt {
-                cheb.push(if terms.is_low(k % nt) {
-                    let c = low.next().expect("counted");
-                    [c[0], c[1], c[2], c[3]]
-                } else {
-                    let c = high.next().expect("counted");
-                    [c[0], c[1], c[2], c[3]].map(f64::from)
-                });
-            }
+            let cheb = crate::pack::unpack(bits, &terms, patches, quantum)
+                .map_err(|e| corrupt(&format!("coef_bits: {e}")))?;
             if roots.iter().any(|&r| r < 0) {
                 return Err(corrupt("roots must not be negative"));
             }
@@ -310,7 +313,7 @@ impl Table {
             spec: text("spec")?,
             box_names,
             box_ranges: ranges.chunks_exact(2).map(|r| [r[0], r[1]]).collect(),
-            tolerance: floats("tolerance", Some(&[]))?[0],
+            tolerance,
             estimated_error: [estimated[0], estimated[1], estimated[2], estimated[3]],
         };
         let mut it = pieces.into_iter();

@@ -36,14 +36,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! # File format (version 3)
+//! # File format (version 4)
 //!
 //! An uncompressed `.npz` archive (a zip of `.npy` arrays, as `numpy.savez` writes),
 //! read and written here by a small built-in codec. Members, in this order:
 //!
 //! | member | dtype, shape | content |
 //! |---|---|---|
-//! | `format_version` | int64, () | 3 |
+//! | `format_version` | int64, () | 4 |
 //! | `model` | str, () | `"linear"` or `"hertz"` |
 //! | `generator` | str, () | e.g. `"emdstar-tablegen 0.1.0"` |
 //! | `spec` | str, () | the TOML spec the table was built from |
@@ -53,13 +53,14 @@
 //! | `b_knee` | float64, () | d of the b axis map w = ln(1 + (b − b_min)/d) (0: w = b) |
 //! | `degree` | int64, () | total degree n of every patch polynomial |
 //! | `tolerance` | float64, () | the generator's error goal per patch |
+//! | `quantum` | float64, () | q: the largest power of two ≤ tolerance/256 |
 //! | `estimated_error` | float64, (4,) | the largest patch error estimate per quantity |
 //! | `{piece}_cells` | int64, (3,) | top cells along a, b, c (1 along an axis the piece lacks) |
 //! | `{piece}_roots` | int64, (cells,) | root node of each top cell, C order |
 //! | `{piece}_tree` | int64, (nodes, 2) | [axis, first child] of a split, or [−1, patch] of a leaf |
 //! | `{piece}_split` | float64, (nodes,) | the split coordinate (children: below, then above) |
-//! | `{piece}_coef` | float64, (patches·3 or 4, 4) | Chebyshev coefficients of total degree ≤ 1 of each patch |
-//! | `{piece}_coef32` | float32, (patches·(terms − 3 or 4), 4) | the other coefficients of each patch |
+//! | `{piece}_patches` | int64, () | number of patches (leaves) |
+//! | `{piece}_coef_bits` | uint64, (words,) | the Chebyshev coefficients of every patch as packed multiples of q |
 //! | `checksum` | uint64, () | FNV-1a-64 of the `.npy` bytes of all members above |
 //!
 //! for the pieces `main` (over a, w, c), `elastic` (a, b; limit c_dis → 0: ln((1−ε_r)/e^c),
@@ -68,7 +69,12 @@
 //! is its leaf's box, bisected from the top cell; on it t = 2(x − centre)/width ∈ [−1, 1]
 //! per axis, and its terms T_i(t_a)T_j(t_b)T_k(t_c) are those with i + j + k ≤ n (on the
 //! axes of the piece), ordered by i, then j, then k. An all-NaN patch of a central piece
-//! is not tabulated. Every member also carries the zip CRC-32; both checksums are
+//! is not tabulated. Every coefficient is a multiple k·q of the quantum; the integers k
+//! are bit-packed, per patch: one bit (1: tabulated, 0: an all-NaN patch, nothing
+//! follows), then per quantity and per total degree d = 0, 1, …, n a 6-bit width w and
+//! the terms of degree d as w-bit zigzag integers (k ≥ 0 ↦ 2k, k < 0 ↦ −2k − 1), bits
+//! taken from the least significant end of each word; the unused bits of the last word
+//! are zero. Rounding to q moves a patch of t terms by at most t·q/2. Every member also carries the zip CRC-32; both checksums are
 //! verified on load, and so is the structure of every tree. Storing logarithms makes
 //! the relative error of each component equal to the absolute error of its logarithm.
 //!
@@ -76,12 +82,15 @@
 //! import numpy as np
 //! t = np.load("tables/linear.npz")
 //! print(str(t["model"]), int(t["degree"]), t["main_tree"].shape, t["estimated_error"])
+//! print(int(t["main_patches"]), t["main_coef_bits"].nbytes, float(t["quantum"]))
 //! ```
 
 mod error;
 mod fastmath;
 mod format;
+mod horner7;
 pub mod npz;
+mod pack;
 mod pair_map;
 mod physical;
 mod piece;

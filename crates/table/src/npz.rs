@@ -45,6 +45,12 @@ impl Array {
             data: Data::I64(v),
         }
     }
+    pub fn u64(shape: Vec<usize>, v: Vec<u64>) -> Self {
+        Self {
+            shape,
+            data: Data::U64(v),
+        }
+    }
     pub fn u64_scalar(x: u64) -> Self {
         Self {
             shape: vec![],

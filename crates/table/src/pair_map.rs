@@ -1,7 +1,9 @@
 //! The pair's part of the map from physical parameters to table coordinates
-//! ([`PairMap`]): computed and checked once per law and pair.
+//! ([`PairMap`]): computed and checked once per law and pair. Its logarithms and
+//! exponential are the crate's own (a few units in the last place, no library calls).
 
 use crate::error::TableError;
+use crate::fastmath::{exp, ln};
 use emdstar_contact::{Impact, PairLaw, PairProperties, RectBounds, RectCoords};
 
 /// The pair-dependent constants of the physical map, for one law and pair: computed
@@ -55,8 +57,8 @@ impl PairMap {
                 // Eq. (41): T = 1/ω = √(m_eff/k).
                 let time = (m_eff / k).sqrt();
                 PairKind::Linear {
-                    b0: (l / time).ln(),
-                    c: (damping * time / m_eff).ln(),
+                    b0: ln(l / time),
+                    c: ln(damping * time / m_eff),
                     time,
                 }
             }
@@ -66,11 +68,11 @@ impl PairMap {
             } => {
                 let rho_el = positive("rho_el", rho_el)?;
                 let dissipation = non_negative("dissipation", dissipation)?;
-                let ln_kappa = rho_el.ln() - m_eff.ln();
+                let ln_kappa = ln(rho_el) - ln(m_eff);
                 // Eq. (53): T = κ^{-2/5} v_n^{-1/5}.
                 PairKind::Hertz {
-                    b0: 0.4 * (2.5 * l.ln() + ln_kappa),
-                    c0: (1.5 * dissipation / l).ln(),
+                    b0: 0.4 * (2.5 * ln(l) + ln_kappa),
+                    c0: ln(1.5 * dissipation / l),
                     t0: -0.4 * ln_kappa,
                 }
             }
@@ -106,8 +108,8 @@ impl PairMap {
                  {v_n} and {v_t}"
             )));
         }
-        let ln_v2 = (v_n * v_n + v_t * v_t).ln();
-        let a = (v_t / v_n).ln() - bounds.g.min;
+        let ln_v2 = ln(v_n * v_n + v_t * v_t);
+        let a = ln(v_t / v_n) - bounds.g.min;
         Ok(match self.kind {
             PairKind::Linear { b0, c, time } => (
                 RectCoords {
@@ -123,7 +125,7 @@ impl PairMap {
                     b: b0 - 0.4 * ln_v2 - bounds.m.min,
                     c: c0 + 0.5 * ln_v2 - bounds.c.min,
                 },
-                (t0 - 0.2 * v_n.ln()).exp(),
+                exp(t0 - 0.2 * ln(v_n)),
             ),
         })
     }

@@ -26,8 +26,8 @@ pub struct PieceParts {
     /// Per node: the split coordinate (unused for leaves).
     pub split: Vec<f64>,
     /// Chebyshev coefficients, `[patch][term][quantity]`; an all-NaN patch is not
-    /// tabulated (only where the piece allows it). Terms of total degree > 1 are
-    /// rounded to float32 (as the file stores them).
+    /// tabulated (only where the piece allows it). Rounded to multiples of the table's
+    /// quantum (as the file stores them).
     pub cheb: Vec<[f64; NQ]>,
 }
 
@@ -144,6 +144,29 @@ unsafe fn eval_avx(terms: &Terms, block: &[[f32; NQ]], t: [f64; 3]) -> [f64; NQ]
     terms.eval(block, t)
 }
 
+/// Asks for every cache line of `block` at once: a lookup far from the previous one
+/// then waits for memory about once instead of once per line as the evaluation
+/// reaches it.
+#[inline(always)]
+fn prefetch<T>(block: &[T]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let bytes = std::mem::size_of_val(block);
+        let start = block.as_ptr() as *const i8;
+        let mut off = 0;
+        while off < bytes {
+            // SAFETY: a prefetch is a hint; the address lies inside `block`.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.add(off)) };
+            off += 64;
+        }
+        if bytes > 0 {
+            // SAFETY: as above (the last byte, for a block that ends mid-line).
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.add(bytes - 1)) };
+        }
+    }
+}
+
 impl Piece {
     /// Checks a piece over the box `lo..hi` (lo = hi on an axis the piece does not
     /// depend on) with polynomials of total degree `degree`.
@@ -153,6 +176,7 @@ impl Piece {
         lo: [f64; 3],
         hi: [f64; 3],
         degree: usize,
+        quantum: f64,
         nan_ok: bool,
     ) -> Result<Self, TableError> {
         let bad = |why: String| TableError::Corrupt(format!("{name}: {why}"));
@@ -187,12 +211,10 @@ impl Piece {
             )));
         }
         let np = parts.cheb.len() / nt;
-        // The file holds all but the terms of degree ≤ 1 in float32: round them here,
-        // so a table in memory equals its file.
-        for (k, c) in parts.cheb.iter_mut().enumerate() {
-            if !terms.is_low(k % nt) {
-                *c = c.map(|x| x as f32 as f64);
-            }
+        // The file holds multiples of the quantum: round here, so that a table in
+        // memory equals its file.
+        for c in parts.cheb.iter_mut() {
+            *c = c.map(|x| crate::pack::quantize(x, quantum));
         }
         let mut nodes = Vec::with_capacity(nn);
         for (t, &s) in parts.tree.iter().zip(&parts.split) {
@@ -285,6 +307,15 @@ impl Piece {
             if let Some(x) = c.iter().flatten().find(|x| !x.is_finite()) {
                 return Err(bad(format!("patch {p} holds a non-finite coefficient {x}")));
             }
+            if let Some(x) = c
+                .iter()
+                .flatten()
+                .find(|&&x| !crate::pack::packable(x, quantum))
+            {
+                return Err(bad(format!(
+                    "patch {p} holds a coefficient {x} beyond 2^53 quanta of {quantum}"
+                )));
+            }
             mono.extend(terms.chebyshev_to_monomial(c));
         }
         let low_terms: Vec<usize> = (0..nt).filter(|&k| terms.is_low(k)).collect();
@@ -349,6 +380,7 @@ impl Piece {
         let (patch, t) = self.locate(x);
         let nt = self.terms.len();
         let block = &self.high[patch * nt..(patch + 1) * nt];
+        prefetch(block);
         let nl = self.low_axes.len();
         let mut q = self.linear_part(&self.low[patch * nl..(patch + 1) * nl], t);
         #[cfg(target_arch = "x86_64")]

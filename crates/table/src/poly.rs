@@ -75,8 +75,9 @@ impl Terms {
         self.powers.is_empty()
     }
 
-    /// Whether term `idx` is of total degree ≤ 1: these are stored in float64, the
-    /// others (small, smooth residuals of the patch's linear part) in float32.
+    /// Whether term `idx` is of total degree ≤ 1: a lookup evaluates these in float64
+    /// monomials, the others (small, smooth residuals of the patch's linear part) in
+    /// float32 ones.
     pub fn is_low(&self, idx: usize) -> bool {
         self.powers[idx].iter().sum::<usize>() <= 1
     }
@@ -149,7 +150,14 @@ impl Terms {
                 }
             };
         }
-        fixed!(5, 6, 7, 8);
+        match (self.degree, self.max) {
+            (7, [7, 7, 7]) => return crate::horner7::eval7_xyz(coefs, t),
+            (7, [7, 7, 0]) => return crate::horner7::eval7_xy(coefs, t),
+            (7, [0, 7, 7]) => return crate::horner7::eval7_yz(coefs, t),
+            (7, [0, 7, 0]) => return crate::horner7::eval7_y(coefs, t),
+            _ => {}
+        }
+        fixed!(5, 6, 8);
         let nt = self.len();
         if nt > FAST_TERMS || self.degree > MAX_DEGREE {
             return horner_runs(&self.runs, coefs, t);
@@ -323,12 +331,31 @@ mod tests {
     }
 
     #[test]
+    fn unrolled_degree_seven_agrees_with_the_general_horner() {
+        for max in [[7, 7, 7], [7, 7, 0], [0, 7, 7], [0, 7, 0]] {
+            let terms = Terms::new(7, max);
+            let c: Vec<[f32; NQ]> = (0..terms.len())
+                .map(|k| std::array::from_fn(|q| ((k * 13 + q * 5) % 17) as f32 / 17.0 - 0.45))
+                .collect();
+            for t in [[0.31, -0.77, 0.52], [-1.0, 1.0, 0.999], [0.0, 0.5, -0.25]] {
+                let t = std::array::from_fn(|k| if max[k] > 0 { t[k] } else { 0.0 });
+                let (got, want) = (terms.eval(&c, t), terms.horner(&c, t));
+                for q in 0..NQ {
+                    assert!((got[q] - want[q]).abs() < 1e-14, "{max:?} {t:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn horner_matches_a_direct_sum_of_chebyshev_products() {
         for (degree, max) in [
             (5, [5, 5, 5]),
             (4, [0, 4, 4]),
             (3, [3, 3, 0]),
             (6, [0, 6, 0]),
+            (7, [7, 7, 7]),
+            (7, [0, 7, 7]),
         ] {
             let terms = Terms::new(degree, max);
             let cheb: Vec<[f64; NQ]> = (0..terms.len())

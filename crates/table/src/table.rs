@@ -214,11 +214,18 @@ impl Table {
                 p.degree
             )));
         }
+        let tolerance = p.info.tolerance;
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return Err(TableError::Corrupt(format!(
+                "the tolerance {tolerance} is not finite and > 0"
+            )));
+        }
+        let quantum = crate::pack::quantum(tolerance);
         let piece = |k: usize, parts: PieceParts| {
             let (name, active) = PIECES[k];
             let (lo, hi) = piece_box(&prect, active);
             // Only the central pieces may leave patches untabulated.
-            Piece::new(name, parts, lo, hi, p.degree, k >= 2)
+            Piece::new(name, parts, lo, hi, p.degree, quantum, k >= 2)
         };
         Ok(Self {
             model: p.bounds.model,

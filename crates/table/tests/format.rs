@@ -10,8 +10,8 @@ use emdstar_table::{
 
 const DEGREE: usize = 3;
 
-/// Coefficient `k` of patch `p`, quantity `q`: multiples of 1/8192 (exact in float32,
-/// so the file's rounding leaves them alone), small beyond the constant term.
+/// Coefficient `k` of patch `p`, quantity `q`: multiples of 1/8192 (and so of the
+/// file's quantum, which leaves them alone), small beyond the constant term.
 fn coef(p: usize, k: usize, q: usize) -> f64 {
     let h = (p * 131 + k * 31 + q * 7) % 97;
     if k == 0 {
@@ -266,11 +266,19 @@ fn an_independent_npz_reader_sees_the_same_arrays() {
     let tree: Array2<i64> = npz.by_name("main_tree").unwrap();
     assert_eq!(tree.shape(), &[5, 2]);
     assert_eq!(tree[[2, 0]], 2);
-    let low: Array2<f64> = npz.by_name("main_coef").unwrap();
-    let high: Array2<f32> = npz.by_name("main_coef32").unwrap();
-    // Four terms of degree ≤ 1 of 20 per patch, three patches.
-    assert_eq!((low.shape()[0], high.shape()[0]), (12, 48));
-    assert_eq!(low[[0, 2]], coef(0, 0, 2));
+    let patches: ndarray::Array0<i64> = npz.by_name("main_patches").unwrap();
+    assert_eq!(patches.into_scalar(), 3);
+    // The first patch's first group: the tabulated bit, then the 6-bit width of the
+    // constant term of quantity 0 and the term itself, as a zigzag multiple of the
+    // quantum (a power of two: 2^-18 for the tolerance 1e-3).
+    let bits: Array1<u64> = npz.by_name("main_coef_bits").unwrap();
+    let word = bits[0];
+    assert_eq!(word & 1, 1);
+    let width = (word >> 1) & 63;
+    let k = (word >> 7) & ((1 << width) - 1);
+    let c0 = coef(0, 0, 0);
+    assert!(c0 < 0.0);
+    assert_eq!(k, (-2.0 * c0 * 2f64.powi(18)) as u64 - 1);
     let degree: ndarray::Array0<i64> = npz.by_name("degree").unwrap();
     assert_eq!(degree.into_scalar(), DEGREE as i64);
     let split: Array1<f64> = npz.by_name("main_split").unwrap();
@@ -357,8 +365,9 @@ mod rejections {
     #[test]
     fn checksum_mismatch() {
         let bytes = table().to_bytes();
-        // Flip one bit of the first stored coefficient.
-        let first = super::coef(0, 0, 0).to_le_bytes();
+        // Flip one bit of the first split coordinate.
+        let r = super::bounds().axes();
+        let first = (0.5 * (r[0].min + r[0].max)).to_le_bytes();
         let i = bytes
             .windows(8)
             .position(|w| w == first)
@@ -371,10 +380,10 @@ mod rejections {
             "{msg}"
         );
         let edited = rewrite(&bytes, |name, a| {
-            if name == "main_coef"
+            if name == "main_split"
                 && let Data::F64(v) = &mut a.data
             {
-                v[7] += 1e-3;
+                v[0] += 1e-3;
             }
         });
         let msg = message(Table::from_bytes(&edited));
@@ -387,14 +396,28 @@ mod rejections {
     #[test]
     fn corrupt_data() {
         let bytes = table().to_bytes();
-        let nan = reseal(&rewrite(&bytes, |name, a| {
-            if name == "main_coef"
+        let quantum = reseal(&rewrite(&bytes, |name, a| {
+            if name == "quantum"
                 && let Data::F64(v) = &mut a.data
             {
-                v[11] = f64::NAN;
+                v[0] *= 2.0;
             }
         }));
-        let msg = message(Table::from_bytes(&nan));
+        let msg = message(Table::from_bytes(&quantum));
+        assert!(msg.contains("quantum is not"), "{msg}");
+        let cut = reseal(&rewrite(&bytes, |name, a| {
+            if name == "main_coef_bits"
+                && let Data::U64(v) = &mut a.data
+            {
+                v.pop();
+                a.shape = vec![v.len()];
+            }
+        }));
+        let msg = message(Table::from_bytes(&cut));
+        assert!(msg.contains("main_coef_bits: "), "{msg}");
+        let mut p = parts();
+        p.main.cheb[11][1] = f64::NAN;
+        let msg = Table::from_parts(p).unwrap_err().to_string();
         assert!(
             msg.contains("main: patch 0 holds a non-finite coefficient"),
             "{msg}"
@@ -439,7 +462,7 @@ mod rejections {
         });
         assert_eq!(
             message(Table::from_bytes(&v2)),
-            "unknown table format version 2 (this reader supports version 3); use a matching \
+            "unknown table format version 2 (this reader supports version 4); use a matching \
              emdstar release or rebuild the table"
         );
     }
