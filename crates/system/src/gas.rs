@@ -210,7 +210,8 @@ fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
     let mut a = (b.volume() / count as f64).cbrt();
     let dims = loop {
         let n: [usize; 3] = std::array::from_fn(|k| ((b.size[k] / a).floor() as usize).max(1));
-        if n.iter().product::<usize>() >= count {
+        // Saturating: in a thin box two long axes can each hold usize::MAX sites.
+        if n.iter().fold(1usize, |p, &m| p.saturating_mul(m)) >= count {
             break n;
         }
         a *= 0.999;
@@ -229,7 +230,7 @@ fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
             let idx = [
                 i % dims[0],
                 (i / dims[0]) % dims[1],
-                i / (dims[0] * dims[1]),
+                i / dims[0].saturating_mul(dims[1]),
             ];
             std::array::from_fn(|k| b.lo[k] + (idx[k] as f64 + 0.5) * spacing[k])
         })
@@ -433,6 +434,31 @@ mod tests {
                 [3.0 * side / 4.0, side / 4.0, side / 4.0]
             ]
         );
+    }
+
+    #[test]
+    fn a_box_thin_enough_for_countless_sites_along_two_axes_gets_its_lattice() {
+        // Found by fuzzing: 60 spheres of 2e-308 m in a box of 8e7 × 5.5e8 × 1.3e-138 m.
+        // The first spacing tried (1e-41 m) gives more than usize::MAX sites along x and
+        // y, and their product overflowed (a panic). The sites now fill the first row.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [8e7, 5.5e8, 1.2596808811821924e-138],
+            periodic: [true; 3],
+        };
+        let x = lattice(60, 2.1149108880615016e-308, &b).unwrap();
+        assert_eq!(x.len(), 60);
+        let dx = 8e7 / usize::MAX as f64;
+        for (i, p) in x.iter().enumerate() {
+            assert_eq!(
+                *p,
+                [
+                    (i as f64 + 0.5) * dx,
+                    0.5 * 5.5e8 / usize::MAX as f64,
+                    0.5 * b.size[2]
+                ]
+            );
+        }
     }
 
     #[test]
