@@ -58,6 +58,32 @@ fn extreme_speeds_are_refused_by_every_engine_within_a_second_naming_the_key() {
 }
 
 #[test]
+fn extreme_spins_are_refused_by_every_engine_within_a_second_naming_the_key() {
+    let dir = scratch("spin");
+    let spinning = |w: &str| {
+        format!(
+            "t_end = 1.0\n{MATERIAL}[[particles]]\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n\
+             angular_velocity = [{w}, 0.0, 0.0]\n"
+        )
+    };
+    let fast = write(&dir, "fast.toml", &spinning("1e308"));
+    let nan = write(&dir, "nan.toml", &spinning("nan"));
+    for (config, why) in [(&fast, "too large"), (&nan, "finite")] {
+        for engine in ["md", "emdstar", "hybrid"] {
+            let start = Instant::now();
+            let err = error_in(&dir, &["run", config, "--engine", engine, "--quiet"]);
+            let took = start.elapsed();
+            assert!(
+                err.contains("particles[0].angular_velocity") && err.contains(why),
+                "{engine}, {config}: {err}"
+            );
+            assert!(took < Duration::from_secs(1), "{engine}: {took:?}");
+        }
+    }
+    assert!(!dir.join("fast.xyz").exists() && !dir.join("fast.log").exists());
+}
+
+#[test]
 fn a_position_of_two_numbers_is_named_with_its_line() {
     let dir = scratch("shape");
     let config = write(

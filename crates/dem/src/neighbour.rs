@@ -2,7 +2,10 @@
 //! layouts the engines need: half (MD) and full with an upper part (the hybrid).
 
 use crate::options::MdError;
-use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box, sparse_cell_width};
+use emdstar_system::{
+    CellGrid, SimBox, Stencil, bounded_cell_width, bounding_box, sparse_cell_limit,
+    sparse_cell_width,
+};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -55,6 +58,45 @@ struct Near {
     code: u32,
 }
 
+/// The grid of `n` particles over `extent` with cells at least `cell` wide, widened
+/// where the particles are few and far apart ([`sparse_cell_width`]), and with at least
+/// 3 cells along every periodic axis (the stencil must not meet a cell twice; the
+/// caller checks that cells of `cell` leave room for 3). Where widening would leave a
+/// periodic axis fewer, that axis gets 3 cells and the other axes share a third of the
+/// cell budget per such axis, so the grid stays within it.
+fn sparse_grid(
+    lo: [f64; 3],
+    extent: [f64; 3],
+    periodic: [bool; 3],
+    cell: f64,
+    n: usize,
+) -> CellGrid {
+    let mut three = [false; 3];
+    loop {
+        let width = if three == [false; 3] {
+            sparse_cell_width(extent, cell, n)
+        } else {
+            let rest = std::array::from_fn(|k| if three[k] { 0.0 } else { extent[k] });
+            let forced = three.iter().filter(|&&t| t).count() as i32;
+            bounded_cell_width(rest, cell, sparse_cell_limit(n) / 3f64.powi(forced))
+        };
+        let mut grid = CellGrid::new(lo, extent, periodic, width);
+        let short: Vec<usize> = (0..3)
+            .filter(|&k| periodic[k] && !three[k] && grid.dims[k] < 3)
+            .collect();
+        if short.is_empty() {
+            for k in (0..3).filter(|&k| three[k]) {
+                grid.dims[k] = 3;
+                grid.cell_size[k] = extent[k] / 3.0;
+            }
+            return grid;
+        }
+        for k in short {
+            three[k] = true;
+        }
+    }
+}
+
 /// Whether the image of x_j at `shift` lies within `cut` of x_i.
 #[inline(always)]
 fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
@@ -97,13 +139,7 @@ impl NeighbourList {
         } else {
             min_cell
         };
-        // Where particles are few and far apart the cells widen.
-        let mut grid = CellGrid::new(
-            lo,
-            extent,
-            periodic,
-            sparse_cell_width(extent, cell, positions.len()),
-        );
+        let mut grid = sparse_grid(lo, extent, periodic, cell, positions.len());
         if let Some(b) = sim_box {
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
             for k in 0..3 {
@@ -113,9 +149,6 @@ impl NeighbourList {
                         length: b.size[k],
                         cell: min_cell,
                     });
-                }
-                if periodic[k] && grid.dims[k] < 3 {
-                    grid = grid_min.clone();
                 }
             }
             self.shifts = std::array::from_fn(|code| {
@@ -422,6 +455,57 @@ mod tests {
         let (i, s) = list.split(list.of(1)[0]);
         assert_eq!(i, 0);
         assert_eq!(s, [3.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn a_long_periodic_channel_keeps_three_cells_across_within_the_cell_budget() {
+        // 1e9 m long, 3 m across: cells of 1 m would be 9.4e6; widened to the budget, the
+        // thin axes would hold fewer than 3 cells. They keep 3, the long axis shares the
+        // rest, and the pairs across every periodic face are found.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [3.0, 1e9, 3.0],
+            periodic: [true; 3],
+        };
+        let x = [
+            [0.05, 5e8, 1.5],
+            [2.95, 5e8, 1.5],
+            [1.5, 5e8 + 0.5, 0.05],
+            [1.5, 5e8 + 0.5, 2.95],
+            [1.5, 0.05, 1.5],
+            [1.5, 1e9 - 0.05, 1.5],
+            [1.4, 2e8, 1.5],
+        ];
+        let r = [0.1; 7];
+        let mut list = NeighbourList::default();
+        list.build_full(&x, &r, Some(&b), 1.0, 0.05).unwrap();
+        let g = &list.grid;
+        assert!(g.dims[0] == 3 && g.dims[2] == 3, "{:?}", g.dims);
+        assert!(g.len() as f64 <= sparse_cell_limit(x.len()), "{:?}", g.dims);
+        let mut got: Vec<(usize, usize)> = (0..x.len())
+            .flat_map(|i| list.upper(i).iter().map(move |&e| (i, e)))
+            .map(|(i, e)| (i, list.split(e).0))
+            .collect();
+        got.sort_unstable();
+        let mut want = brute_force(&x, &r, &b, 0.05);
+        want.sort_unstable();
+        assert_eq!(want, vec![(0, 1), (2, 3), (4, 5)]);
+        assert_eq!(got, want);
+        // Found by fuzzing: one sphere of 5e-62 m in a periodic box of 123 × 5.5e8 × 5.9
+        // m; the list fell back to cells of the contact size on every axis (2⁶⁰ cells).
+        let b = SimBox {
+            lo: [970.0, 0.0, 0.0],
+            size: [123.0, 5.5e8, 5.9],
+            periodic: [true; 3],
+        };
+        let mut list = NeighbourList::default();
+        list.build_full(&[[971.0, 1.0, 1.0]], &[4.8e-62], Some(&b), 1e-61, 1e-62)
+            .unwrap();
+        assert!(
+            list.grid.len() as f64 <= sparse_cell_limit(1),
+            "{:?}",
+            list.grid.dims
+        );
     }
 
     #[test]

@@ -55,7 +55,9 @@
 //! system and is engine-independent.
 
 use crate::domain::Domain;
-use crate::error::{Result, SystemError, finite3, invalid, positive, representable_energy};
+use crate::error::{
+    Result, SystemError, finite3, invalid, positive, representable_energy, representable_spin,
+};
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::state::{Particles, Species};
@@ -242,7 +244,11 @@ impl Config {
                         pc.angular_velocity,
                     )?;
                     particles.push(&species, index, x, v);
-                    particles.angular_velocity[i] = w;
+                    particles.angular_velocity[i] = representable_spin(
+                        &format!("particles[{i}].angular_velocity"),
+                        particles.inertia(i),
+                        w,
+                    )?;
                 }
             }
             (Some(gas), true) => {

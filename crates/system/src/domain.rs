@@ -73,6 +73,16 @@ impl Domain {
                      overflows double precision; give speeds of a physical size"
                 );
             }
+            let w = p.angular_velocity[i];
+            if !w.iter().all(|c| c.is_finite()) {
+                return invalid!("particle {id}: angular velocity {w:?} must be finite");
+            }
+            if !(0.5 * p.inertia(i) * norm2(w)).is_finite() {
+                return invalid!(
+                    "particle {id}: angular velocity {w:?} rad/s is too large: its rotational \
+                     energy overflows double precision; give spins of a physical size"
+                );
+            }
             if let Some(b) = &self.sim_box
                 && let Some(k) = b.outside_closed_axis(x)
             {
@@ -110,6 +120,12 @@ impl Domain {
             return invalid!(
                 "the particles' total kinetic energy overflows double precision; give speeds \
                  of a physical size"
+            );
+        }
+        if !(kinetic + p.rotational_energy()).is_finite() {
+            return invalid!(
+                "the particles' total kinetic energy (translation and rotation) overflows \
+                 double precision; give speeds and spins of a physical size"
             );
         }
         self.check_overlaps(p)
@@ -201,5 +217,33 @@ mod tests {
         p.velocity[1] = [1.2e154, 0.0, 0.0];
         let err = free.check(&p).unwrap_err().to_string();
         assert!(err.contains("total kinetic energy"), "{err}");
+    }
+
+    #[test]
+    fn spins_whose_energy_overflows_are_refused() {
+        // I = (2/5) m R² = 8e-3 kg m²: ½ I ω² is finite up to ω ≈ 1.5e155 rad/s.
+        let free = Domain::default();
+        let mut p = two([0.0; 3]);
+        p.angular_velocity[0] = [1e150, 0.0, 0.0];
+        assert!(free.check(&p).is_ok());
+        p.angular_velocity[0] = [1e308, 0.0, 0.0];
+        let err = free.check(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("particle 0")
+                && err.contains("angular velocity")
+                && err.contains("too large"),
+            "{err}"
+        );
+        p.angular_velocity[0] = [f64::NAN, 0.0, 0.0];
+        let err = free.check(&p).unwrap_err().to_string();
+        assert!(err.contains("must be finite"), "{err}");
+        // Each energy finite, translation and rotation together not: ½ m v² = 1.44e308
+        // J, and a sphere of 10 m and 2 kg (I = 80 kg m²) at 1.5e153 rad/s has 9e307 J.
+        let mut p = two([1.2e154, 0.0, 0.0]);
+        p.radius[1] = 10.0;
+        p.position[1] = [100.0, 0.0, 0.0];
+        p.angular_velocity[1] = [0.0, 0.0, 1.5e153];
+        let err = free.check(&p).unwrap_err().to_string();
+        assert!(err.contains("translation and rotation"), "{err}");
     }
 }

@@ -98,3 +98,17 @@ pub fn representable_energy(name: &str, m: f64, v: [f64; 3]) -> Result<[f64; 3]>
         )
     }
 }
+
+/// `w` if the rotational energy ½ I ω² of a particle of moment of inertia `inertia` is a
+/// finite double (energies and the torques of friction square spins), else an error
+/// naming the quantity.
+pub fn representable_spin(name: &str, inertia: f64, w: [f64; 3]) -> Result<[f64; 3]> {
+    if (0.5 * inertia * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])).is_finite() {
+        Ok(w)
+    } else {
+        invalid!(
+            "{name} = {w:?} rad/s is too large: the particle's rotational energy overflows \
+             double precision; give a spin of a physical size"
+        )
+    }
+}

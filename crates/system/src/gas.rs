@@ -51,6 +51,13 @@ pub fn cubic_box(count: usize, radius: f64, eta: f64) -> Result<SimBox> {
         );
     }
     let side = (count as f64 * 4.0 / 3.0 * PI * radius.powi(3) / eta).cbrt();
+    if !(side.is_finite() && side > 0.0) {
+        return invalid!(
+            "gas.packing_fraction = {eta:e} with {count} spheres of radius {radius:e} m gives a \
+             box side of {side:e} m, which double precision cannot hold; give a packing \
+             fraction and a radius of a physical size"
+        );
+    }
     Ok(SimBox {
         lo: [0.0; 3],
         size: [side; 3],
@@ -125,7 +132,16 @@ pub(crate) fn generate_gas(
             "a single particle with zero total momentum cannot move: set gas.rms_speed = 0 or count > 1"
         );
     }
-    let eta = gas.count as f64 * 4.0 / 3.0 * PI * gas.radius.powi(3) / sim_box.volume();
+    // The lattice's spacing and the packing fraction divide by the volume.
+    let volume = sim_box.volume();
+    if !(volume.is_finite() && volume > 0.0) {
+        return invalid!(
+            "the gas's box of {:?} m has a volume of {volume:e} m³, which double precision \
+             cannot hold; give box.size (or gas.packing_fraction) of a physical size",
+            sim_box.size
+        );
+    }
+    let eta = gas.count as f64 * 4.0 / 3.0 * PI * gas.radius.powi(3) / volume;
     if eta >= CLOSE_PACKING {
         return invalid!(
             "{} spheres of radius {} m do not fit in the box (packing fraction {eta:.3})",
@@ -186,12 +202,16 @@ fn fcc(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
 }
 
 /// The first `count` sites of the simple cubic lattice with the coarsest spacing that
-/// holds them, each site in the middle of its lattice cell.
+/// holds them, each site in the middle of its lattice cell. The box's sides and volume
+/// must be finite and positive: the search starts from a finite spacing no wider than
+/// the longest side and ends once that side alone holds `count` sites, after at most
+/// ln(count)/ln(1/0.999) + 1 narrowings.
 fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
     let mut a = (b.volume() / count as f64).cbrt();
     let dims = loop {
         let n: [usize; 3] = std::array::from_fn(|k| ((b.size[k] / a).floor() as usize).max(1));
-        if n.iter().product::<usize>() >= count {
+        // Saturating: in a thin box two long axes can each hold usize::MAX sites.
+        if n.iter().fold(1usize, |p, &m| p.saturating_mul(m)) >= count {
             break n;
         }
         a *= 0.999;
@@ -210,7 +230,7 @@ fn lattice(count: usize, radius: f64, b: &SimBox) -> Result<Vec<[f64; 3]>> {
             let idx = [
                 i % dims[0],
                 (i / dims[0]) % dims[1],
-                i / (dims[0] * dims[1]),
+                i / dims[0].saturating_mul(dims[1]),
             ];
             std::array::from_fn(|k| b.lo[k] + (idx[k] as f64 + 0.5) * spacing[k])
         })
@@ -358,6 +378,87 @@ mod tests {
         }
         // A dense box keeps cells of width d.
         assert_eq!(grid_dims([1.0; 3], 0.1, 1e6), [10; 3]);
+    }
+
+    #[test]
+    fn boxes_whose_volume_double_precision_cannot_hold_are_refused() {
+        // Found by fuzzing: 2 spheres of radius 1.23e5 m at a packing fraction of 7.6e-307
+        // ask for a cube of side 3e107 m; the side overflowed to infinity and the lattice's
+        // search for a spacing (narrowing an infinite one) never ended.
+        let err = cubic_box(2, 1.23e5, 7.565504946218844e-307)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("gas.packing_fraction") && err.contains("inf"),
+            "{err}"
+        );
+        // A side that underflows to zero.
+        let err = cubic_box(2, 1e-120, 0.1).unwrap_err().to_string();
+        assert!(err.contains("gas.packing_fraction"), "{err}");
+        // A [box] of finite sides whose volume overflows (1e300 m³) or underflows.
+        let species = [Species {
+            radius: 1.0,
+            mass: 1.0,
+        }];
+        for (size, radius) in [(1e150, 1.0), (1e-120, 1e-130)] {
+            let gas = GasConfig {
+                count: 2,
+                radius,
+                mass: Some(1.0),
+                arrangement: Arrangement::Lattice,
+                packing_fraction: None,
+                rms_speed: 1.0,
+                seed: 1,
+            };
+            let b = SimBox {
+                lo: [0.0; 3],
+                size: [size; 3],
+                periodic: [true; 3],
+            };
+            let err = gas.generate(&species, &b).unwrap_err().to_string();
+            assert!(err.contains("box.size") && err.contains("volume"), "{err}");
+        }
+        // The largest cube double precision holds still gets its lattice: 2 sites half a
+        // side apart.
+        let side = 5e102;
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [side; 3],
+            periodic: [true; 3],
+        };
+        let x = lattice(2, 1.0, &b).unwrap();
+        assert_eq!(
+            x,
+            vec![
+                [side / 4.0, side / 4.0, side / 4.0],
+                [3.0 * side / 4.0, side / 4.0, side / 4.0]
+            ]
+        );
+    }
+
+    #[test]
+    fn a_box_thin_enough_for_countless_sites_along_two_axes_gets_its_lattice() {
+        // Found by fuzzing: 60 spheres of 2e-308 m in a box of 8e7 × 5.5e8 × 1.3e-138 m.
+        // The first spacing tried (1e-41 m) gives more than usize::MAX sites along x and
+        // y, and their product overflowed (a panic). The sites now fill the first row.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [8e7, 5.5e8, 1.2596808811821924e-138],
+            periodic: [true; 3],
+        };
+        let x = lattice(60, 2.1149108880615016e-308, &b).unwrap();
+        assert_eq!(x.len(), 60);
+        let dx = 8e7 / usize::MAX as f64;
+        for (i, p) in x.iter().enumerate() {
+            assert_eq!(
+                *p,
+                [
+                    (i as f64 + 0.5) * dx,
+                    0.5 * 5.5e8 / usize::MAX as f64,
+                    0.5 * b.size[2]
+                ]
+            );
+        }
     }
 
     #[test]

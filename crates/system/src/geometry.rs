@@ -111,7 +111,13 @@ pub enum Stencil {
 /// bound. Wider cells only add candidates. Every engine's grid over user positions
 /// uses this bound.
 pub fn sparse_cell_width(extent: [f64; 3], min_width: f64, n: usize) -> f64 {
-    bounded_cell_width(extent, min_width, 64.0 * n as f64 + f64::from(1u32 << 21))
+    bounded_cell_width(extent, min_width, sparse_cell_limit(n))
+}
+
+/// The most cells a grid of `n` particles may have before [`sparse_cell_width`] widens
+/// them: 64 per particle plus 2²¹.
+pub fn sparse_cell_limit(n: usize) -> f64 {
+    64.0 * n as f64 + f64::from(1u32 << 21)
 }
 
 /// The width of cells, at least `min_width`, with which a grid over `extent` has at

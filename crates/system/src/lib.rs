@@ -40,7 +40,7 @@ pub use error::{Result, SystemError};
 pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
 pub use geometry::{
     CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
-    sparse_cell_width,
+    sparse_cell_limit, sparse_cell_width,
 };
 pub use interactions::{Interaction, Interactions};
 pub use simulation::{Simulation, SimulationError};
