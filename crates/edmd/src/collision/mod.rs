@@ -202,12 +202,13 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
     let contact = h.radius(i) + h.radius(j);
     let distance = dot(r, r).sqrt();
     let emdstar = matches!(h.rule().0, Physics::EmdStar { .. });
-    let last = [h.last_contact(i), h.last_contact(j)];
-    match emdstar
-        .then(|| recontact(i, j, last, contact - distance))
-        .flatten()
-    {
-        Some(placed) => h.stats().record_recontact(contact - distance, placed),
+    let overlap = contact - distance;
+    // Only eMD* places pairs overlapping; the last contacts are read only then.
+    let placed = (emdstar && overlap > 0.0)
+        .then(|| recontact(i, j, [h.last_contact(i), h.last_contact(j)], overlap))
+        .flatten();
+    match placed {
+        Some(placed) => h.stats().record_recontact(overlap, placed),
         None => h.stats().record_impact(distance, contact),
     }
     h.stats().pair_collisions += 1;
