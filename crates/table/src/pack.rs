@@ -51,11 +51,13 @@ fn shells(terms: &Terms) -> Vec<Vec<usize>> {
     out
 }
 
+#[cfg(feature = "write")]
 struct Writer {
     words: Vec<u64>,
     bits: u64,
 }
 
+#[cfg(feature = "write")]
 impl Writer {
     fn push(&mut self, value: u64, width: u32) {
         if width == 0 {
@@ -98,6 +100,7 @@ impl Reader<'_> {
     }
 }
 
+#[cfg(feature = "write")]
 fn zigzag(k: i64) -> u64 {
     ((k << 1) ^ (k >> 63)) as u64
 }
@@ -108,6 +111,7 @@ fn unzigzag(z: u64) -> i64 {
 
 /// Packs `cheb` (`[patch][term][quantity]`, every value a packable multiple of `q`, or
 /// a whole patch NaN).
+#[cfg(feature = "write")]
 #[allow(clippy::needless_range_loop)] // i indexes the quantity of each term, not `block`
 pub fn pack(cheb: &[[f64; NQ]], terms: &Terms, q: f64) -> Vec<u64> {
     let shells = shells(terms);
