@@ -2,10 +2,7 @@
 //! layouts the engines need: half (MD) and full with an upper part (the hybrid).
 
 use crate::options::MdError;
-use emdstar_system::{
-    CellGrid, SimBox, Stencil, bounded_cell_width, bounding_box, sparse_cell_limit,
-    sparse_cell_width,
-};
+use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -58,45 +55,6 @@ struct Near {
     code: u32,
 }
 
-/// The grid of `n` particles over `extent` with cells at least `cell` wide, widened
-/// where the particles are few and far apart ([`sparse_cell_width`]), and with at least
-/// 3 cells along every periodic axis (the stencil must not meet a cell twice; the
-/// caller checks that cells of `cell` leave room for 3). Where widening would leave a
-/// periodic axis fewer, that axis gets 3 cells and the other axes share a third of the
-/// cell budget per such axis, so the grid stays within it.
-fn sparse_grid(
-    lo: [f64; 3],
-    extent: [f64; 3],
-    periodic: [bool; 3],
-    cell: f64,
-    n: usize,
-) -> CellGrid {
-    let mut three = [false; 3];
-    loop {
-        let width = if three == [false; 3] {
-            sparse_cell_width(extent, cell, n)
-        } else {
-            let rest = std::array::from_fn(|k| if three[k] { 0.0 } else { extent[k] });
-            let forced = three.iter().filter(|&&t| t).count() as i32;
-            bounded_cell_width(rest, cell, sparse_cell_limit(n) / 3f64.powi(forced))
-        };
-        let mut grid = CellGrid::new(lo, extent, periodic, width);
-        let short: Vec<usize> = (0..3)
-            .filter(|&k| periodic[k] && !three[k] && grid.dims[k] < 3)
-            .collect();
-        if short.is_empty() {
-            for k in (0..3).filter(|&k| three[k]) {
-                grid.dims[k] = 3;
-                grid.cell_size[k] = extent[k] / 3.0;
-            }
-            return grid;
-        }
-        for k in short {
-            three[k] = true;
-        }
-    }
-}
-
 /// Whether the image of x_j at `shift` lies within `cut` of x_i.
 #[inline(always)]
 fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
@@ -139,7 +97,7 @@ impl NeighbourList {
         } else {
             min_cell
         };
-        let mut grid = sparse_grid(lo, extent, periodic, cell, positions.len());
+        let mut grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
         if let Some(b) = sim_box {
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
             for k in 0..3 {
@@ -345,6 +303,7 @@ impl NeighbourList {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use emdstar_system::sparse_cell_limit;
 
     /// Every pair (j < i) closer than the cut-off through any of the 27 images, by
     /// brute force.

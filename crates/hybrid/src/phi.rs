@@ -18,24 +18,6 @@ pub(crate) fn region(
     }
 }
 
-/// The link cells of `n` particles: at least `cell` wide, and wider where the particles
-/// are few and far apart (beyond 64 cells per particle plus 2²¹, free space), where a
-/// cell per contact size would take memory without bound and every φ is small anyway.
-fn link_cells(
-    lo: [f64; 3],
-    extent: [f64; 3],
-    periodic: [bool; 3],
-    cell: f64,
-    n: usize,
-) -> CellGrid {
-    CellGrid::new(
-        lo,
-        extent,
-        periodic,
-        emdstar_system::sparse_cell_width(extent, cell, n),
-    )
-}
-
 /// The local volume fraction of every particle: the solid volume (4/3)πR³ of the
 /// particles in its link cell and the neighbouring cells, over the volume of those
 /// cells (HAET, Sec. 5–6: the link cell and its 26 neighbours in 3-D; fewer at closed
@@ -48,7 +30,7 @@ pub fn local_volume_fractions(
     (lo, extent, periodic): ([f64; 3], [f64; 3], [bool; 3]),
     cell: f64,
 ) -> Vec<f64> {
-    let mut grid = link_cells(lo, extent, periodic, cell, positions.len());
+    let mut grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
     grid.bin(positions);
     volume_fractions_on(&grid, positions, radius, cell)
 }
@@ -153,7 +135,7 @@ pub(crate) fn any_dense(
     phi: f64,
     scratch: &mut DenseScratch,
 ) -> bool {
-    let grid = link_cells(lo, extent, periodic, cell, positions.len());
+    let grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
     let DenseScratch { solid, cell_of } = scratch;
     if solid.len() < grid.len() {
         solid.resize(grid.len(), 0.0);

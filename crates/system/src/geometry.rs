@@ -185,6 +185,45 @@ pub fn cell_along(x: f64, lo: f64, width: f64, dims: usize, periodic: bool) -> u
 }
 
 impl CellGrid {
+    /// The grid of `n` particles over `extent` with cells at least `cell` wide, widened
+    /// where the particles are few and far apart ([`sparse_cell_width`]), and with at least
+    /// 3 cells along every periodic axis (the stencil must not meet a cell twice; the
+    /// caller checks that cells of `cell` leave room for 3). Where widening would leave a
+    /// periodic axis fewer, that axis gets 3 cells and the other axes share a third of the
+    /// cell budget per such axis, so the grid stays within it.
+    pub fn sparse(
+        lo: [f64; 3],
+        extent: [f64; 3],
+        periodic: [bool; 3],
+        cell: f64,
+        n: usize,
+    ) -> Self {
+        let mut three = [false; 3];
+        loop {
+            let width = if three == [false; 3] {
+                sparse_cell_width(extent, cell, n)
+            } else {
+                let rest = std::array::from_fn(|k| if three[k] { 0.0 } else { extent[k] });
+                let forced = three.iter().filter(|&&t| t).count() as i32;
+                bounded_cell_width(rest, cell, sparse_cell_limit(n) / 3f64.powi(forced))
+            };
+            let mut grid = Self::new(lo, extent, periodic, width);
+            let short: Vec<usize> = (0..3)
+                .filter(|&k| periodic[k] && !three[k] && grid.dims[k] < 3)
+                .collect();
+            if short.is_empty() {
+                for k in (0..3).filter(|&k| three[k]) {
+                    grid.dims[k] = 3;
+                    grid.cell_size[k] = extent[k] / 3.0;
+                }
+                return grid;
+            }
+            for k in short {
+                three[k] = true;
+            }
+        }
+    }
+
     /// An empty grid over `[lo, lo + extent]` with cells at least `min_cell` wide.
     pub fn new(lo: [f64; 3], extent: [f64; 3], periodic: [bool; 3], min_cell: f64) -> Self {
         let dims = cells_per_axis(extent, min_cell, 1 << 20);
