@@ -15,8 +15,9 @@ const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 
 /// The version of the layout and of every engine's state encoding (2: particles carry
 /// angular velocities, MD its tangential springs; 3: the event engines keep each
-/// particle's last pair collision).
-pub const CHECKPOINT_VERSION: u32 = 3;
+/// particle's last pair collision; 4: a cell grid holds
+/// each particle's cell, not its per-cell index).
+pub const CHECKPOINT_VERSION: u32 = 4;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]

@@ -107,17 +107,17 @@ pub enum Stencil {
 
 /// The width of cells for a grid of `n` particles over `extent`: `min_width`, widened
 /// only where the particles are few and far apart (beyond 64 cells per particle plus
-/// 2²¹, e.g. in free space), where a cell per contact size would take memory without
-/// bound. Wider cells only add candidates. Every engine's grid over user positions
-/// uses this bound.
+/// 4096, e.g. in free space), where a cell per contact size would take memory and
+/// time without bound (binning visits every cell). Wider cells only add candidates.
+/// Every engine's grid over user positions uses this bound.
 pub fn sparse_cell_width(extent: [f64; 3], min_width: f64, n: usize) -> f64 {
     bounded_cell_width(extent, min_width, sparse_cell_limit(n))
 }
 
 /// The most cells a grid of `n` particles may have before [`sparse_cell_width`] widens
-/// them: 64 per particle plus 2²¹.
+/// them: 64 per particle plus 4096.
 pub fn sparse_cell_limit(n: usize) -> f64 {
-    64.0 * n as f64 + f64::from(1u32 << 21)
+    64.0 * n as f64 + 4096.0
 }
 
 /// The width of cells, at least `min_width`, with which a grid over `extent` has at
@@ -146,7 +146,12 @@ pub fn bounded_cell_width(extent: [f64; 3], min_width: f64, limit: f64) -> f64 {
 ///
 /// Along periodic axes the grid covers the box exactly and wraps; along closed axes it
 /// covers the given extent and positions beyond it fall into the border cells.
+///
+/// Saved states hold the geometry and each particle's cell only ([`SavedGrid`]): the
+/// per-cell index is rebuilt on loading, so a sparse grid costs a state no more than
+/// its particles do.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+#[serde(into = "SavedGrid", try_from = "SavedGrid")]
 pub struct CellGrid {
     pub lo: [f64; 3],
     pub dims: [usize; 3],
@@ -269,24 +274,34 @@ impl CellGrid {
 
     /// Bins `positions` (reusing the buffers).
     pub fn bin(&mut self, positions: &[[f64; 3]]) {
-        let n_cells = self.len();
-        self.cell_start.clear();
-        self.cell_start.resize(n_cells + 1, 0);
         self.cell_of.clear();
         for &p in positions {
             let c = self.index(self.coords(p)) as u32;
             self.cell_of.push(c);
-            self.cell_start[c as usize + 1] += 1;
         }
-        for c in 0..n_cells {
-            self.cell_start[c + 1] += self.cell_start[c];
+        self.index_cells();
+    }
+
+    /// Builds `cell_start` and `cell_items` from `cell_of` by a counting sort, each
+    /// cell's particles in increasing index.
+    fn index_cells(&mut self) {
+        let n_cells = self.len();
+        self.cell_start.clear();
+        self.cell_start.resize(n_cells + 1, 0);
+        for &c in &self.cell_of {
+            self.cell_start[c as usize] += 1;
         }
+        // Cell c's count becomes its end ...
+        for c in 1..n_cells {
+            self.cell_start[c] += self.cell_start[c - 1];
+        }
+        self.cell_start[n_cells] = self.cell_of.len() as u32;
+        // ... and, filled from the last particle down, its start.
         self.cell_items.clear();
-        self.cell_items.resize(positions.len(), 0);
-        let mut fill = self.cell_start.clone();
-        for (i, &c) in self.cell_of.iter().enumerate() {
-            self.cell_items[fill[c as usize] as usize] = i as u32;
-            fill[c as usize] += 1;
+        self.cell_items.resize(self.cell_of.len(), 0);
+        for (i, &c) in self.cell_of.iter().enumerate().rev() {
+            self.cell_start[c as usize] -= 1;
+            self.cell_items[self.cell_start[c as usize] as usize] = i as u32;
         }
     }
 
@@ -355,9 +370,115 @@ impl CellGrid {
     }
 }
 
+/// What a saved state holds of a [`CellGrid`]: its geometry and each particle's cell.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub struct SavedGrid {
+    lo: [f64; 3],
+    dims: [usize; 3],
+    cell_size: [f64; 3],
+    periodic: [bool; 3],
+    cell_of: Vec<u32>,
+}
+
+impl From<CellGrid> for SavedGrid {
+    fn from(g: CellGrid) -> Self {
+        Self {
+            lo: g.lo,
+            dims: g.dims,
+            cell_size: g.cell_size,
+            periodic: g.periodic,
+            cell_of: g.cell_of,
+        }
+    }
+}
+
+impl TryFrom<SavedGrid> for CellGrid {
+    type Error = String;
+
+    /// Refuses a grid larger than the sparse bound of its particles (no grid the
+    /// engines build is) or a particle in a cell the grid does not have.
+    fn try_from(s: SavedGrid) -> Result<Self, String> {
+        let cells = s.dims.iter().try_fold(1usize, |acc, &d| acc.checked_mul(d));
+        let fits = cells.is_some_and(|c| c as f64 <= sparse_cell_limit(s.cell_of.len()));
+        if !fits {
+            return Err(format!(
+                "a cell grid of {:?} cells is larger than its particles need",
+                s.dims
+            ));
+        }
+        let cells = cells.unwrap_or(0);
+        if s.cell_of.iter().any(|&c| c as usize >= cells) {
+            return Err(format!(
+                "a particle lies outside its cell grid of {cells} cells"
+            ));
+        }
+        let mut grid = Self {
+            lo: s.lo,
+            dims: s.dims,
+            cell_size: s.cell_size,
+            periodic: s.periodic,
+            cell_of: s.cell_of,
+            ..Default::default()
+        };
+        if cells > 0 {
+            grid.index_cells();
+        }
+        Ok(grid)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Positions scattered over a 5 × 4 × 3 grid of unit cells, several per cell.
+    fn binned_grid() -> (CellGrid, Vec<[f64; 3]>) {
+        let positions: Vec<[f64; 3]> = (0..40)
+            .map(|i| {
+                let f = f64::from(i);
+                [(f * 0.37) % 5.0, (f * 0.61) % 4.0, (f * 0.23) % 3.0]
+            })
+            .collect();
+        let mut g = CellGrid::new([0.0; 3], [5.0, 4.0, 3.0], [true, false, true], 1.0);
+        g.bin(&positions);
+        (g, positions)
+    }
+
+    #[test]
+    fn binning_lists_each_cells_particles_in_increasing_index() {
+        let (g, positions) = binned_grid();
+        for c in 0..g.len() {
+            let expected: Vec<u32> = (0..positions.len() as u32)
+                .filter(|&i| g.index(g.coords(positions[i as usize])) == c)
+                .collect();
+            assert_eq!(g.items(c), expected.as_slice(), "cell {c}");
+        }
+    }
+
+    #[test]
+    fn a_saved_grid_loads_with_the_same_cells() {
+        let (g, _) = binned_grid();
+        let bytes = postcard::to_allocvec(&g).unwrap();
+        let back: CellGrid = postcard::from_bytes(&bytes).unwrap();
+        assert_eq!(back.cell_start, g.cell_start);
+        assert_eq!(back.cell_items, g.cell_items);
+        assert_eq!((back.dims, back.lo, back.cell_size), (g.dims, g.lo, g.cell_size));
+        // The saved form holds no per-cell index: 40 particles, 60 cells.
+        assert!(bytes.len() < 4 * 40 + 100, "{} bytes", bytes.len());
+    }
+
+    #[test]
+    fn a_saved_grid_too_large_or_with_a_stray_cell_is_refused() {
+        let (g, _) = binned_grid();
+        let mut huge = SavedGrid::from(g.clone());
+        huge.dims = [1 << 20, 1 << 20, 1 << 20];
+        let err = CellGrid::try_from(huge).unwrap_err();
+        assert!(err.contains("larger than its particles need"), "{err}");
+        let mut stray = SavedGrid::from(g);
+        stray.cell_of[3] = 60;
+        let err = CellGrid::try_from(stray).unwrap_err();
+        assert!(err.contains("outside its cell grid"), "{err}");
+    }
 
     #[test]
     fn wrap_and_min_image() {
