@@ -218,6 +218,10 @@ impl Input {
 
 fuzz_target!(|input: Input| {
     let text = input.toml();
+    // `EMDSTAR_FUZZ_PRINT=1` shows the config of a replayed finding.
+    if std::env::var_os("EMDSTAR_FUZZ_PRINT").is_some() {
+        eprintln!("{text}\nsteps: {}", u32::from(input.steps % 64) + 1);
+    }
     let Ok(config) = Config::from_toml(&text) else {
         return;
     };

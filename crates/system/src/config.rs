@@ -491,12 +491,32 @@ impl BoxConfig {
         for k in 0..3 {
             positive(&format!("box.size[{k}]"), self.size[k])?;
         }
+        let lo = finite3("box.lo", self.lo)?;
+        for k in 0..3 {
+            resolvable(k, lo[k], self.size[k])?;
+        }
         Ok(SimBox {
-            lo: finite3("box.lo", self.lo)?,
+            lo,
             size: self.size,
             periodic: self.periodic,
         })
     }
+}
+
+/// Positions across the box along axis `k` must be resolved: at least 2²⁴ doubles
+/// between its faces (with fewer, cell faces and positions round together and a
+/// particle could cross a face without moving).
+fn resolvable(k: usize, lo: f64, size: f64) -> Result<()> {
+    let far = lo.abs().max((lo + size).abs());
+    let spacing = far.next_up() - far;
+    if size / spacing >= f64::from(1u32 << 24) {
+        return Ok(());
+    }
+    invalid!(
+        "box.lo[{k}] = {lo:e} is too far from the origin for box.size[{k}] = {size:e}: double \
+         precision resolves positions there only to {spacing:.1e} m, fewer than 2^24 steps \
+         across the box; move the box nearer the origin (or make it larger)"
+    )
 }
 
 impl WallConfig {
@@ -511,5 +531,36 @@ impl WallConfig {
             normal: n.map(|c| c / len),
             point,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn build(lo: f64, size: f64) -> Result<crate::System> {
+        Config::from_toml(&format!(
+            "t_end = 1.0\n[material]\nmodel = \"linear\"\nstiffness = 55.0\ndensity = 2500.0\n\
+             [box]\nlo = [{lo:e}, 0.0, 0.0]\nsize = [{size:e}, 10.0, 10.0]\n\
+             [[particles]]\nradius = 0.1\nposition = [{x:e}, 5.0, 5.0]\n",
+            x = lo + 0.5 * size
+        ))?
+        .build()
+    }
+
+    #[test]
+    fn a_box_too_far_from_the_origin_to_resolve_is_refused() {
+        // Found by fuzzing: a box 4000 m wide at x = 2e164 m, where doubles are 3e148 m
+        // apart. Its cell faces all rounded to one number and the hybrid's event part
+        // crossed them at one instant for ever.
+        let err = build(2.066e164, 4000.0).unwrap_err().to_string();
+        assert!(
+            err.contains("box.lo[0]") && err.contains("nearer the origin"),
+            "{err}"
+        );
+        // 2^24 steps across the box is the bar: 1 m at 1e9 m (0.12 µm apart) is refused,
+        // at 1e6 m (0.12 nm apart) it is not.
+        assert!(build(1e9, 1.0).is_err());
+        build(1e6, 1.0).unwrap();
     }
 }
