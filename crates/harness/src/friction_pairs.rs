@@ -10,7 +10,7 @@
 //! |v_rel| (velocities, and spins times their sphere's radius), of relative position,
 //! relative velocity and both spins.
 
-use crate::engines::md_engine;
+use crate::engines::{EventKind, event_engine, event_state, md_engine};
 use crate::{HarnessError, Result};
 use emdstar_contact::vec3::{add, add_scaled, dot, norm, scale, sub};
 use emdstar_contact::{
@@ -18,7 +18,7 @@ use emdstar_contact::{
 };
 use emdstar_mor::SolverOptions;
 use emdstar_mor::frictional::{Spinning, solve_frictional};
-use emdstar_system::{Config, MaterialConfig, ParticleConfig};
+use emdstar_system::{Config, MaterialConfig, ParticleConfig, Simulation, System};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -73,6 +73,8 @@ pub struct FrictionImpact {
     pub md_truncation: StateError,
     /// Walton's rule (e and β₀ of the same contact, applied at touch).
     pub walton: StateError,
+    /// The eMD* engine (its three events with the exact frictional contact).
+    pub emdstar: StateError,
 }
 
 /// All impacts.
@@ -193,12 +195,11 @@ fn draw(rng: &mut ChaCha8Rng, k: usize) -> Result<Drawn> {
     })
 }
 
-/// MD's relative state at `t_obs`, the pair started `lead` before touch.
-fn md_run(d: &Drawn, lead: f64, dt: f64, t_obs: f64) -> Result<Relative> {
+/// The pair as a system: started `lead` before touch, its centre of mass at rest.
+fn pair_system(d: &Drawn, lead: f64, t_obs: f64) -> Result<System> {
     let l = d.radii[0] + d.radii[1];
     let m = d.masses;
     let total = m[0] + m[1];
-    // Particle 2 at the origin before the impact; the pair's centre of mass at rest.
     let r_start = sub(scale(l, d.normal), scale(lead, d.velocity));
     let particles = (0..2)
         .map(|i| {
@@ -223,7 +224,12 @@ fn md_run(d: &Drawn, lead: f64, dt: f64, t_obs: f64) -> Result<Relative> {
         output: None,
         md: None,
     };
-    let mut md = md_engine(config.build()?, dt, t_obs)?;
+    Ok(config.build()?)
+}
+
+/// MD's relative state at `t_obs`, the pair started `lead` before touch.
+fn md_run(d: &Drawn, lead: f64, dt: f64, t_obs: f64) -> Result<Relative> {
+    let mut md = md_engine(pair_system(d, lead, t_obs)?, dt, t_obs)?;
     let steps = (t_obs / dt).round() as u64;
     md.advance(steps)
         .map_err(|e| HarnessError::Invalid(e.to_string()))?;
@@ -231,6 +237,19 @@ fn md_run(d: &Drawn, lead: f64, dt: f64, t_obs: f64) -> Result<Relative> {
     let r = sub(p.position[0], p.position[1]);
     let v = sub(p.velocity[0], p.velocity[1]);
     Ok((r, v, [p.angular_velocity[0], p.angular_velocity[1]]))
+}
+
+/// The eMD* engine's relative state at `t_obs` (exact contacts with friction).
+fn emdstar_run(d: &Drawn, lead: f64, t_obs: f64) -> Result<Relative> {
+    let system = pair_system(d, lead, t_obs)?;
+    let mut engine =
+        event_engine(&system, EventKind::EmdStarExact)?.with_exact_friction(system.friction)?;
+    engine
+        .advance_to(t_obs)
+        .map_err(|e| HarnessError::Invalid(e.to_string()))?;
+    let (x, v) = event_state(&mut engine);
+    let w = engine.angular_velocities();
+    Ok((sub(x[0], x[1]), sub(v[0], v[1]), [w[0], w[1]]))
 }
 
 fn error(d: &Drawn, a: &Relative, b: &Relative) -> StateError {
@@ -324,6 +343,7 @@ fn one(settings: &FrictionPairSettings, k: usize) -> Result<FrictionImpact> {
         md_fine: error(&d, &fine, &exact_state),
         md_truncation: error(&d, &coarse, &fine),
         walton: error(&d, &walton_state, &exact_state),
+        emdstar: error(&d, &emdstar_run(&d, lead, t_obs)?, &exact_state),
     })
 }
 

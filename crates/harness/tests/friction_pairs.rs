@@ -23,6 +23,12 @@ fn the_exact_frictional_contact_is_mds_limit_and_waltons_rule_misses_it() {
         // MD converges to the exact contact: at the finer step it is no further from it
         // than its own step changes it (first order: about as far).
         assert!(fine <= 1.5 * trunc + 1e-9, "{i:?}");
+        // The engine's three events carry the exact contact through: MD's limit too.
+        let engine = worst(&i.emdstar);
+        assert!(
+            engine < 1e-9,
+            "eMD* engine against its exact contact: {engine:e}"
+        );
         // The instantaneous rule misses by far more than MD's truncation.
         assert!(walton > 100.0 * fine && walton > 1e-3, "{i:?}");
     }

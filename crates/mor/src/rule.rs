@@ -168,9 +168,18 @@ pub fn frictional_collision(
         mass: bodies[i].mass,
         spin: spins[i],
     });
+    // The separation at touch, |r| = R₁ + R₂ (an impact is detected to round-off of it).
     let r0 = b1.position - b2.position;
+    let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
     let v0 = b1.velocity - b2.velocity;
-    let end = solve_frictional(law, friction, &spinning, from_na(&r0), from_na(&v0), opts)?;
+    let end = solve_frictional(
+        law,
+        friction,
+        &spinning,
+        from_na(&touch),
+        from_na(&v0),
+        opts,
+    )?;
     let total = b1.mass + b2.mass;
     let cm_position = (b1.position * b1.mass + b2.position * b2.mass) / total;
     let cm_velocity = (b1.velocity * b1.mass + b2.velocity * b2.mass) / total;

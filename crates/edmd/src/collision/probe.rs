@@ -25,6 +25,9 @@ pub struct RotationProbe<S: Copy> {
     pub old_position: [[f64; 3]; 2],
     /// The eMD restitution to apply instead.
     pub fallback: f64,
+    /// The parties' spins before a frictional E^φ changed them (`None` without
+    /// friction), put back with the rotation.
+    pub spins_before: Option<[[f64; 3]; 2]>,
     pub blocked: bool,
 }
 
