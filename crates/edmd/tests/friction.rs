@@ -2,7 +2,7 @@
 //! momentum and never gains energy, a perfectly rough elastic one keeps its energy
 //! while spins take their share; smooth limits leave spins alone; a rough sphere leaves
 //! a wall as a superball does; eMD applies the force law's restitution; checkpoints
-//! restore the spins bitwise; eMD* refuses friction.
+//! restore the spins bitwise; eMD* refuses Walton's rule (it solves the history spring).
 
 mod common;
 
@@ -241,7 +241,7 @@ fn a_restored_frictional_gas_continues_bitwise_with_its_spins() {
 }
 
 #[test]
-fn emdstar_refuses_friction_and_names_the_engines_that_run_it() {
+fn emdstar_refuses_waltons_rule_and_names_the_engines_that_run_it() {
     let (p, d) = fcc(2, 0.05, 1.0, 1.0, 1.0, 1);
     let sphere = Sphere::new(0.5, 1.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(1e4, 0.0).unwrap());
@@ -254,7 +254,7 @@ fn emdstar_refuses_friction_and_names_the_engines_that_run_it() {
         .unwrap()
         .with_friction(Walton::new(0.2, 0.4).unwrap())
         .err()
-        .expect("eMD* refuses friction")
+        .expect("eMD* refuses Walton's rule")
         .to_string();
     assert!(
         err.contains("eMD*") && err.contains("eMD") && err.contains("MD"),
