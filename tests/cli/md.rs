@@ -235,9 +235,14 @@ fn a_frictional_pair_prints_its_spins_emdstar_agrees_and_engines_without_its_law
     let star: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for i in 0..2 {
         for k in 0..3 {
-            let a = star["particles"][i]["angular_velocity"][k].as_f64().unwrap();
+            let a = star["particles"][i]["angular_velocity"][k]
+                .as_f64()
+                .unwrap();
             let b = spins[3 * i + k];
-            assert!((a - b).abs() < 0.01 * 20.0, "spin {i} {k}: eMD* {a}, MD {b}");
+            assert!(
+                (a - b).abs() < 0.01 * 20.0,
+                "spin {i} {k}: eMD* {a}, MD {b}"
+            );
         }
     }
     for engine in ["emd", "hybrid"] {

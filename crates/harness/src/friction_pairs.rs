@@ -14,7 +14,7 @@ use crate::engines::{EventKind, event_engine, event_state, md_engine};
 use crate::{HarnessError, Result};
 use emdstar_contact::vec3::{add, add_scaled, dot, norm, scale, sub};
 use emdstar_contact::{
-    Friction, PairLaw, Rough, SOLID_SPHERE_INERTIA, Sphere, TangentialModel, Walton, rough_pair,
+    Friction, PairLaw, Rough, SOLID_SPHERE_INERTIA, TangentialModel, Walton, rough_pair,
 };
 use emdstar_mor::SolverOptions;
 use emdstar_mor::frictional::{Spinning, solve_frictional};
@@ -372,7 +372,70 @@ impl FrictionPairs {
     }
 }
 
-/// The sphere of radius `r` of this study's material (for callers that draw it).
-pub fn sphere(radius: f64) -> Result<Sphere> {
-    Ok(Sphere::from_density(radius, DENSITY)?)
+/// The errors of each impact against the exact contact, sorted by Walton's: MD at both
+/// steps, MD's truncation, Walton's rule, and the eMD* engine (positions, left;
+/// velocities and spins, right).
+pub fn plot(p: &FrictionPairs, path: &std::path::Path) -> std::result::Result<(), String> {
+    use crate::plot::{Axis, LegendAt, PALETTE, Panel, Series, Style, write_png};
+    let mut order: Vec<usize> = (0..p.impacts.len()).collect();
+    order.sort_by(|&a, &b| {
+        p.impacts[a]
+            .walton
+            .position
+            .total_cmp(&p.impacts[b].walton.position)
+    });
+    let floor = 1e-16;
+    let mut panels = Vec::new();
+    for (title, what) in [
+        ("relative position / l", 0),
+        ("velocities, spins R ω / |v_rel|", 1),
+    ] {
+        let pick = |e: &StateError| {
+            if what == 0 {
+                e.position
+            } else {
+                e.velocity.max(e.spin)
+            }
+        };
+        let mut panel = Panel::new(
+            format!("frictional impacts after the contact: {title}"),
+            Axis::linear("impact (sorted by Walton's miss)"),
+            Axis::log("distance from the exact contact"),
+        );
+        panel.legend = LegendAt::LowerRight;
+        let series: [(&str, &dyn Fn(&FrictionImpact) -> f64, usize, Style); 5] = [
+            (
+                "Walton's rule (eMD)",
+                &|i| pick(&i.walton),
+                1,
+                Style::Points(4),
+            ),
+            (
+                "MD, dt = τ/400",
+                &|i| pick(&i.md_coarse),
+                0,
+                Style::Points(3),
+            ),
+            ("MD, dt = τ/800", &|i| pick(&i.md_fine), 3, Style::Points(3)),
+            (
+                "MD(τ/400) − MD(τ/800)",
+                &|i| pick(&i.md_truncation),
+                4,
+                Style::Points(2),
+            ),
+            ("eMD* engine", &|i| pick(&i.emdstar), 2, Style::Points(3)),
+        ];
+        for (label, of, color, style) in series {
+            let pts = order
+                .iter()
+                .enumerate()
+                .map(|(x, &k)| (x as f64, of(&p.impacts[k]).max(floor)))
+                .collect();
+            panel
+                .series
+                .push(Series::new(label, pts, PALETTE[color], style));
+        }
+        panels.push(panel);
+    }
+    write_png(path, (1500, 650), 1, 2, &panels)
 }
