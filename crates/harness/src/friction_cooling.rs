@@ -71,6 +71,8 @@ pub struct FrictionCurve {
     pub collisions: u64,
     /// eMD*: exact frictional solves.
     pub frictional_solves: u64,
+    /// eMD*: exceptions (a) (the frictionless eMD kick instead) and (b).
+    pub exceptions: (u64, u64),
     pub wall_seconds: f64,
 }
 
@@ -177,6 +179,9 @@ fn one_gas(
             rotational: rots,
             collisions: engine.collisions(),
             frictional_solves: engine.event_stats().map_or(0, |s| s.frictional_solves),
+            exceptions: engine
+                .event_stats()
+                .map_or((0, 0), |s| (s.exception_rotation, s.exception_interference)),
             wall_seconds: start.elapsed().as_secs_f64(),
         });
     }
@@ -216,6 +221,9 @@ pub fn run(
                 rotational: mean(&|c| &c.rotational),
                 collisions: runs.iter().map(|r| r.1[k].collisions).sum(),
                 frictional_solves: runs.iter().map(|r| r.1[k].frictional_solves).sum(),
+                exceptions: runs.iter().fold((0, 0), |(a, b), r| {
+                    (a + r.1[k].exceptions.0, b + r.1[k].exceptions.1)
+                }),
                 wall_seconds: runs.iter().map(|r| r.1[k].wall_seconds).sum(),
             }
         })

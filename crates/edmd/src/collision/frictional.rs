@@ -4,12 +4,18 @@
 //! contact leaves them, both at the centre-of-mass velocity) and E^v (post-collision
 //! velocities). The spins take their post-collision values at E^φ already: nothing in
 //! the event engine reads them before E^v, and exception (a) puts them back.
+//!
+//! Exception (a), the rotation impossible: as eMD falls back on the restitution of the
+//! exact contact without friction, the frictional collision falls back on the impulse of
+//! the exact contact, J = m_eff (v_after − v_before), applied at touch: its normal part
+//! on the velocities, its tangential part also on the spins through the lever arms R_i,
+//! which keeps the total angular momentum (|r| = R_i + R_j at touch).
 
-use super::{Host, RotationProbe, note_contact, walls_block};
+use super::{FrictionalFallback, Host, RotationProbe, kick_pair, note_contact, walls_block};
 use crate::error::Result;
 use crate::physics::Physics;
-use emdstar_contact::Friction;
-use emdstar_contact::vec3::{dot, from_na, norm, to_na};
+use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
+use emdstar_contact::{Friction, SOLID_SPHERE_INERTIA};
 use emdstar_mor::SolverOptions;
 use emdstar_mor::rule::{Body, frictional_collision};
 
@@ -57,16 +63,23 @@ pub(super) fn pair<H: Host>(
     let r_end = from_na(&(out.rotated_positions[0] - out.rotated_positions[1]));
     let v_end = from_na(&(out.post_velocities[0] - out.post_velocities[1]));
     let restitution = (dot(v_end, r_end) / norm(r_end)) / (-dot(v, r) / norm(r));
+    let m_eff = h.mass(i) * h.mass(j) / (h.mass(i) + h.mass(j));
+    let impulse = scale(m_eff, sub(v_end, v));
     if walls_block(h, &[i, j], &new, None) {
         h.stats().exception_rotation += 1;
-        return Ok(Some(restitution));
+        note_contact(h, i, j, 0.0);
+        impulse_kick(h, i, j, r, v, impulse, restitution);
+        return Ok(None);
     }
     *h.probe() = Some(RotationProbe {
         parties: [i as u32, j as u32],
         before: [h.save(i), h.save(j)],
         old_position: [h.position(i), h.position(j)],
         fallback: restitution,
-        spins_before: Some(spins_before),
+        friction: Some(FrictionalFallback {
+            spins_before,
+            impulse,
+        }),
         blocked: false,
     });
     let l = radii[0] + radii[1];
@@ -83,4 +96,35 @@ pub(super) fn pair<H: Host>(
         h.begin_transient(p, end, after, partners[slot]);
     }
     Ok(None)
+}
+
+/// Exception (a) of a frictional collision: the exact contact's impulse `impulse` (on
+/// i) at touch, `r` = x_i − x_j, `v` = v_i − v_j before. Should the pair not separate
+/// along r afterwards (a contact that turned its normal far), eMD's kick of restitution
+/// `restitution` is applied instead, without friction, and counted.
+pub(super) fn impulse_kick<H: Host>(
+    h: &mut H,
+    i: usize,
+    j: usize,
+    r: [f64; 3],
+    v: [f64; 3],
+    impulse: [f64; 3],
+    restitution: f64,
+) {
+    let (m_i, m_j) = (h.mass(i), h.mass(j));
+    let n = scale(1.0 / norm(r), r);
+    let m_eff = m_i * m_j / (m_i + m_j);
+    if dot(add_scaled(v, 1.0 / m_eff, impulse), n) <= 0.0 {
+        h.stats().frictional_fallback_kicks += 1;
+        return kick_pair(h, i, j, r, v, restitution);
+    }
+    let tangential = add_scaled(impulse, -dot(impulse, n), n);
+    let turn = cross(n, tangential);
+    for (p, sign) in [(i, 1.0), (j, -1.0)] {
+        let (m, radius) = (h.mass(p), h.radius(p));
+        h.set_velocity(p, add_scaled(h.velocity(p), sign / m, impulse));
+        // Δω = −(R/I) n × J_t on both (the torque of `emdstar_contact::torque`).
+        let inertia = SOLID_SPHERE_INERTIA * m * radius * radius;
+        h.set_spin(p, add_scaled(h.spin(p), -radius / inertia, turn));
+    }
 }

@@ -12,7 +12,7 @@ mod probe;
 mod recontact;
 mod rough;
 
-pub use probe::{NONE, RotationProbe, pushes_deeper};
+pub use probe::{FrictionalFallback, NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
 
 use crate::error::Result;
@@ -246,12 +246,15 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
         for (slot, &p) in probe.parties.iter().enumerate() {
             h.restore(p as usize, probe.before[slot]);
             h.clear_transient(p as usize);
-            if let Some(spins) = probe.spins_before {
-                h.set_spin(p as usize, spins[slot]);
+            if let Some(f) = probe.friction {
+                h.set_spin(p as usize, f.spins_before[slot]);
             }
         }
         note_contact(h, i, j, 0.0);
-        kick_pair(h, i, j, r, v, probe.fallback);
+        match probe.friction {
+            Some(f) => frictional::impulse_kick(h, i, j, r, v, f.impulse, probe.fallback),
+            None => kick_pair(h, i, j, r, v, probe.fallback),
+        }
         h.predict(i);
         h.predict(j);
     }
@@ -330,7 +333,7 @@ fn emdstar_pair<H: Host>(
         before: [h.save(i), h.save(j)],
         old_position: [h.position(i), h.position(j)],
         fallback: -m.eps_rdot,
-        spins_before: None,
+        friction: None,
         blocked: false,
     });
     // Eq. (28): the pair overlaps by l(1 − ε_r) until it has separated.
@@ -458,7 +461,7 @@ fn emdstar_wall<H: Host>(h: &mut H, i: usize, w: usize, v_n: f64) -> Result<Opti
         before: [h.save(i); 2],
         old_position: [h.position(i); 2],
         fallback: -m.eps_rdot,
-        spins_before: None,
+        friction: None,
         blocked: false,
     });
     h.place(i, new);
