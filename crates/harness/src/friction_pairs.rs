@@ -372,6 +372,9 @@ impl FrictionPairs {
     }
 }
 
+/// One error of an impact.
+type Pick<'a> = dyn Fn(&FrictionImpact) -> f64 + 'a;
+
 /// The errors of each impact against the exact contact, sorted by Walton's: MD at both
 /// steps, MD's truncation, Walton's rule, and the eMD* engine (positions, left;
 /// velocities and spins, right).
@@ -403,7 +406,7 @@ pub fn plot(p: &FrictionPairs, path: &std::path::Path) -> std::result::Result<()
             Axis::log("distance from the exact contact"),
         );
         panel.legend = LegendAt::LowerRight;
-        let series: [(&str, &dyn Fn(&FrictionImpact) -> f64, usize, Style); 5] = [
+        let series: [(&str, &Pick, usize, Style); 5] = [
             (
                 "Walton's rule (eMD)",
                 &|i| pick(&i.walton),

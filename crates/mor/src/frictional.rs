@@ -201,7 +201,7 @@ impl Contact {
         }
         let l = bodies[0].radius + bodies[1].radius;
         let approach = -dot(velocity, touch) / norm(touch);
-        if !(approach > 0.0) || (norm(touch) - l).abs() > 1e-9 * l {
+        if approach.is_nan() || approach <= 0.0 || (norm(touch) - l).abs() > 1e-9 * l {
             return invalid(format!(
                 "the spheres must touch (|r| = {} for R1 + R2 = {l}) and approach (normal \
                  speed {approach})",

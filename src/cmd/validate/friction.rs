@@ -6,8 +6,13 @@ use super::{StageOutput, ValidateArgs, bar};
 use anyhow::{Result, anyhow};
 use emdstar_harness::Check;
 use emdstar_harness::friction_cooling::{FrictionCoolingSettings, plot as plot_cooling};
-use emdstar_harness::friction_pairs::{FrictionPairSettings, StateError, plot as plot_pairs};
+use emdstar_harness::friction_pairs::{
+    FrictionImpact, FrictionPairSettings, StateError, plot as plot_pairs,
+};
 use serde_json::json;
+
+/// One engine's errors of an impact.
+type Engine<'a> = dyn Fn(&FrictionImpact) -> &StateError + 'a;
 
 fn worst(e: &StateError) -> f64 {
     e.position.max(e.velocity).max(e.spin)
@@ -69,10 +74,7 @@ pub fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
         "| engine | quantity | median | worst |".to_string(),
         "|---|---|---|---|".to_string(),
     ];
-    let rows: [(
-        &str,
-        &dyn Fn(&emdstar_harness::friction_pairs::FrictionImpact) -> &StateError,
-    ); 5] = [
+    let rows: [(&str, &Engine); 5] = [
         ("eMD* engine", &|i| &i.emdstar),
         ("MD dt = τ/400", &|i| &i.md_coarse),
         ("MD dt = τ/800", &|i| &i.md_fine),
