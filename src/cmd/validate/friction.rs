@@ -44,7 +44,7 @@ pub fn pairs(args: &ValidateArgs) -> Result<StageOutput> {
             "frictional impacts: eMD* engine against the exact contact, worst of positions/l, \
              velocities and spins·R/|v_rel|",
             engine_worst,
-            1e-9,
+            1e-7,
         ),
         Check::at_most(
             "6b",
