@@ -24,7 +24,9 @@ pub fn stats_json(s: &Stats) -> Value {
         "fallbacks": {
             "emd_rule": s.exception_rotation,
             "exact_mor": s.mor_fallbacks,
+            "frictional_kick_without_friction": s.frictional_fallback_kicks,
         },
+        "frictional_solves": s.frictional_solves,
         "max_impact_overlap": s.max_impact_overlap,
         "recontacts": {
             "count": s.recontacts,

@@ -10,13 +10,14 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 mod diffusion;
+mod friction;
 mod speed;
 mod stages;
 
 /// Cross-validate eMD* against eMD against force-based MD (Müller & Pöschel 2013) and
 /// write a report.
 ///
-/// Runs six scenarios (their --only names in brackets; self-diffusion's checks are
+/// Runs eight scenarios (their --only names in brackets; self-diffusion's checks are
 /// numbered 4.3) and prints each check with its number, its value, its bar and
 /// pass/fail:
 ///   1. [pairs] pair sweep: random oblique impacts over the paper's Tab. I and II
@@ -30,7 +31,11 @@ mod stages;
 ///      T ∝ t^(-5/3);
 ///      [diffusion] self-diffusion of an elastic soft-sphere gas by the three
 ///      engines, hard spheres against Enskog's theory (checks 4.3);
-///   5. [speed] wall time of MD and eMD* for the same simulated time.
+///   5. [speed] wall time of MD and eMD* for the same simulated time;
+///   6. [friction-pairs] random oblique frictional impacts: eMD*'s exact frictional
+///      contact against MD at two fine steps, Walton's rule beside;
+///   7. [friction-cooling] a freely cooling frictional gas: translational and
+///      rotational temperatures by MD, frictional eMD* and Walton's eMD.
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
@@ -58,7 +63,7 @@ pub struct ValidateArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Run only these scenarios (repeat the flag): pairs, fig6, fig7, cooling,
-    /// diffusion, speed.
+    /// diffusion, speed, friction-pairs, friction-cooling.
     #[arg(long, value_name = "NAME")]
     pub only: Vec<String>,
     /// Also time LAMMPS (the binary LMP, default `lmp`, with its GRANULAR package) on
@@ -90,7 +95,16 @@ pub fn bar(title: &str, total: u64) -> ProgressBar {
     b
 }
 
-const SCENARIOS: [&str; 6] = ["pairs", "fig6", "fig7", "cooling", "diffusion", "speed"];
+const SCENARIOS: [&str; 8] = [
+    "pairs",
+    "fig6",
+    "fig7",
+    "cooling",
+    "diffusion",
+    "speed",
+    "friction-pairs",
+    "friction-cooling",
+];
 
 pub fn run(args: &ValidateArgs) -> Result<bool> {
     for name in &args.only {

@@ -272,7 +272,7 @@ velocity = [1.25, -2.5, 0.0]
 "#;
 
 #[test]
-fn emd_runs_walton_friction_and_md_and_emdstar_refuse_it() {
+fn emd_runs_walton_friction_and_md_and_emdstar_refuse_its_material() {
     let path = std::env::temp_dir().join(format!("emdstar_walton_{}.toml", std::process::id()));
     std::fs::write(&path, WALTON_PAIR).unwrap();
     let p = path.to_str().unwrap();

@@ -182,6 +182,19 @@ impl<Q: EventQueue> Engine<Q> {
         })
     }
 
+    /// eMD*'s frictional spheres, if collisions are frictional.
+    pub fn exact_friction(&self) -> Option<emdstar_contact::Friction> {
+        on_engine!(self, e => e.exact_friction())
+    }
+
+    /// Makes eMD*'s collisions frictional (see [`EventEngine::with_exact_friction`]).
+    pub fn with_exact_friction(self, friction: emdstar_contact::Friction) -> Result<Self> {
+        Ok(match self {
+            Self::Crossings(e) => Self::Crossings(e.with_exact_friction(friction)?),
+            Self::Epochs(e) => Self::Epochs(e.with_exact_friction(friction)?),
+        })
+    }
+
     /// Angular velocities in rad/s, by particle number.
     pub fn angular_velocities(&self) -> Vec<[f64; 3]> {
         on_engine!(self, e => e.angular_velocities())

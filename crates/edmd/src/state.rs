@@ -8,8 +8,8 @@ use crate::physics::Physics;
 use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::stats::Stats;
-use emdstar_contact::Walton;
 use emdstar_contact::vec3::{dot, sub};
+use emdstar_contact::{Friction, Walton};
 use emdstar_system::{Domain, SimBox};
 use serde::{Deserialize, Serialize};
 
@@ -132,6 +132,10 @@ pub struct State<Q: EventQueue> {
     /// not saved either.
     #[serde(skip)]
     pub(crate) walton: Option<Walton>,
+    /// eMD*: the history spring of frictional spheres, solved exactly per collision
+    /// (µ > 0); part of the physics, not saved.
+    #[serde(skip)]
+    pub(crate) exact_friction: Option<Friction>,
     /// A cache of exact values (rebuilt on demand).
     #[serde(skip)]
     pub(crate) hertz: HertzRestitution,

@@ -2,7 +2,7 @@
 //! momentum and never gains energy, a perfectly rough elastic one keeps its energy
 //! while spins take their share; smooth limits leave spins alone; a rough sphere leaves
 //! a wall as a superball does; eMD applies the force law's restitution; checkpoints
-//! restore the spins bitwise; eMD* refuses friction.
+//! restore the spins bitwise; eMD* refuses Walton's rule (it solves the history spring).
 
 mod common;
 
@@ -241,7 +241,7 @@ fn a_restored_frictional_gas_continues_bitwise_with_its_spins() {
 }
 
 #[test]
-fn emdstar_refuses_friction_and_names_the_engines_that_run_it() {
+fn emdstar_refuses_waltons_rule_and_names_the_engines_that_run_it() {
     let (p, d) = fcc(2, 0.05, 1.0, 1.0, 1.0, 1);
     let sphere = Sphere::new(0.5, 1.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(1e4, 0.0).unwrap());
@@ -254,7 +254,7 @@ fn emdstar_refuses_friction_and_names_the_engines_that_run_it() {
         .unwrap()
         .with_friction(Walton::new(0.2, 0.4).unwrap())
         .err()
-        .expect("eMD* refuses friction")
+        .expect("eMD* refuses Walton's rule")
         .to_string();
     assert!(
         err.contains("eMD*") && err.contains("eMD") && err.contains("MD"),
@@ -337,4 +337,105 @@ fn a_rough_collision_of_unequal_spheres_keeps_the_angular_momentum_about_the_ori
     let l1 = after.angular_momentum();
     let scale = norm(l0) + 1.0;
     assert!(norm(sub(l1, l0)) < 1e-14 * scale, "{l0:?} → {l1:?}");
+}
+
+/// eMD* with the exact frictional contact on a gas of spheres (σ = 1, m = 1).
+fn frictional_emdstar(p: &Particles, d: &Domain, friction: emdstar_contact::Friction) -> Engine {
+    let sphere = Sphere::new(0.5, 1.0).unwrap();
+    let law = ForceLaw::Linear(LinearDashpot::new(1e4, 5.0).unwrap());
+    let physics = Physics::EmdStar {
+        materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+        mor: Box::new(emdstar_edmd::rules::ExactMor),
+        interference: Interference::HitOnly,
+    };
+    Engine::new(p, d, physics)
+        .unwrap()
+        .with_exact_friction(friction)
+        .unwrap()
+}
+
+#[test]
+fn frictional_emdstar_keeps_momentum_moves_energy_into_spins_and_counts_its_solves() {
+    let (p, d) = fcc(3, 0.3, 1.0, 1.0, 1.0, 7);
+    let history = |mu| {
+        emdstar_contact::Friction::new(
+            mu,
+            2e4 / 7.0,
+            0.0,
+            emdstar_contact::TangentialModel::History,
+        )
+        .unwrap()
+    };
+    let mut e = frictional_emdstar(&p, &d, history(0.5));
+    let p0 = e.momentum();
+    let speed_sum: f64 = p.velocity.iter().map(|v| norm(*v)).sum();
+    assert_eq!(e.thermo().rotational_energy, 0.0);
+    e.run_collisions(1000).unwrap();
+    let p1 = e.momentum();
+    assert!(norm(sub(p1, p0)) < 1e-12 * speed_sum, "{p0:?} → {p1:?}");
+    let stats = *e.stats();
+    // Every pair collision is an exact frictional solve; the exceptions (a) among them
+    // took the contact's impulse (the kick of restitution only when that would not
+    // separate the pair).
+    assert_eq!(stats.frictional_solves, stats.pair_collisions);
+    assert!(stats.frictional_fallback_kicks <= stats.exception_rotation);
+    // Spins took up energy from rest, and the damped gas cooled.
+    let t = e.thermo();
+    assert!(t.rotational_energy > 0.05 * t.kinetic_energy, "{t:?}");
+    let smooth = frictional_emdstar(&p, &d, history(0.0));
+    assert!(
+        smooth.exact_friction().is_none(),
+        "µ = 0 keeps the frictionless rule"
+    );
+}
+
+#[test]
+fn frictional_emdstar_refuses_walls_and_pure_coulomb_sliding() {
+    let p = Particles::from_columns(
+        vec![[0.0, 0.0, 0.5]],
+        vec![[1.0, 0.0, -1.0]],
+        vec![0.5],
+        vec![1.0],
+        vec![0],
+    )
+    .unwrap();
+    let walled = Domain {
+        walls: vec![Wall {
+            normal: [0.0, 0.0, 1.0],
+            point: [0.0; 3],
+        }],
+        ..Domain::default()
+    };
+    let sphere = Sphere::new(0.5, 1.0).unwrap();
+    let law = ForceLaw::Linear(LinearDashpot::new(1e4, 0.0).unwrap());
+    let build = |d: &Domain| -> Engine {
+        Engine::new(
+            &p,
+            d,
+            Physics::EmdStar {
+                materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+                mor: Box::new(emdstar_edmd::rules::ExactMor),
+                interference: Interference::HitOnly,
+            },
+        )
+        .unwrap()
+    };
+    let history =
+        emdstar_contact::Friction::new(0.3, 100.0, 0.0, emdstar_contact::TangentialModel::History)
+            .unwrap();
+    let err = build(&walled)
+        .with_exact_friction(history)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("wall"), "{err}");
+    let coulomb =
+        emdstar_contact::Friction::new(0.3, 0.0, 0.0, emdstar_contact::TangentialModel::Coulomb)
+            .unwrap();
+    let err = build(&Domain::default())
+        .with_exact_friction(coulomb)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("coulomb"), "{err}");
 }

@@ -80,18 +80,13 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
 }
 
 /// The event engine (`kind` emd or emdstar) for `system`: with friction, emd runs
-/// Walton's rule (the material needs `tangential_restitution`) and eMD* refuses.
+/// Walton's rule (the material needs `tangential_restitution`) and eMD* the exact
+/// contact with the history spring (the material needs `tangential_stiffness`).
 pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> Result<Engine> {
     let friction = &system.friction;
     let walton = match kind {
         _ if !friction.is_active() => None,
-        EngineKind::EmdStar => bail!(
-            "friction = {} cannot be run by eMD* yet: its three-event collision rule is \
-             frictionless. Friction runs on --engine md (tangential_stiffness or tangential = \
-             \"coulomb\") and --engine emd (Walton's rule, tangential_restitution); or set \
-             friction = 0",
-            friction.friction
-        ),
+        EngineKind::EmdStar => None,
         _ => match friction.walton_rule() {
             Some(w) => Some(w),
             None => bail!(
@@ -123,9 +118,12 @@ pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> 
         physics,
         choice.broad_phase.into(),
     )?;
-    Ok(match walton {
-        Some(w) => engine.with_friction(w)?,
-        None => engine,
+    Ok(match (walton, kind) {
+        (Some(w), _) => engine.with_friction(w)?,
+        (None, EngineKind::EmdStar) if friction.is_active() => {
+            engine.with_exact_friction(*friction)?
+        }
+        (None, _) => engine,
     })
 }
 

@@ -26,6 +26,8 @@ pub mod engines;
 pub mod exceptions;
 pub mod fig6;
 pub mod floor;
+pub mod friction_cooling;
+pub mod friction_pairs;
 pub mod pair_summary;
 pub mod pairs;
 pub use emdstar_plot as plot;

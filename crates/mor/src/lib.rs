@@ -7,9 +7,13 @@
 //! - [`inverse`] gives the dissipation (γ or A) of a material from the coefficient of
 //!   normal restitution of a central impact: restitution as input.
 //!
-//! Both are pure functions: no tables, no engines, no I/O.
+//! - [`frictional`] solves the exact contact of frictional spheres (history spring, both
+//!   spins, 3-D) from touch to the same end.
+//!
+//! All are pure functions: no tables, no engines, no I/O.
 
 mod dop853;
+pub mod frictional;
 pub mod inverse;
 pub mod rule;
 mod solver;

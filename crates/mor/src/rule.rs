@@ -5,8 +5,10 @@
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 
-use crate::{Mor, SolveError, solve};
-use emdstar_contact::{ContactError, Impact, PairLaw, PairProperties, Vec3, scale};
+use crate::frictional::{Spinning, solve_frictional};
+use crate::{Mor, SolveError, SolverOptions, solve};
+use emdstar_contact::vec3::{from_na, to_na};
+use emdstar_contact::{ContactError, Friction, Impact, PairLaw, PairProperties, Vec3, scale};
 use std::fmt;
 
 /// Position, velocity and mass of one sphere.
@@ -146,6 +148,58 @@ pub fn exact_collision(
     let scaled = scale(law, pair, &impact)?;
     let mor = solve(law.model(), &scaled.params)?;
     Ok((resolve(bodies, pair.l, &mor, scaled.time), mor))
+}
+
+/// The exact collision of two frictional spheres with radii `radii` and spins `spins`
+/// ([`solve_frictional`]) in eMD*'s events: the E^φ event places the spheres where the
+/// contact leaves them relative to their centre of mass and gives both its velocity, the
+/// E^v event the post-collision velocities; the spins after the contact come second.
+pub fn frictional_collision(
+    law: &PairLaw,
+    friction: &Friction,
+    bodies: &[Body; 2],
+    radii: [f64; 2],
+    spins: [[f64; 3]; 2],
+    opts: &SolverOptions,
+) -> Result<(Outcome, [[f64; 3]; 2]), SolveError> {
+    let [b1, b2] = bodies;
+    let spinning = [0, 1].map(|i| Spinning {
+        radius: radii[i],
+        mass: bodies[i].mass,
+        spin: spins[i],
+    });
+    // The separation at touch, |r| = R₁ + R₂ (an impact is detected to round-off of it).
+    let r0 = b1.position - b2.position;
+    let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
+    let v0 = b1.velocity - b2.velocity;
+    let end = solve_frictional(
+        law,
+        friction,
+        &spinning,
+        from_na(&touch),
+        from_na(&v0),
+        opts,
+    )?;
+    let total = b1.mass + b2.mass;
+    let cm_position = (b1.position * b1.mass + b2.position * b2.mass) / total;
+    let cm_velocity = (b1.velocity * b1.mass + b2.velocity * b2.mass) / total;
+    let share = [b2.mass / total, -b1.mass / total];
+    let (r_end, v_end) = (to_na(end.separation), to_na(end.velocity));
+    let rotated_positions = share.map(|s| cm_position + r_end * s);
+    let post_velocities = share.map(|s| cm_velocity + v_end * s);
+    let after = [0, 1].map(|i| Body {
+        position: rotated_positions[i] + cm_velocity * end.duration,
+        velocity: post_velocities[i],
+        mass: bodies[i].mass,
+    });
+    let outcome = Outcome {
+        after,
+        rotated_positions,
+        transient_velocity: cm_velocity,
+        post_velocities,
+        duration: end.duration,
+    };
+    Ok((outcome, end.spins))
 }
 
 /// A sphere against an infinitely heavy flat wall with unit normal `normal` (pointing

@@ -15,6 +15,8 @@ pub fn run(name: &str, args: &ValidateArgs) -> Result<StageOutput> {
         "cooling" => cooling(args),
         "diffusion" => super::diffusion::run(args),
         "speed" => super::speed::run(args),
+        "friction-pairs" => super::friction::pairs(args),
+        "friction-cooling" => super::friction::cooling(args),
         other => Err(anyhow!("scenario {other} is not built yet")),
     }
 }

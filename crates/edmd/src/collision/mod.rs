@@ -7,11 +7,12 @@
 //! its predictions. The event engine of this crate and the hybrid engine's
 //! event-driven part are both hosts.
 
+mod frictional;
 mod probe;
 mod recontact;
 mod rough;
 
-pub use probe::{NONE, RotationProbe, pushes_deeper};
+pub use probe::{FrictionalFallback, NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
 
 use crate::error::Result;
@@ -19,7 +20,7 @@ use crate::physics::{Interference, Physics};
 use crate::rules::{HertzRestitution, restitution_kick};
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, from_na, sub, to_na};
-use emdstar_contact::{Impact, Walton, scale};
+use emdstar_contact::{Friction, Impact, Walton, scale};
 use emdstar_mor::rule::{Body, resolve, resolve_wall};
 use emdstar_system::Wall;
 
@@ -95,6 +96,11 @@ pub trait Host {
     /// Walton's rule if collisions are frictional (hard spheres and eMD only), `None`
     /// for smooth spheres.
     fn walton(&self) -> Option<Walton>;
+    /// eMD*'s frictional spheres (the history spring solved exactly per collision), if
+    /// collisions are frictional.
+    fn exact_friction(&self) -> Option<Friction> {
+        None
+    }
 }
 
 /// The part of gravity that acts on a particle's velocity over an eMD* transient
@@ -240,9 +246,15 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
         for (slot, &p) in probe.parties.iter().enumerate() {
             h.restore(p as usize, probe.before[slot]);
             h.clear_transient(p as usize);
+            if let Some(f) = probe.friction {
+                h.set_spin(p as usize, f.spins_before[slot]);
+            }
         }
         note_contact(h, i, j, 0.0);
-        kick_pair(h, i, j, r, v, probe.fallback);
+        match probe.friction {
+            Some(f) => frictional::impulse_kick(h, i, j, r, v, f.impulse, probe.fallback),
+            None => kick_pair(h, i, j, r, v, probe.fallback),
+        }
         h.predict(i);
         h.predict(j);
     }
@@ -277,6 +289,9 @@ fn emdstar_pair<H: Host>(
     r: [f64; 3],
     v: [f64; 3],
 ) -> Result<Option<f64>> {
+    if let Some(friction) = h.exact_friction() {
+        return frictional::pair(h, i, j, r, v, &friction);
+    }
     let (si, sj) = (h.species(i), h.species(j));
     let (m, fallback, l, tau_scale) = {
         let Physics::EmdStar { materials, mor, .. } = h.rule().0 else {
@@ -318,6 +333,7 @@ fn emdstar_pair<H: Host>(
         before: [h.save(i), h.save(j)],
         old_position: [h.position(i), h.position(j)],
         fallback: -m.eps_rdot,
+        friction: None,
         blocked: false,
     });
     // Eq. (28): the pair overlaps by l(1 − ε_r) until it has separated.
@@ -445,6 +461,7 @@ fn emdstar_wall<H: Host>(h: &mut H, i: usize, w: usize, v_n: f64) -> Result<Opti
         before: [h.save(i); 2],
         old_position: [h.position(i); 2],
         fallback: -m.eps_rdot,
+        friction: None,
         blocked: false,
     });
     h.place(i, new);

@@ -25,7 +25,20 @@ pub struct RotationProbe<S: Copy> {
     pub old_position: [[f64; 3]; 2],
     /// The eMD restitution to apply instead.
     pub fallback: f64,
+    /// With friction: the parties' spins before the E^φ changed them (put back with
+    /// the rotation) and the impulse of the exact contact (applied instead of the
+    /// restitution); `None` without friction.
+    pub friction: Option<FrictionalFallback>,
     pub blocked: bool,
+}
+
+/// What exception (a) of a frictional collision needs (see
+/// `collision::frictional::impulse_kick`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionalFallback {
+    pub spins_before: [[f64; 3]; 2],
+    /// m_eff (v_after − v_before) of the relative velocity, on i.
+    pub impulse: [f64; 3],
 }
 
 impl<S: Copy> RotationProbe<S> {

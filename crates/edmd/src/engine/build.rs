@@ -239,6 +239,7 @@ impl<Q: EventQueue> Prepared<Q> {
             has_gravity,
             physics,
             walton: None,
+            exact_friction: None,
             hertz: HertzRestitution::default(),
             stats: Stats::default(),
             zero_streak: 0,

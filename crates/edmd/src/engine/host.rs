@@ -8,7 +8,7 @@ use crate::queue::EventQueue;
 use crate::rules::HertzRestitution;
 use crate::state::Saved;
 use crate::stats::Stats;
-use emdstar_contact::Walton;
+use emdstar_contact::{Friction, Walton};
 use emdstar_system::Wall;
 
 impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
@@ -176,5 +176,9 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
     #[inline]
     fn walton(&self) -> Option<Walton> {
         self.state.walton
+    }
+
+    fn exact_friction(&self) -> Option<Friction> {
+        self.state.exact_friction
     }
 }

@@ -17,7 +17,7 @@ use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::state::State;
 use crate::stats::Stats;
-use emdstar_contact::Walton;
+use emdstar_contact::{Friction, TangentialModel, Walton};
 
 /// What [`EventEngine::step`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -83,18 +83,68 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
 
     /// Makes collisions of spheres and with walls frictional by Walton's rule
     /// (`emdstar_contact::Walton`; docs/physics.md): spins change at collisions. For
-    /// hard spheres and eMD; eMD* refuses (its three events are frictionless). µ = 0 is
+    /// hard spheres and eMD; eMD* refuses (it solves the history spring exactly:
+    /// [`EventEngine::with_exact_friction`]). µ = 0 is
     /// frictionless and keeps the frictionless rule, bit for bit.
     pub fn with_friction(mut self, walton: Walton) -> Result<Self> {
         if let crate::physics::Physics::EmdStar { .. } = self.state.physics {
             return Err(EngineError::Invalid(
-                "eMD* has no frictional collision rule yet: friction (Walton's rule) runs on \
-                 hard spheres and eMD, force-based friction on MD"
+                "eMD* does not run Walton's rule: its frictional collisions are the exact \
+                 contact with the history spring (tangential_stiffness); Walton's rule runs on \
+                 hard spheres and eMD"
                     .into(),
             ));
         }
         Walton::new(walton.friction, walton.tangential_restitution)?;
         self.state.walton = (walton.friction > 0.0).then_some(walton);
+        Ok(self)
+    }
+
+    /// eMD*'s frictional spheres, if collisions are frictional.
+    pub fn exact_friction(&self) -> Option<Friction> {
+        self.state.exact_friction
+    }
+
+    /// Makes eMD*'s pair collisions frictional: each is the exact contact of the
+    /// normal law with the history spring of `friction` and both spins
+    /// (`emdstar_mor::frictional`; docs/physics.md, "eMD* with friction"). For eMD* only,
+    /// spheres without walls (a wall's frictional contact is not solved yet), and the
+    /// history spring (pure Coulomb sliding has no exact solve). µ = 0 keeps the
+    /// frictionless rule, bit for bit.
+    pub fn with_exact_friction(mut self, friction: Friction) -> Result<Self> {
+        let crate::physics::Physics::EmdStar { .. } = self.state.physics else {
+            return Err(EngineError::Invalid(
+                "the exact frictional contact is eMD*'s rule; hard spheres and eMD run \
+                 friction by Walton's rule (tangential_restitution)"
+                    .into(),
+            ));
+        };
+        if !friction.is_active() {
+            return Ok(self);
+        }
+        if friction.model != TangentialModel::History || friction.tangential_restitution.is_some() {
+            return Err(EngineError::Invalid(
+                "eMD* with friction solves the history spring exactly: give the material \
+                 tangential_stiffness (and tangential_damping) with tangential = \"history\", \
+                 not tangential_restitution (Walton's rule, run by --engine emd) or tangential = \
+                 \"coulomb\""
+                    .into(),
+            ));
+        }
+        if !self.state.domain.walls.is_empty() {
+            return Err(EngineError::Invalid(
+                "eMD* with friction has no frictional wall contact yet: remove the walls \
+                 (periodic box or free space), or run friction with walls on --engine md"
+                    .into(),
+            ));
+        }
+        let checked = Friction::new(
+            friction.friction,
+            friction.stiffness,
+            friction.damping,
+            friction.model,
+        )?;
+        self.state.exact_friction = Some(checked);
         Ok(self)
     }
 

@@ -37,6 +37,7 @@ where
         }
         std::mem::swap(&mut saved.state.physics, &mut self.state.physics);
         saved.state.walton = self.state.walton;
+        saved.state.exact_friction = self.state.exact_friction;
         *self = saved;
         Ok(())
     }

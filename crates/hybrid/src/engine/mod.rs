@@ -99,10 +99,11 @@ impl Hybrid {
     ) -> Result<Self, HybridError> {
         if system.friction.is_active() {
             return Err(HybridError::Invalid(format!(
-                "friction = {} cannot be run by the hybrid yet: its event-driven part \
-                 (eMD*) has no frictional collision rule; run it with --engine md \
-                 (tangential_stiffness or tangential = \"coulomb\"), with --engine emd \
-                 (Walton's rule, tangential_restitution), or set friction = 0",
+                "friction = {} cannot be run by the hybrid yet: its event-driven part has \
+                 no frictional collision rule; run it with --engine md (tangential_stiffness \
+                 or tangential = \"coulomb\"), with --engine emdstar (tangential_stiffness, \
+                 no walls), with --engine emd (Walton's rule, tangential_restitution), or set \
+                 friction = 0",
                 system.friction.friction
             )));
         }
