@@ -462,7 +462,10 @@ mod tests {
         let back: CellGrid = postcard::from_bytes(&bytes).unwrap();
         assert_eq!(back.cell_start, g.cell_start);
         assert_eq!(back.cell_items, g.cell_items);
-        assert_eq!((back.dims, back.lo, back.cell_size), (g.dims, g.lo, g.cell_size));
+        assert_eq!(
+            (back.dims, back.lo, back.cell_size),
+            (g.dims, g.lo, g.cell_size)
+        );
         // The saved form holds no per-cell index: 40 particles, 60 cells.
         assert!(bytes.len() < 4 * 40 + 100, "{} bytes", bytes.len());
     }

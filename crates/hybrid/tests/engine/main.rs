@@ -4,5 +4,6 @@
 
 mod cells;
 mod common;
+mod friction;
 mod modes;
 mod restart;
