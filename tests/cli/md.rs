@@ -200,7 +200,7 @@ fn a_ball_bounces_on_the_floor_and_stays_in_the_box() {
 }
 
 #[test]
-fn a_frictional_pair_prints_its_spins_and_engines_without_its_tangential_law_refuse_it() {
+fn a_frictional_pair_runs_on_md_and_the_hybrid_and_event_engines_without_walton_refuse_it() {
     let path = config("oblique_frictional.toml");
     let out = emdstar(&["pair", &path, "--engine", "md", "--json", "--dt", "1e-4"]);
     assert!(
@@ -224,7 +224,22 @@ fn a_frictional_pair_prints_its_spins_and_engines_without_its_tangential_law_ref
         spins[5].abs() > 1.0 && (spins[2] - 20.0).abs() > 1.0,
         "{spins:?}"
     );
-    for engine in ["emd", "emdstar", "hybrid"] {
+    // The hybrid runs MD's law and, between events, Walton's rule with β₀ derived from it.
+    let out = emdstar(&["pair", &path, "--engine", "hybrid", "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let spin = json["particles"][1]["angular_velocity"][2]
+        .as_f64()
+        .unwrap();
+    assert!(
+        spin.abs() > 1.0,
+        "the hybrid's collision spun nothing up: {spin}"
+    );
+    for engine in ["emd", "emdstar"] {
         let out = emdstar(&["pair", &path, "--engine", engine]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{engine} accepted friction");
