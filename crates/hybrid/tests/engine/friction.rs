@@ -249,3 +249,56 @@ fn friction_the_hybrid_cannot_run_is_refused_with_what_to_do() {
         "{hertz}"
     );
 }
+
+#[test]
+fn a_spinning_event_driven_particle_turns_time_driven_before_it_touches_and_matches_md() {
+    // Particle 1 flies event-driven at particle 0, off-centre; the guard makes it
+    // time-driven before the contact, keeping its spin, and MD takes over.
+    let sys = system(
+        r#"
+t_end = 0.5
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+friction = 0.4
+tangential_stiffness = 571.0
+tangential_damping = 0.2
+[[particles]]
+radius = 0.1
+position = [0.0, 0.0, 0.0]
+[[particles]]
+radius = 0.1
+position = [0.6, 0.08, 0.0]
+velocity = [-2.0, 0.0, 0.0]
+angular_velocity = [0.0, 0.0, 15.0]
+"#,
+    );
+    let t_end = 0.5;
+    let (dt, steps) = step(&sys, t_end, 0.02);
+    let opts = HybridOptions {
+        adaptive: false,
+        skin: Some(1.0),
+        ..HybridOptions::with_dt(dt)
+    };
+    let mut h = hybrid_with(&sys, opts, t_end);
+    h.set_mode(1, Mode::Event).unwrap();
+    let mut m = md(&sys, dt, h.skin(), t_end);
+    h.advance(steps).unwrap();
+    m.advance(steps).unwrap();
+    assert_eq!(h.stats().guard_conversions, 1, "{:?}", h.stats());
+    assert_eq!(h.count(Mode::Time), 2);
+    let (got, reference) = (h.particles(), m.particles_in_config_order());
+    assert!(
+        reference.angular_velocity[0][2].abs() > 1.0,
+        "friction must spin particle 0 up: {:?}",
+        reference.angular_velocity[0]
+    );
+    let (dx, dv) = max_difference(&got, &reference, &sys);
+    let dw = spin_difference(&got, &reference);
+    assert!(
+        dx < 1e-12 && dv < 1e-12 && dw < 1e-10,
+        "|dx| = {dx:e} m, |dv| = {dv:e} m/s, |dw| = {dw:e} rad/s"
+    );
+}
