@@ -33,16 +33,25 @@ pub fn sticking_restitution(friction: &Friction, m_eff: f64, contact_time: f64) 
     let omega0_sq = friction.stiffness / m_t;
     let t = contact_time;
     let decay = (-zeta * t).exp();
-    let ratio = if zeta * zeta < omega0_sq {
+    if zeta * zeta < omega0_sq {
         let omega = (omega0_sq - zeta * zeta).sqrt();
-        (omega * t).cos() - zeta / omega * (omega * t).sin()
+        -decay * ((omega * t).cos() - zeta / omega * (omega * t).sin())
     } else if zeta * zeta == omega0_sq {
-        1.0 - zeta * t
+        -decay * (1.0 - zeta * t)
     } else {
         let big_omega = (zeta * zeta - omega0_sq).sqrt();
-        (big_omega * t).cosh() - zeta / big_omega * (big_omega * t).sinh()
-    };
-    -decay * ratio
+        let x = big_omega * t;
+        if x < 1.0 {
+            -decay * (x.cosh() - zeta / big_omega * x.sinh())
+        } else {
+            // e^{−ζt}(cosh x − (ζ/Ω) sinh x) as decaying exponentials (Ω < ζ), which
+            // neither overflow nor cancel for strong damping.
+            let r = zeta / big_omega;
+            let slow = ((big_omega - zeta) * t).exp();
+            let fast = (-(big_omega + zeta) * t).exp();
+            -0.5 * ((1.0 - r) * slow + (1.0 + r) * fast)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -77,7 +86,13 @@ mod tests {
         let m_t: f64 = m_eff * 2.0 / 7.0;
         let k: f64 = 300.0;
         let critical = 2.0 * (k * m_t).sqrt();
-        for damping in [0.0, 0.1 * critical, critical, 3.0 * critical] {
+        for damping in [
+            0.0,
+            0.1 * critical,
+            critical,
+            1.2 * critical,
+            3.0 * critical,
+        ] {
             let f = history(k, damping);
             let (got, want) = (
                 sticking_restitution(&f, m_eff, t_c),
@@ -89,6 +104,19 @@ mod tests {
             );
             assert!((-1.0..=1.0).contains(&got));
         }
+    }
+
+    #[test]
+    fn a_strongly_over_damped_spring_stays_finite_and_barely_turns_the_slip_back() {
+        // The dashpot stops the slip at once; the spring then pulls it back at a creep,
+        // −g_t ≈ ω₀²/(4ζ²) g₀ (the slow mode): a tiny β₀ > 0, where the plain
+        // cosh − sinh form gives ∞ − ∞ = NaN.
+        let (m_eff, damping, k) = (2.0e-3, 1.0e6, 300.0);
+        let m_t = m_eff * SOLID_SPHERE_INERTIA / (1.0 + SOLID_SPHERE_INERTIA);
+        let zeta = damping / (2.0 * m_t);
+        let creep = k / m_t / (4.0 * zeta * zeta);
+        let beta = sticking_restitution(&history(k, damping), m_eff, 1.0e-2);
+        assert!((beta / creep - 1.0).abs() < 1e-3, "{beta} against {creep}");
     }
 
     #[test]
