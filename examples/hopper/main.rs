@@ -1,15 +1,19 @@
-//! The hopper of the HAET paper (Sec. 7) as a quasi-2-D slab, run with pure MD and
-//! with the hybrid engine; writes PNG maps and curves and a JSON of the figures.
+//! The hopper of the HAET paper (Sec. 7) as a quasi-2-D slab, with friction µ = 0.2 and
+//! rotating particles, run with pure MD and with the hybrid engine; writes PNG maps and
+//! curves and a JSON of the figures.
 //!
 //! ```sh
-//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--font FILE.ttf (default: the embedded font)]
+//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--frictionless] [--font FILE.ttf (default: the embedded font)]
 //! ```
 //!
 //! See README.md beside this file for the set-up and what the figures mean.
 
 mod plot;
 
-use emdstar_contact::{ForceLaw, LinearDashpot, PairProperties, Sphere};
+use emdstar_contact::{
+    ForceLaw, Friction, LinearDashpot, PairProperties, Sphere, TangentialModel,
+    sticking_restitution,
+};
 use emdstar_edmd::rules::TableMorSource;
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_system::{Domain, Particles, SimBox, Species, System, Wall};
@@ -29,6 +33,10 @@ const THICKNESS: f64 = 1.1 * 2.0 * RADIUS;
 /// Duration of a central particle–particle contact and its restitution.
 const CONTACT_TIME: f64 = 1.0e-5;
 const RESTITUTION: f64 = 0.8;
+/// Coulomb's µ (HAET, Sec. 7); the tangential spring and dashpot are 2/7 of the normal
+/// ones, so that a sticking contact oscillates as the normal one does.
+const FRICTION: f64 = 0.2;
+const TANGENTIAL_RATIO: f64 = 2.0 / 7.0;
 /// Field bins (m) and the window the fields are averaged over (s).
 const BIN: f64 = 2.0e-3;
 const SAMPLE: f64 = 5.0e-4;
@@ -57,10 +65,28 @@ fn material(m_eff: f64) -> LinearDashpot {
     LinearDashpot::new(stiffness, 2.0 * m_eff * beta).expect("valid dashpot")
 }
 
+/// One particle (diameter 0.5 mm, glass).
+fn sphere() -> Sphere {
+    Sphere::from_density(RADIUS, DENSITY).expect("valid sphere")
+}
+
+/// The friction of the hopper's material with the normal law `law`: µ = 0.2, a history
+/// spring and dashpot of 2/7 of the normal ones.
+fn friction(law: &LinearDashpot) -> Friction {
+    Friction::new(
+        FRICTION,
+        TANGENTIAL_RATIO * law.stiffness,
+        TANGENTIAL_RATIO * law.damping,
+        TangentialModel::History,
+    )
+    .expect("valid friction")
+}
+
 /// The hopper: side walls, two 45° funnel walls meeting the outlet at y = 0, a lid,
-/// two slab faces; 1200 particles at random above the funnel, 10 m/s downwards.
-fn hopper(seed: u64) -> System {
-    let sphere = Sphere::from_density(RADIUS, DENSITY).expect("valid sphere");
+/// two slab faces; 1200 particles at random above the funnel, 10 m/s downwards; with
+/// friction unless `frictionless`.
+fn hopper(seed: u64, frictionless: bool) -> System {
+    let sphere = sphere();
     let species = vec![Species {
         radius: RADIUS,
         mass: sphere.mass,
@@ -96,11 +122,16 @@ fn hopper(seed: u64) -> System {
             particles.push(&species, 0, x, [0.0, -10.0, 0.0]);
         }
     }
+    let law = material(m_eff);
     System {
         particles,
         species,
-        material: ForceLaw::Linear(material(m_eff)),
-        friction: Default::default(),
+        material: ForceLaw::Linear(law),
+        friction: if frictionless {
+            Friction::NONE
+        } else {
+            friction(&law)
+        },
         domain: Domain {
             sim_box: Some(SimBox {
                 lo: [0.0, -0.01, 0.0],
@@ -135,9 +166,10 @@ fn cpu_seconds() -> f64 {
 struct Run {
     /// (t, CPU s, ED particles, particles left) every [`SAMPLE`].
     series: Vec<(f64, f64, usize, usize)>,
-    /// Bin sums over the sampling window: solid area, Σ|v|, particle count.
+    /// Bin sums over the sampling window: solid area, Σ|v|, ΣR|ω|, particle count.
     area: Vec<f64>,
     speed: Vec<f64>,
+    spin: Vec<f64>,
     count: Vec<f64>,
     snapshots: usize,
     wall_s: f64,
@@ -149,8 +181,8 @@ const NX: usize = (WIDTH / BIN) as usize;
 const NY: usize = (HEIGHT / BIN) as usize;
 
 /// Runs the hopper of `seed` to `t_end`; `md` makes every particle time-driven.
-fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
-    let system = hopper(seed);
+fn run(seed: u64, md: bool, frictionless: bool, t_end: f64, window: (f64, f64)) -> Run {
+    let system = hopper(seed, frictionless);
     let tc = emdstar_dem::shortest_contact_time(&system, t_end)
         .expect("contact time")
         .expect("particles move");
@@ -177,6 +209,7 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
         series: vec![(0.0, 0.0, h.count(Mode::Event), 0)],
         area: vec![0.0; NX * NY],
         speed: vec![0.0; NX * NY],
+        spin: vec![0.0; NX * NY],
         count: vec![0.0; NX * NY],
         snapshots: 0,
         wall_s: 0.0,
@@ -204,6 +237,8 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
                     let b = by * NX + bx;
                     out.area[b] += std::f64::consts::PI * RADIUS * RADIUS;
                     out.speed[b] += (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                    let w = p.angular_velocity[i];
+                    out.spin[b] += RADIUS * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
                     out.count[b] += 1.0;
                 }
             }
@@ -219,13 +254,26 @@ fn run(seed: u64, md: bool, t_end: f64, window: (f64, f64)) -> Run {
 fn fields(r: &Run) -> (Vec<f64>, Vec<f64>) {
     let n = r.snapshots.max(1) as f64;
     let phi = r.area.iter().map(|a| a / (BIN * BIN * n)).collect();
-    let speed = r
-        .speed
-        .iter()
-        .zip(&r.count)
+    (phi, bin_means(&r.speed, &r.count))
+}
+
+/// Per-bin means of `sums` over `count` (NaN in empty bins).
+fn bin_means(sums: &[f64], count: &[f64]) -> Vec<f64> {
+    sums.iter()
+        .zip(count)
         .map(|(s, c)| if *c > 0.0 { s / c } else { f64::NAN })
-        .collect();
-    (phi, speed)
+        .collect()
+}
+
+/// CPU time spent between `t0` and `t1` (sample times of the series).
+fn cpu_between(r: &Run, t0: f64, t1: f64) -> f64 {
+    let at = |t: f64| {
+        r.series
+            .iter()
+            .find(|s| s.0 >= t - 1e-12)
+            .map_or(r.cpu_s, |s| s.1)
+    };
+    at(t1) - at(t0)
 }
 
 /// Root-mean-square difference of two maps over the bins where both are defined.
@@ -246,7 +294,12 @@ fn main() {
     let mut out = PathBuf::from("examples/hopper/out");
     let mut font: Option<PathBuf> = None;
     let mut engines = vec![true, false];
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut frictionless = false;
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(k) = args.iter().position(|a| a == "--frictionless") {
+        frictionless = true;
+        args.remove(k);
+    }
     for pair in args.chunks(2) {
         let value = pair
             .get(1)
@@ -272,7 +325,7 @@ fn main() {
     let mut hybrid_runs = Vec::new();
     for seed in 1..=seeds {
         for &md in &engines {
-            let r = run(seed, md, t_end, window);
+            let r = run(seed, md, frictionless, t_end, window);
             eprintln!(
                 "seed {seed} {}: {:.1} s CPU, {:.1} s wall, {} removed, {} ED at the end, {:?}",
                 if md { "MD" } else { "hybrid" },
@@ -293,13 +346,16 @@ fn main() {
         hybrid_runs.iter().map(fields).collect(),
     );
     // Same seed, hybrid against MD; and MD against MD with another seed (the noise).
+    let spins = |r: &Run| bin_means(&r.spin, &r.count);
     let mut same = (Vec::new(), Vec::new());
     let mut noise = (Vec::new(), Vec::new());
+    let (mut same_spin, mut noise_spin) = (Vec::new(), Vec::new());
     for s in 0..seeds as usize {
         same.0
             .push(rms_difference(&hy_fields[s].0, &md_fields[s].0));
         same.1
             .push(rms_difference(&hy_fields[s].1, &md_fields[s].1));
+        same_spin.push(rms_difference(&spins(&hybrid_runs[s]), &spins(&md_runs[s])));
         let o = (s + 1) % seeds as usize;
         if o != s {
             noise
@@ -308,6 +364,7 @@ fn main() {
             noise
                 .1
                 .push(rms_difference(&md_fields[o].1, &md_fields[s].1));
+            noise_spin.push(rms_difference(&spins(&md_runs[o]), &spins(&md_runs[s])));
         }
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
@@ -317,8 +374,41 @@ fn main() {
     let hy_cpu: f64 = hybrid_runs.iter().map(|r| r.cpu_s).sum();
     let md_steps: u64 = md_runs.iter().map(|r| r.stats.td_particle_steps).sum();
     let hy_steps: u64 = hybrid_runs.iter().map(|r| r.stats.td_particle_steps).sum();
+    // HAET's Fig. 9(a) shows t_CPU/t of both methods against t: compare the ratio over
+    // the first and the last quarter of the run.
+    let quarter = |runs: &[Run], first: bool| -> f64 {
+        let (t0, t1) = if first {
+            (0.0, 0.25 * t_end)
+        } else {
+            (0.75 * t_end, t_end)
+        };
+        runs.iter().map(|r| cpu_between(r, t0, t1)).sum()
+    };
+    let early = quarter(&md_runs, true) / quarter(&hybrid_runs, true);
+    let late = quarter(&md_runs, false) / quarter(&hybrid_runs, false);
+    let law = material(PairProperties::spheres(&sphere(), &sphere()).m_eff);
+    // Smooth spheres have β₀ = −1.
+    let (beta_pair, beta_wall) = if frictionless {
+        (-1.0, -1.0)
+    } else {
+        let beta = |m_eff: f64| {
+            let t_c = law.central_impact(m_eff).expect("contact").duration;
+            sticking_restitution(&friction(&law), m_eff, t_c)
+        };
+        let s = sphere();
+        (
+            beta(PairProperties::spheres(&s, &s).m_eff),
+            beta(PairProperties::sphere_wall(&s).m_eff),
+        )
+    };
     let summary = format!(
-        "{{\n  \"seeds\": {seeds},\n  \"t_end\": {t_end},\n  \"md_wall_s\": {md_wall:.3},\n  \
+        "{{\n  \"seeds\": {seeds},\n  \"t_end\": {t_end},\n  \"friction\": {},\n  \
+         \"beta0_pair\": {beta_pair:.4},\n  \"beta0_wall\": {beta_wall:.4},\n  \
+         \"cpu_ratio_md_over_hybrid_first_quarter\": {early:.3},\n  \
+         \"cpu_ratio_md_over_hybrid_last_quarter\": {late:.3},\n  \
+         \"rms_spin_hybrid_vs_md_same_seed\": {same_spin:?},\n  \
+         \"rms_spin_md_vs_md_other_seed\": {noise_spin:?},\n  \
+         \"md_wall_s\": {md_wall:.3},\n  \
          \"hybrid_wall_s\": {hy_wall:.3},\n  \"md_cpu_s\": {md_cpu:.2},\n  \
          \"hybrid_cpu_s\": {hy_cpu:.2},\n  \"cpu_ratio_md_over_hybrid\": {:.3},\n  \
          \"td_particle_steps_md\": {md_steps},\n  \"td_particle_steps_hybrid\": {hy_steps},\n  \
@@ -327,6 +417,7 @@ fn main() {
          \"rms_speed_hybrid_vs_md_same_seed\": {:?},\n  \"rms_speed_md_vs_md_other_seed\": {:?},\n  \
          \"mean\": {{\"phi_same\": {:.4e}, \"phi_noise\": {:.4e}, \"speed_same\": {:.4e}, \
          \"speed_noise\": {:.4e}}}\n}}\n",
+        if frictionless { 0.0 } else { FRICTION },
         md_cpu / hy_cpu,
         md_wall / hy_wall,
         same.0,

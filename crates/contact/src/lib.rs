@@ -37,6 +37,7 @@ mod mor;
 mod pair;
 mod rect;
 mod scaled;
+mod sticking;
 mod tangential;
 pub mod vec3;
 mod walton;
@@ -51,6 +52,7 @@ pub use mor::Mor;
 pub use pair::{PairProperties, Sphere};
 pub use rect::{HertzBox, LinearBox, ParameterBox, Range, RectBounds, RectCoords};
 pub use scaled::{ScaledImpact, ScaledParams, l_tilde_exponent, scale};
+pub use sticking::sticking_restitution;
 pub use tangential::{
     Friction, SOLID_SPHERE_INERTIA, Tangential, TangentialModel, lever_arm, slip_velocity, torque,
     turn_spring,

@@ -55,6 +55,8 @@
 //!   [`add_force`]), velocities synchronised before and after. A filter on partners
 //!   leaves out pairs with particles that are not integrated (the hybrid's
 //!   event-driven ones: no mixed contacts).
+//! - [`step_subset_frictional`]: the same with friction, through [`FrictionKernel`]
+//!   (spins kicked like the velocities, the springs kept in a [`Springs`]).
 //! - [`ForceKernel::particle`], the force kernel (walls, then the partners it is given,
 //!   with predictor and touch correction), writing to any [`ForceSink`]: MD records
 //!   [`PairForce`]s per chunk and applies them in order, the hybrid adds them at once
@@ -78,6 +80,7 @@ mod neighbour;
 mod options;
 mod simulation;
 mod verlet;
+mod verlet_frictional;
 
 pub use engine::{Md, check_and_wrap};
 pub use forces::{
@@ -91,3 +94,4 @@ pub use options::{
     prepare_system, shortest_contact_time,
 };
 pub use verlet::{Motion, StepBounds, kick_contacts, kick_drift, step_subset};
+pub use verlet_frictional::{SpinMotion, add_contact_forces, step_subset_frictional};

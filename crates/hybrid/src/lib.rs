@@ -62,7 +62,7 @@
 //!    particles and with walls, E^v events); ED particles are updated lazily, only when
 //!    they take part in an event, so a free ED particle costs nothing per step;
 //! 4. TD particles take one velocity-Verlet step: [`emdstar_dem::step_subset`] on the
-//!    TD particles, MD's own step (predictor, touch correction and force kernel; see
+//!    TD particles (with friction its frictional counterpart, see below), MD's own step (predictor, touch correction and force kernel; see
 //!    that crate's docs) with pairs of a TD and an ED particle left out, so an all-TD
 //!    run is MD. Particles that switch to TD get their forces from MD's kernel with
 //!    their velocities at the switch, as MD's first step.
@@ -119,6 +119,24 @@
 //! its impact speed (energy balance at ξ = 0). So a wall E^v adds only the tangential
 //! part of g·τ; what remains of gravity's effect on the contact is of second order in
 //! g·τ/v_n (see the inclined-wall test).
+//!
+//! # Friction and rotation
+//! A material with friction (µ > 0) runs MD's tangential law (history spring and
+//! dashpot, or pure Coulomb sliding) in the TD part and Walton's rule in the ED part:
+//! - **TD**: [`emdstar_dem::step_subset_frictional`], MD's frictional kernel and spin
+//!   kicks on the TD particles, so an all-TD run is frictional MD. Each TD contact keeps
+//!   its spring (saved in checkpoints); a spring ends when its contact ends or one of
+//!   its particles leaves the TD set (there are no mixed contacts, and a particle
+//!   becomes ED only without contacts). Spins are kept through every switch.
+//! - **ED**: eMD*'s three events have no frictional rule, so frictional ED collisions
+//!   are instantaneous, as HAET's (Eqs. 1.1a-b): eMD's central restitution of the
+//!   law, with Walton's rule for the tangential part. Its β₀ is derived from the TD
+//!   law for each pair of species and each species against a wall, as the tangential
+//!   restitution of a sticking contact that lasts the normal contact time
+//!   ([`emdstar_contact::sticking_restitution`]; β₀ = 0 for pure Coulomb sliding).
+//!   That needs a contact time independent of the impact speed: the linear dashpot.
+//!   Hertz contacts with friction, and materials that give β₀ alone
+//!   (`tangential_restitution`, no TD law), are refused at set-up.
 //!
 //! # Outlet
 //! [`HybridOptions::outlet`] is a plane behind which particles leave the system

@@ -16,8 +16,9 @@ const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 /// The version of the layout and of every engine's state encoding (2: particles carry
 /// angular velocities, MD its tangential springs; 3: the event engines keep each
 /// particle's last pair collision; 4: a cell grid holds
-/// each particle's cell, not its per-cell index).
-pub const CHECKPOINT_VERSION: u32 = 4;
+/// each particle's cell, not its per-cell index; 5: the hybrid keeps spins' angular
+/// accelerations and the springs of its time-driven contacts).
+pub const CHECKPOINT_VERSION: u32 = 5;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]

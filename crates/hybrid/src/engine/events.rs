@@ -209,6 +209,7 @@ impl Hybrid {
             }
             let j = self.ed[i].coll_partner as usize;
             let n = self.mode.len();
+            self.choose_walton(i, j);
             if j >= n {
                 collision::wall_collision(self, i, j - n)?;
             } else if self.mode[j] != Mode::Event || self.ed[j].counter != self.ed[i].coll_counter {

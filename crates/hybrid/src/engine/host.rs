@@ -182,9 +182,10 @@ impl Host for Hybrid {
         (&mut self.physics, &mut self.hertz)
     }
 
-    /// The hybrid refuses friction: its collisions are smooth.
+    /// Walton's rule of the collision being executed (set by the event loop from the
+    /// species of its parties), `None` for a frictionless material.
     #[inline]
     fn walton(&self) -> Option<Walton> {
-        None
+        self.walton_now
     }
 }

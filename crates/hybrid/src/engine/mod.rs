@@ -4,6 +4,7 @@
 
 mod cells;
 mod events;
+mod friction;
 mod host;
 mod record;
 mod simulation;
@@ -84,6 +85,14 @@ pub struct Hybrid {
     pub(crate) jump: Vec<f64>,
     pub(crate) max_jump: f64,
     pub(crate) stats: HybridStats,
+    /// Friction: the TD part's spins and springs (`None` for a frictionless material).
+    pub(crate) rotation: Option<Box<friction::TdRotation>>,
+    /// Walton's rules of the ED collisions (not saved), and the one of the collision
+    /// being executed.
+    #[serde(skip)]
+    pub(crate) ed_friction: Option<friction::EdFriction>,
+    #[serde(skip)]
+    pub(crate) walton_now: Option<emdstar_contact::Walton>,
 }
 
 impl Hybrid {
@@ -97,16 +106,6 @@ impl Hybrid {
         mor: Box<dyn MorSource>,
         t_end: f64,
     ) -> Result<Self, HybridError> {
-        if system.friction.is_active() {
-            return Err(HybridError::Invalid(format!(
-                "friction = {} cannot be run by the hybrid yet: its event-driven part has \
-                 no frictional collision rule; run it with --engine md (tangential_stiffness \
-                 or tangential = \"coulomb\"), with --engine emdstar (tangential_stiffness, \
-                 no walls), with --engine emd (Walton's rule, tangential_restitution), or set \
-                 friction = 0",
-                system.friction.friction
-            )));
-        }
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         if skin == 0.0 {
             // Event-driven particles only see partners within the skin.
@@ -129,6 +128,18 @@ impl Hybrid {
             ));
         }
         let materials = Materials::from_system(&system)?;
+        let (rotation, ed_friction) = friction::set_up(&system, &materials)?.unzip();
+        // eMD*'s three events have no frictional rule: frictional ED collisions are
+        // instantaneous, eMD's (HAET, Eqs. 1.1a-b) with Walton's rule.
+        let physics = if ed_friction.is_some() {
+            Physics::Emd(materials.clone())
+        } else {
+            Physics::EmdStar {
+                materials: materials.clone(),
+                mor,
+                interference: Interference::HitOnly,
+            }
+        };
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let mut h = Self {
@@ -141,11 +152,7 @@ impl Hybrid {
             inv_mass,
             contact_acc: vec![[0.0; 3]; n],
             new_acc: vec![[0.0; 3]; n],
-            physics: Physics::EmdStar {
-                materials: materials.clone(),
-                mor,
-                interference: Interference::HitOnly,
-            },
+            physics,
             materials,
             hertz: HertzRestitution::default(),
             now: 0.0,
@@ -169,6 +176,9 @@ impl Hybrid {
             jump: vec![0.0; n],
             max_jump: 0.0,
             stats: HybridStats::default(),
+            rotation: rotation.map(Box::new),
+            ed_friction,
+            walton_now: None,
         };
         // Forces at t = 0 with the velocities themselves, as MD starts.
         h.rebuild(h.opts.adaptive)?;
@@ -191,7 +201,8 @@ impl Hybrid {
         &self.stats
     }
 
-    /// The name of the source of the matrix of restitution ("table+exact", …).
+    /// The name of the source of the matrix of restitution ("table+exact", …; empty
+    /// with friction, whose ED collisions are eMD's).
     pub fn mor_name(&self) -> &'static str {
         match &self.physics {
             Physics::EmdStar { mor, .. } => mor.name(),
@@ -409,6 +420,7 @@ impl Hybrid {
         }
         self.mode[i] = Mode::Removed;
         self.contact_acc[i] = [0.0; 3];
+        self.clear_torque(i);
         self.td_dirty = true;
         self.stats.removed += 1;
     }
@@ -501,6 +513,7 @@ impl Hybrid {
     pub(crate) fn switch_to_ed(&mut self, i: usize, t: f64) {
         self.mode[i] = Mode::Event;
         self.contact_acc[i] = [0.0; 3];
+        self.clear_torque(i);
         let rec = &mut self.ed[i];
         rec.stamp = t;
         rec.counter = rec.counter.wrapping_add(1);

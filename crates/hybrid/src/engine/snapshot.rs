@@ -28,6 +28,7 @@ impl Hybrid {
         })?;
         let same_system = saved.system.species == self.system.species
             && saved.system.material == self.system.material
+            && saved.system.friction == self.system.friction
             && saved.system.domain == self.system.domain
             && saved.mode.len() == self.mode.len();
         if !same_system {
@@ -46,6 +47,7 @@ impl Hybrid {
         }
         std::mem::swap(&mut saved.materials, &mut self.materials);
         std::mem::swap(&mut saved.physics, &mut self.physics);
+        std::mem::swap(&mut saved.ed_friction, &mut self.ed_friction);
         *self = saved;
         Ok(())
     }

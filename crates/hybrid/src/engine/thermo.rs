@@ -24,14 +24,14 @@ impl Hybrid {
 
     /// Energies, temperature, momentum and contacts now (pending eMD* velocities
     /// applied). The potential energy is the elastic energy of the TD contacts
-    /// ([`emdstar_dem::elastic_energy`]) plus −Σ m g·x.
+    /// ([`emdstar_dem::elastic_energy`]) and of their tangential springs, plus −Σ m g·x.
     /// Removed particles are left out of the energies and the momentum (the granular
     /// temperature still counts them).
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.domain.gravity;
         let model = force_model(&p.radius, &p.species, &self.materials, &self.system.domain);
-        let mut potential = 0.0;
+        let mut potential = self.spring_energy();
         let mut contacts = 0;
         let mut kinetic = 0.0;
         let mut momentum = [0.0; 3];

@@ -5,7 +5,10 @@
 use super::Hybrid;
 use crate::options::Mode;
 use emdstar_contact::vec3::{norm, norm2};
-use emdstar_dem::{AddForces, ContactEnd, ForceKernel, ForceModel, Motion, step_subset};
+use emdstar_dem::{
+    AddForces, ContactEnd, ForceKernel, ForceModel, FrictionKernel, Motion, NeighbourList,
+    SpinMotion, add_contact_forces, step_subset, step_subset_frictional,
+};
 use emdstar_edmd::Materials;
 use emdstar_system::Domain;
 
@@ -21,6 +24,20 @@ pub(crate) fn force_model<'a>(
     ForceModel::new(radius, species, interactions, domain, ContactEnd::ForceZero)
 }
 
+/// The TD partners of fresh TD particle `i` in `list` whose contacts are not yet in: a
+/// pair of fresh particles once, from its lower index.
+fn fresh_partners<'a>(
+    list: &'a NeighbourList,
+    mode: &'a [Mode],
+    i: usize,
+    fresh: &'a [bool],
+) -> impl Iterator<Item = u32> + 'a {
+    list.of(i).iter().copied().filter(move |&e| {
+        let j = list.split(e).0;
+        mode[j] == Mode::Time && !(fresh[j] && j < i)
+    })
+}
+
 impl Hybrid {
     /// Refreshes the sorted list of TD particles after switches.
     pub(crate) fn refresh_td(&mut self) {
@@ -34,8 +51,9 @@ impl Hybrid {
     }
 
     /// One velocity-Verlet step of the TD particles: [`emdstar_dem::step_subset`] on
-    /// them, with the pairs of the upper list (each once) whose partner is TD too (there
-    /// are no mixed contacts, see the crate docs).
+    /// them (with friction [`emdstar_dem::step_subset_frictional`]), with the pairs of
+    /// the upper list (each once) whose partner is TD too (there are no mixed contacts,
+    /// see the crate docs).
     #[inline(never)]
     pub(crate) fn td_step(&mut self) {
         self.refresh_td();
@@ -50,14 +68,22 @@ impl Hybrid {
             inv_mass: &self.inv_mass,
         };
         let time_driven = |j: usize| mode[j] == Mode::Time;
-        let bounds = step_subset(
-            &model,
-            &self.list,
-            motion,
-            &self.td,
-            time_driven,
-            self.opts.dt,
-        );
+        let (list, td, dt) = (&self.list, &self.td, self.opts.dt);
+        let bounds = match self.rotation.as_deref_mut() {
+            None => step_subset(&model, list, motion, td, time_driven, dt),
+            Some(rot) => {
+                let spins = SpinMotion {
+                    angular_velocity: &mut p.angular_velocity,
+                    angular_acc: &mut rot.angular_acc,
+                    inv_inertia: &rot.inv_inertia,
+                    id: &p.id,
+                    springs: &mut rot.springs,
+                    contacts: &mut rot.contacts,
+                };
+                let friction = rot.friction;
+                step_subset_frictional(&model, friction, list, motion, spins, td, time_driven, dt)
+            }
+        };
         self.v_max_td = bounds.v_max;
         self.a_max_td = bounds.a_max;
         self.steps += 1;
@@ -78,6 +104,10 @@ impl Hybrid {
         for &i in &converted {
             fresh[i as usize] = self.mode[i as usize] == Mode::Time;
         }
+        if self.rotation.is_some() {
+            self.add_converted_frictional_forces(&converted, &fresh);
+            return;
+        }
         let p = &self.system.particles;
         let kernel = ForceKernel {
             model: force_model(&p.radius, &p.species, &self.materials, &self.system.domain),
@@ -96,17 +126,67 @@ impl Hybrid {
             if !fresh[i] {
                 continue;
             }
-            // A pair of fresh particles once, from its lower index.
-            let partners = self.list.of(i).iter().copied().filter(|&e| {
-                let j = self.list.split(e).0;
-                self.mode[j] == Mode::Time && !(fresh[j] && j < i)
-            });
+            let partners = fresh_partners(&self.list, &self.mode, i, &fresh);
             let (xi, vi) = (p.position[i], p.velocity[i]);
             kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, &mut sink);
             a2_max = a2_max.max(norm2(sink.acc[i]));
             self.v_max_td = self.v_max_td.max(norm(vi));
         }
         self.a_max_td = a2_max.sqrt();
+    }
+
+    /// [`Self::add_converted_forces`] with friction: MD's frictional kernel with h = 0
+    /// (forces, torques, and the springs of the new contacts, as MD's first step).
+    fn add_converted_frictional_forces(&mut self, converted: &[u32], fresh: &[bool]) {
+        let Some(mut rot) = self.rotation.take() else {
+            return;
+        };
+        let mut contacts = std::mem::take(&mut rot.contacts);
+        contacts.clear();
+        let p = &self.system.particles;
+        let kernel = FrictionKernel {
+            base: ForceKernel {
+                model: force_model(&p.radius, &p.species, &self.materials, &self.system.domain),
+                list: &self.list,
+                // Not read with h = 0 (zero between steps).
+                contact_acc: &self.new_acc,
+                h: 0.0,
+            },
+            friction: rot.friction,
+            id: &p.id,
+            angular_velocity: &p.angular_velocity,
+            angular_acc: &rot.angular_acc,
+            springs: &rot.springs,
+        };
+        for &i in converted {
+            let i = i as usize;
+            if fresh[i] {
+                let partners = fresh_partners(&self.list, &self.mode, i, fresh);
+                let (xi, vi) = (p.position[i], p.velocity[i]);
+                kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, &mut contacts);
+                self.v_max_td = self.v_max_td.max(norm(vi));
+            }
+        }
+        add_contact_forces(
+            &contacts,
+            &self.inv_mass,
+            &rot.inv_inertia,
+            &mut self.contact_acc,
+            &mut rot.angular_acc,
+        );
+        let mut a2_max = self.a_max_td * self.a_max_td;
+        for c in &contacts {
+            a2_max = a2_max.max(norm2(self.contact_acc[c.i as usize]));
+            if c.j != emdstar_dem::WALL {
+                a2_max = a2_max.max(norm2(self.contact_acc[c.j as usize]));
+            }
+        }
+        self.a_max_td = a2_max.sqrt();
+        let fresh_springs = contacts.iter().map(|c| (c.key, c.spring));
+        let springs: Vec<_> = rot.springs.iter().copied().chain(fresh_springs).collect();
+        rot.springs.replace(springs.into_iter());
+        rot.contacts = contacts;
+        self.rotation = Some(rot);
     }
 
     /// The guard (crate docs): ED particles that could reach a TD particle within the

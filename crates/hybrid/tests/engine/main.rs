@@ -1,8 +1,9 @@
 //! The hybrid engine's tests, one binary: mode handling against the exact two-body
-//! solution, the eMD* engine and MD (`modes`), and the all-event-driven cell path
-//! (`cells`).
+//! solution, the eMD* engine and MD (`modes`), the all-event-driven cell path
+//! (`cells`), friction and rotation against frictional MD (`friction`), restarts.
 
 mod cells;
 mod common;
+mod friction;
 mod modes;
 mod restart;
