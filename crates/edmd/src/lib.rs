@@ -47,6 +47,7 @@ macro_rules! on_engine {
         match $self {
             $crate::Engine::Crossings($e) => $body,
             $crate::Engine::Epochs($e) => $body,
+            $crate::Engine::Neighbours($e) => $body,
         }
     };
 }
@@ -69,7 +70,7 @@ mod stats;
 mod sweep;
 
 pub use auto::Engine;
-pub use broad_phase::{BroadPhase, Crossings, Epochs};
+pub use broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 pub use calendar::CalendarQueue;
 pub use engine::{Event, EventEngine};
 pub use error::{EngineError, Result};
