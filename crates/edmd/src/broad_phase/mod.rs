@@ -6,6 +6,7 @@
 //! same collisions; the engine is generic over the broad phase, so each runs its own
 //! monomorphised event loop.
 
+mod centre_cells;
 mod crossings;
 mod epochs;
 mod neighbours;

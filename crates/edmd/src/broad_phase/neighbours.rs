@@ -18,7 +18,8 @@
 //! transients and rotations need the crossing cells.
 
 use super::BroadPhase;
-use crate::cells::{LinkedCells, NONE};
+use super::centre_cells::CentreCells;
+use crate::cells::NONE;
 use crate::queue::EventQueue;
 use crate::state::{State, morton_order};
 use emdstar_contact::vec3::{dot, sub};
@@ -31,76 +32,45 @@ pub(crate) const SHELL_RANGE: f64 = 1.5;
 /// A list entry packs the partner's index above `IMAGE_BITS` bits of image code.
 const IMAGE_BITS: u32 = 5;
 const IMAGE_MASK: u32 = (1 << IMAGE_BITS) - 1;
+/// The code of the image without shift: (0 + 1)·(1 + 3 + 9).
+pub(crate) const NO_SHIFT: u32 = 13;
 
 /// Neighbour lists in shells (see the module documentation).
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Neighbours {
     /// Shell centres filed in cells at least `range` wide.
-    grid: LinkedCells,
+    cells: CentreCells,
     centre: Vec<[f64; 3]>,
     range: f64,
     reach: f64,
     /// The shift of each image code, x_j's image = x_j + shift.
     shifts: [[f64; 3]; 27],
+    lists: Lists,
+}
+
+/// Every particle's list in one array.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+struct Lists {
     /// Capacity of each list; `list[i * stride..][..count[i]]` holds `i`'s entries.
     stride: usize,
     count: Vec<u32>,
     list: Vec<u32>,
 }
 
-/// The image code of shifts in units of the box size (each −1, 0 or 1).
-fn image_code(image: [i8; 3]) -> u32 {
-    (image[0] + 1) as u32 + 3 * (image[1] + 1) as u32 + 9 * (image[2] + 1) as u32
-}
-
-/// The code of the opposite image.
-fn opposite(code: u32) -> u32 {
-    26 - code
-}
-
-impl Neighbours {
-    /// Lists over `region` for `n` particles whose largest contact distance is
-    /// `max_contact`.
-    pub(crate) fn new(region: &SimBox, max_contact: f64, n: usize) -> Self {
-        let range = SHELL_RANGE * max_contact;
-        let grid = LinkedCells::new(region.lo, region.size, region.periodic, range, n);
-        let volume: f64 = region.size.iter().product();
-        let expected = n as f64 / volume * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
-        let stride = ((2.0 * expected).ceil() as usize + 8).clamp(16, 1 << 12);
-        Self {
-            grid,
-            centre: vec![[0.0; 3]; n],
-            range,
-            reach: 0.5 * (range - max_contact),
-            shifts: std::array::from_fn(|c| {
-                let image = [c % 3, c / 3 % 3, c / 9].map(|m| m as f64 - 1.0);
-                std::array::from_fn(|k| image[k] * region.size[k])
-            }),
-            stride,
-            count: vec![0; n],
-            list: vec![0; n * stride],
-        }
-    }
-
-    /// Whether every periodic axis holds three cells at least the list range wide, so
-    /// that a pair within range has one nearest image.
-    pub(crate) fn fit(region: &SimBox, max_contact: f64) -> bool {
-        (0..3).all(|k| !region.periodic[k] || region.size[k] >= 3.0 * SHELL_RANGE * max_contact)
-    }
-
-    /// `i`'s list entries.
+impl Lists {
+    /// `i`'s entries.
     #[inline(always)]
-    fn entries(&self, i: usize) -> &[u32] {
+    fn of(&self, i: usize) -> &[u32] {
         &self.list[i * self.stride..i * self.stride + self.count[i] as usize]
     }
 
     /// Appends `j` with image `code` to `i`'s list, growing every list if `i`'s is full.
     #[inline]
-    fn push(&mut self, i: usize, j: usize, code: u32) {
+    fn push(&mut self, i: usize, j: u32, code: u32) {
         if self.count[i] as usize == self.stride {
             self.grow();
         }
-        self.list[i * self.stride + self.count[i] as usize] = (j as u32) << IMAGE_BITS | code;
+        self.list[i * self.stride + self.count[i] as usize] = j << IMAGE_BITS | code;
         self.count[i] += 1;
     }
 
@@ -133,38 +103,84 @@ impl Neighbours {
         self.count[i] = 0;
     }
 
+    /// Renumbers: new number k is old number `order[k]`.
+    fn renumber(&mut self, order: &[u32], new_index: &[u32]) {
+        let stride = self.stride;
+        let mut list = vec![0; self.list.len()];
+        let mut count = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            let old = old as usize;
+            count[new] = self.count[old];
+            for m in 0..self.count[old] as usize {
+                let e = self.list[old * stride + m];
+                let j = new_index[(e >> IMAGE_BITS) as usize];
+                list[new * stride + m] = j << IMAGE_BITS | (e & IMAGE_MASK);
+            }
+        }
+        self.list = list;
+        self.count = count;
+    }
+}
+
+/// The image code of shifts in units of the box size (each −1, 0 or 1).
+pub(crate) fn image_code(image: [i8; 3]) -> u32 {
+    (image[0] + 1) as u32 + 3 * (image[1] + 1) as u32 + 9 * (image[2] + 1) as u32
+}
+
+/// The code of the opposite image.
+fn opposite(code: u32) -> u32 {
+    26 - code
+}
+
+impl Neighbours {
+    /// Lists over `region` for `n` particles whose largest contact distance is
+    /// `max_contact`.
+    pub(crate) fn new(region: &SimBox, max_contact: f64, n: usize) -> Self {
+        let range = std::env::var("TUNE_SHELL").ok().and_then(|v| v.parse().ok()).unwrap_or(SHELL_RANGE) * max_contact;
+        let volume: f64 = region.size.iter().product();
+        let expected = n as f64 / volume * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
+        let stride = ((2.0 * expected).ceil() as usize + 8).clamp(16, 1 << 12);
+        Self {
+            cells: CentreCells::new(region, range, n),
+            centre: vec![[0.0; 3]; n],
+            range,
+            reach: 0.5 * (range - max_contact),
+            shifts: std::array::from_fn(|c| {
+                let image = [c % 3, c / 3 % 3, c / 9].map(|m| m as f64 - 1.0);
+                std::array::from_fn(|k| image[k] * region.size[k])
+            }),
+            lists: Lists {
+                stride,
+                count: vec![0; n],
+                list: vec![0; n * stride],
+            },
+        }
+    }
+
+    /// Whether every periodic axis holds three cells at least the list range wide, so
+    /// that a pair within range has one nearest image.
+    pub(crate) fn fit(region: &SimBox, max_contact: f64) -> bool {
+        (0..3).all(|k| !region.periodic[k] || region.size[k] >= 3.0 * SHELL_RANGE * max_contact)
+    }
+
     /// Lists `i` with every particle whose centre lies within range of its own (and
     /// `i` on theirs if `both`), from the cells around its centre.
     fn link(&mut self, i: usize, both: bool) {
-        let c = self.grid.coords[i];
         let ci = self.centre[i];
         let range2 = self.range * self.range;
-        let set = self.grid.neighbourhood(c);
-        for (cell, shift) in set.iter() {
-            let image: [i8; 3] = std::array::from_fn(|k| {
-                if shift[k] > 0.0 {
-                    1
-                } else if shift[k] < 0.0 {
-                    -1
-                } else {
-                    0
-                }
-            });
-            let code = image_code(image);
+        let lists = &mut self.lists;
+        self.cells.around(i, |members, code, shift| {
             let ci_rel = sub(ci, shift);
-            let mut j = self.grid.first(cell);
-            while j != NONE {
-                let ju = j as usize;
-                let d = sub(ci_rel, self.centre[ju]);
-                if ju != i && dot(d, d) < range2 {
-                    self.push(i, ju, code);
+            for m in members {
+                let d = sub(ci_rel, m.centre);
+                if dot(d, d) < range2 && m.index != i as u32 {
+                    lists.push(i, m.index, code);
                     if both {
-                        self.push(ju, i, opposite(code));
+                        lists.push(m.index as usize, i as u32, opposite(code));
                     }
                 }
-                j = self.grid.next(j);
             }
-        }
+        });
     }
 
     /// The earliest collision of `i` (advanced to now) with its neighbours before
@@ -176,7 +192,11 @@ impl Neighbours {
         let ri = s.slot[i].kin.radius;
         let mut best_j = NONE;
         let mut best_now = false;
-        for &e in self.entries(i) {
+        let entries = self.lists.of(i);
+        for &e in entries {
+            prefetch(&s.slot[(e >> IMAGE_BITS) as usize].kin);
+        }
+        for &e in entries {
             let j = (e >> IMAGE_BITS) as usize;
             let (pj, vj) = s.state_at(j, now);
             let r = sub(sub(pi, self.shifts[(e & IMAGE_MASK) as usize]), pj);
@@ -195,6 +215,20 @@ impl Neighbours {
     }
 }
 
+/// Asks for the cache line of `x`: a prediction asks for all its candidates' lines
+/// first, so that it waits for memory about once rather than once per candidate.
+#[inline(always)]
+fn prefetch<T>(x: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch is a hint; the address is that of a live reference.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(x as *const T as *const i8) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
 impl BroadPhase for Neighbours {
     const OWN_EVENTS: usize = 0;
 
@@ -206,14 +240,13 @@ impl BroadPhase for Neighbours {
         for i in 0..s.len() {
             let x = s.slot[i].kin.pos;
             self.centre[i] = x;
-            let c = self.grid.coords_of(x);
-            self.grid.insert(i, c);
+            self.cells.insert(i, x);
         }
     }
 
     fn start<Q: EventQueue>(&mut self, s: &mut State<Q>) {
         for i in 0..s.len() {
-            self.count[i] = 0;
+            self.lists.count[i] = 0;
         }
         for i in 0..s.len() {
             self.link(i, false);
@@ -253,8 +286,9 @@ impl BroadPhase for Neighbours {
         let x = s.wrap(s.slot[i].kin.pos);
         s.slot[i].kin.pos = x;
         self.centre[i] = x;
-        self.grid.relocate(i, self.grid.coords_of(x));
-        self.unlink(i);
+        self.cells.remove(i);
+        self.cells.insert(i, x);
+        self.lists.unlink(i);
         self.link(i, true);
         self.predict(s, i);
     }
@@ -268,7 +302,7 @@ impl BroadPhase for Neighbours {
     }
 
     fn cell_of(&self, i: usize) -> [u32; 3] {
-        self.grid.coords[i]
+        self.cells.coords[i]
     }
 
     fn return_to(&mut self, _: usize, _: [u32; 3]) {
@@ -281,30 +315,16 @@ impl BroadPhase for Neighbours {
 
     /// Renumbers centres, lists and their entries; nothing is predicted again.
     fn resort<Q: EventQueue>(&mut self, s: &mut State<Q>) {
-        let order = morton_order(self.grid.coords.iter().copied());
+        let order = morton_order(self.cells.coords.iter().copied());
         s.permute(&order);
-        self.grid.renumber(&order);
-        let n = order.len();
-        let mut new_index = vec![0u32; n];
+        let mut new_index = vec![0u32; order.len()];
         for (new, &old) in order.iter().enumerate() {
             new_index[old as usize] = new as u32;
         }
+        self.cells.renumber(&order, &new_index);
         let mut centre = Vec::new();
         crate::state::permute(&mut self.centre, &order, &mut centre);
-        let stride = self.stride;
-        let mut list = vec![0; self.list.len()];
-        let mut count = vec![0; n];
-        for (new, &old) in order.iter().enumerate() {
-            let old = old as usize;
-            count[new] = self.count[old];
-            for m in 0..self.count[old] as usize {
-                let e = self.list[old * stride + m];
-                let j = new_index[(e >> IMAGE_BITS) as usize];
-                list[new * stride + m] = j << IMAGE_BITS | (e & IMAGE_MASK);
-            }
-        }
-        self.list = list;
-        self.count = count;
+        self.lists.renumber(&order, &new_index);
         s.refile();
         s.stats.resorts += 1;
     }
@@ -322,9 +342,8 @@ mod tests {
             periodic: [true; 3],
         };
         let nb = Neighbours::new(&region, 1.0, 4);
-        // The image without shift: (0 + 1)·(1 + 3 + 9).
-        assert_eq!(image_code([0, 0, 0]), 13);
-        assert_eq!(nb.shifts[13], [0.0; 3]);
+        assert_eq!(image_code([0, 0, 0]), NO_SHIFT);
+        assert_eq!(nb.shifts[NO_SHIFT as usize], [0.0; 3]);
         for image in [[1, 0, -1], [-1, 1, 1], [0, -1, 0]] {
             let code = image_code(image);
             let expect: [f64; 3] = std::array::from_fn(|k| f64::from(image[k]) * region.size[k]);
