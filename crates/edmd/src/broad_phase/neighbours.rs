@@ -43,9 +43,16 @@ pub struct Neighbours {
     centre: Vec<[f64; 3]>,
     range: f64,
     reach: f64,
-    /// The shift of each image code, x_j's image = x_j + shift.
-    shifts: [[f64; 3]; 27],
+    /// The shift of each image code, x_j's image = x_j + shift (32 rows, so that a
+    /// masked code needs no bounds check).
+    shifts: [[f64; 3]; 32],
     lists: Lists,
+    /// Rebuilds so far, and for each particle the last rebuild whose old list held it.
+    rebuilds: u64,
+    listed_at: Vec<u64>,
+    /// The entries new to a rebuilt list (scratch).
+    #[serde(skip)]
+    fresh: Vec<u32>,
 }
 
 /// Every particle's list in one array.
@@ -147,13 +154,16 @@ impl Neighbours {
             reach: 0.5 * (range - max_contact),
             shifts: std::array::from_fn(|c| {
                 let image = [c % 3, c / 3 % 3, c / 9].map(|m| m as f64 - 1.0);
-                std::array::from_fn(|k| image[k] * region.size[k])
+                std::array::from_fn(|k| if c < 27 { image[k] * region.size[k] } else { 0.0 })
             }),
             lists: Lists {
                 stride,
                 count: vec![0; n],
                 list: vec![0; n * stride],
             },
+            rebuilds: 0,
+            listed_at: vec![0; n],
+            fresh: Vec::new(),
         }
     }
 
@@ -182,37 +192,45 @@ impl Neighbours {
             }
         });
     }
+}
 
-    /// The earliest collision of `i` (advanced to now) with its neighbours before
-    /// `best`: (time, partner or NONE, whether it is a stabilising collision now).
-    #[inline(always)]
-    fn earliest<Q: EventQueue>(&self, s: &State<Q>, i: usize, mut best: f64) -> (f64, u32, bool) {
-        let now = s.time;
-        let (pi, vi) = (s.slot[i].kin.pos, s.slot[i].kin.vel);
-        let ri = s.slot[i].kin.radius;
-        let mut best_j = NONE;
-        let mut best_now = false;
-        let entries = self.lists.of(i);
-        for &e in entries {
-            prefetch(&s.slot[(e >> IMAGE_BITS) as usize].kin);
-        }
-        for &e in entries {
-            let j = (e >> IMAGE_BITS) as usize;
-            let (pj, vj) = s.state_at(j, now);
-            let r = sub(sub(pi, self.shifts[(e & IMAGE_MASK) as usize]), pj);
-            let v = sub(vi, vj);
-            let sigma = ri + s.slot[j].kin.radius;
-            if crate::detect::on_collision_course(r, v, sigma) {
-                let dt = crate::detect::sphere_sphere(r, v, sigma);
-                if now + dt < best {
-                    best = now + dt;
-                    best_j = j as u32;
-                    best_now = dt == 0.0;
-                }
+/// The earliest collision of `i` (advanced to now) with the list `entries` before
+/// `best`: (time, partner or NONE, whether it is a stabilising collision now).
+#[inline(always)]
+fn earliest<Q: EventQueue>(
+    s: &State<Q>,
+    i: usize,
+    entries: &[u32],
+    shifts: &[[f64; 3]; 32],
+    mut best: f64,
+) -> (f64, u32, bool) {
+    let now = s.time;
+    let (pi, vi) = (s.slot[i].kin.pos, s.slot[i].kin.vel);
+    let ri = s.slot[i].kin.radius;
+    let mut best_j = NONE;
+    let mut best_now = false;
+    for &e in entries {
+        prefetch(&s.slot[(e >> IMAGE_BITS) as usize].kin);
+    }
+    for &e in entries {
+        let j = (e >> IMAGE_BITS) as usize;
+        // No gravity here: straight flights.
+        let kj = &s.slot[j].kin;
+        let (dt, vj) = (now - kj.stamp, kj.vel);
+        let pj: [f64; 3] = std::array::from_fn(|k| kj.pos[k] + vj[k] * dt);
+        let r = sub(sub(pi, shifts[(e & IMAGE_MASK) as usize]), pj);
+        let v = sub(vi, vj);
+        let sigma = ri + kj.radius;
+        if crate::detect::on_collision_course(r, v, sigma) {
+            let dt = crate::detect::sphere_sphere(r, v, sigma);
+            if now + dt < best {
+                best = now + dt;
+                best_j = j as u32;
+                best_now = dt == 0.0;
             }
         }
-        (best, best_j, best_now)
     }
+    (best, best_j, best_now)
 }
 
 /// Asks for the cache line of `x`: a prediction asks for all its candidates' lines
@@ -259,7 +277,7 @@ impl BroadPhase for Neighbours {
     #[inline]
     fn predict_pairs<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize) {
         debug_assert!(s.probe.is_none() && s.slot[i].ev.partner == NONE);
-        let found = self.earliest(s, i, s.slot[i].ev.coll_time);
+        let found = earliest(s, i, self.lists.of(i), &self.shifts, s.slot[i].ev.coll_time);
         s.keep_earliest(i, found);
     }
 
@@ -280,6 +298,8 @@ impl BroadPhase for Neighbours {
     }
 
     /// `i` reached the surface of its shell: re-centre it there and rebuild its list.
+    /// Its trajectory is unchanged, so its prediction stands and only the particles new
+    /// to its list are tested (as a crossing tests only the new layer of cells).
     fn crossing<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize, _: usize, _: i64) {
         let now = s.time;
         s.advance(i, now);
@@ -288,9 +308,21 @@ impl BroadPhase for Neighbours {
         self.centre[i] = x;
         self.cells.remove(i);
         self.cells.insert(i, x);
+        self.rebuilds += 1;
+        for &e in self.lists.of(i) {
+            self.listed_at[(e >> IMAGE_BITS) as usize] = self.rebuilds;
+        }
         self.lists.unlink(i);
         self.link(i, true);
-        self.predict(s, i);
+        let mut fresh = std::mem::take(&mut self.fresh);
+        fresh.clear();
+        let old = |e: &&u32| self.listed_at[(**e >> IMAGE_BITS) as usize] == self.rebuilds;
+        fresh.extend(self.lists.of(i).iter().filter(|e| !old(e)));
+        let found = earliest(s, i, &fresh, &self.shifts, s.slot[i].ev.coll_time);
+        s.keep_earliest(i, found);
+        self.fresh = fresh;
+        self.predict_crossing(s, i);
+        s.schedule(i);
     }
 
     fn own_event<Q: EventQueue>(&mut self, _: &mut State<Q>) {
