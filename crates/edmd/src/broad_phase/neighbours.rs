@@ -180,10 +180,10 @@ impl Neighbours {
         let range2 = self.range * self.range;
         let lists = &mut self.lists;
         self.cells.around(i, |members, code, shift| {
-            let ci_rel = sub(ci, shift);
+            let c = sub(ci, shift);
             for m in members {
-                let d = sub(ci_rel, m.centre);
-                if dot(d, d) < range2 && m.index != i as u32 {
+                let d = [c[0] - m.centre[0], c[1] - m.centre[1], c[2] - m.centre[2]];
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < range2 && m.index != i as u32 {
                     lists.push(i, m.index, code);
                     if both {
                         lists.push(m.index as usize, i as u32, opposite(code));
@@ -209,17 +209,23 @@ fn earliest<Q: EventQueue>(
     let ri = s.slot[i].kin.radius;
     let mut best_j = NONE;
     let mut best_now = false;
+    let slots = s.slot.as_ptr();
     for &e in entries {
-        prefetch(&s.slot[(e >> IMAGE_BITS) as usize].kin);
+        prefetch(slots.wrapping_add((e >> IMAGE_BITS) as usize));
     }
     for &e in entries {
         let j = (e >> IMAGE_BITS) as usize;
-        // No gravity here: straight flights.
+        // No gravity here: straight flights. Written per component, which the compiler
+        // keeps scalar (its two-lane packing of the array form cost more shuffles).
         let kj = &s.slot[j].kin;
-        let (dt, vj) = (now - kj.stamp, kj.vel);
-        let pj: [f64; 3] = std::array::from_fn(|k| kj.pos[k] + vj[k] * dt);
-        let r = sub(sub(pi, shifts[(e & IMAGE_MASK) as usize]), pj);
-        let v = sub(vi, vj);
+        let dt = now - kj.stamp;
+        let shift = &shifts[(e & IMAGE_MASK) as usize];
+        let r = [
+            pi[0] - shift[0] - (kj.pos[0] + kj.vel[0] * dt),
+            pi[1] - shift[1] - (kj.pos[1] + kj.vel[1] * dt),
+            pi[2] - shift[2] - (kj.pos[2] + kj.vel[2] * dt),
+        ];
+        let v = [vi[0] - kj.vel[0], vi[1] - kj.vel[1], vi[2] - kj.vel[2]];
         let sigma = ri + kj.radius;
         if crate::detect::on_collision_course(r, v, sigma) {
             let dt = crate::detect::sphere_sphere(r, v, sigma);
@@ -233,15 +239,15 @@ fn earliest<Q: EventQueue>(
     (best, best_j, best_now)
 }
 
-/// Asks for the cache line of `x`: a prediction asks for all its candidates' lines
+/// Asks for the cache line at `x`: a prediction asks for all its candidates' lines
 /// first, so that it waits for memory about once rather than once per candidate.
 #[inline(always)]
-fn prefetch<T>(x: &T) {
+fn prefetch<T>(x: *const T) {
     #[cfg(target_arch = "x86_64")]
     {
         use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        // SAFETY: a prefetch is a hint; the address is that of a live reference.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(x as *const T as *const i8) };
+        // SAFETY: a prefetch is a hint that never faults, whatever the address.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(x as *const i8) };
     }
     #[cfg(not(target_arch = "x86_64"))]
     let _ = x;
