@@ -67,13 +67,15 @@ impl<Q: EventQueue> Engine<Q> {
             return Err(EngineError::Invalid(NEIGHBOURS_DO_NOT_FIT.into()));
         }
         let auto = kind == BroadPhaseKind::Auto;
-        Ok(if kind == BroadPhaseKind::Neighbours || auto && p.prefers_neighbours() {
-            Self::Neighbours(EventEngine::from_neighbours(p))
-        } else if kind == BroadPhaseKind::Epochs || p.prefers_epochs() {
-            Self::Epochs(EventEngine::from_prepared(p))
-        } else {
-            Self::Crossings(EventEngine::from_crossings(p))
-        })
+        Ok(
+            if kind == BroadPhaseKind::Neighbours || auto && p.prefers_neighbours() {
+                Self::Neighbours(EventEngine::from_neighbours(p))
+            } else if kind == BroadPhaseKind::Epochs || p.prefers_epochs() {
+                Self::Epochs(EventEngine::from_prepared(p))
+            } else {
+                Self::Crossings(EventEngine::from_crossings(p))
+            },
+        )
     }
 
     /// The broad phase in use.

@@ -78,7 +78,10 @@ fn lists_agree_with_crossings_between_walls() {
     let (b, sb) = events(BroadPhaseKind::Neighbours);
     for (k, (x, y)) in a.iter().zip(&b).enumerate() {
         assert_eq!((x.0, x.1), (y.0, y.1), "event {k}: {x:?} {y:?}");
-        assert!((x.2 - y.2).abs() < 1e-9 * x.2.max(1.0), "event {k}: {x:?} {y:?}");
+        assert!(
+            (x.2 - y.2).abs() < 1e-9 * x.2.max(1.0),
+            "event {k}: {x:?} {y:?}"
+        );
     }
     assert!(sb.wall_collisions > 20 && sb.crossings > 20, "{sb:?}");
     assert_eq!(
@@ -93,8 +96,7 @@ fn inelastic_overlaps_never_grow_on_lists() {
     let setup = fcc(6, 0.6, 1.0, 1.0, 1.0, 9);
     let physics = Physics::HardSpheres { restitution: 0.8 };
     let mut e: Engine =
-        Engine::with_broad_phase(&setup.0, &setup.1, physics, BroadPhaseKind::Neighbours)
-            .unwrap();
+        Engine::with_broad_phase(&setup.0, &setup.1, physics, BroadPhaseKind::Neighbours).unwrap();
     e.run_collisions(200_000).unwrap();
     assert!(e.stats().max_impact_overlap < 1e-12, "{:?}", e.stats());
 }
@@ -123,8 +125,10 @@ fn lists_are_deterministic_and_independent_of_resorting() {
 /// than 4.5 contact distances.
 #[test]
 fn lists_refuse_what_they_cannot_run() {
-    let refused = |setup: &(emdstar_system::Particles, emdstar_system::Domain)| {
-        match Engine::<emdstar_edmd::CalendarQueue>::with_broad_phase(
+    let refused =
+        |setup: &(emdstar_system::Particles, emdstar_system::Domain)| match Engine::<
+            emdstar_edmd::CalendarQueue,
+        >::with_broad_phase(
             &setup.0,
             &setup.1,
             elastic(),
@@ -132,8 +136,7 @@ fn lists_refuse_what_they_cannot_run() {
         ) {
             Err(EngineError::Invalid(msg)) => msg.contains("neighbour-list"),
             _ => false,
-        }
-    };
+        };
     let mut heavy = fcc(4, 0.6, 1.0, 1.0, 1.0, 3);
     heavy.1.gravity = [0.0, 0.0, -1.0];
     assert!(refused(&heavy));
@@ -152,8 +155,7 @@ fn a_restored_dense_gas_continues_bitwise() {
     use emdstar_system::Simulation;
     let setup = fcc(6, 0.7, 1.0, 1.0, 1.0, 37);
     let engine = || -> Engine {
-        Engine::with_broad_phase(&setup.0, &setup.1, elastic(), BroadPhaseKind::Neighbours)
-            .unwrap()
+        Engine::with_broad_phase(&setup.0, &setup.1, elastic(), BroadPhaseKind::Neighbours).unwrap()
     };
     let t_end = 3.0;
     let mut straight = engine();

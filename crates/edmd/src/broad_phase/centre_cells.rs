@@ -86,7 +86,8 @@ impl CentreCells {
         let (old, new) = (self.cap, 2 * self.cap);
         let mut members = vec![Member::default(); self.len.len() * new];
         for (c, &l) in self.len.iter().enumerate() {
-            members[c * new..][..l as usize].copy_from_slice(&self.members[c * old..][..l as usize]);
+            members[c * new..][..l as usize]
+                .copy_from_slice(&self.members[c * old..][..l as usize]);
         }
         self.members = members;
         self.cap = new;
@@ -99,7 +100,11 @@ impl CentreCells {
         let c = self.coords[i];
         if let Some(base) = self.grid.interior(c) {
             for cell in self.grid.interior_neighbours(base) {
-                visit(self.members_of(cell as usize), super::neighbours::NO_SHIFT, [0.0; 3]);
+                visit(
+                    self.members_of(cell as usize),
+                    super::neighbours::NO_SHIFT,
+                    [0.0; 3],
+                );
             }
         } else {
             for (cell, shift) in self.grid.neighbourhood(c).iter() {

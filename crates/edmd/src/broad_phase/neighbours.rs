@@ -143,7 +143,7 @@ impl Neighbours {
     /// Lists over `region` for `n` particles whose largest contact distance is
     /// `max_contact`.
     pub(crate) fn new(region: &SimBox, max_contact: f64, n: usize) -> Self {
-        let range = std::env::var("TUNE_SHELL").ok().and_then(|v| v.parse().ok()).unwrap_or(SHELL_RANGE) * max_contact;
+        let range = SHELL_RANGE * max_contact;
         let volume: f64 = region.size.iter().product();
         let expected = n as f64 / volume * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
         let stride = ((2.0 * expected).ceil() as usize + 8).clamp(16, 1 << 12);
@@ -154,7 +154,13 @@ impl Neighbours {
             reach: 0.5 * (range - max_contact),
             shifts: std::array::from_fn(|c| {
                 let image = [c % 3, c / 3 % 3, c / 9].map(|m| m as f64 - 1.0);
-                std::array::from_fn(|k| if c < 27 { image[k] * region.size[k] } else { 0.0 })
+                std::array::from_fn(|k| {
+                    if c < 27 {
+                        image[k] * region.size[k]
+                    } else {
+                        0.0
+                    }
+                })
             }),
             lists: Lists {
                 stride,
