@@ -58,9 +58,8 @@ pub fn on_collision_course(r: [f64; 3], v: [f64; 3], sigma: f64) -> bool {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
     let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    // b < 0 and b² − v²·(r² − σ²) > 0, both compares taken and joined without a
-    // branch (f64::max would add NaN handling that finite inputs never need).
-    (b < 0.0) & (v2 * (r2 - sigma * sigma) - b * b < 0.0)
+    // b < 0 and b² − v²·(r² − σ²) > 0.
+    b.max(v2 * (r2 - sigma * sigma) - b * b) < 0.0
 }
 
 /// Sphere–wall collision time under a constant acceleration, Bannerman 2014,
