@@ -202,8 +202,40 @@ impl Neighbours {
 
 /// The earliest collision of `i` (advanced to now) with the list `entries` before
 /// `best`: (time, partner or NONE, whether it is a stabilising collision now).
-#[inline(always)]
+#[inline]
 fn earliest<Q: EventQueue>(
+    s: &State<Q>,
+    i: usize,
+    entries: &[u32],
+    shifts: &[[f64; 3]; 32],
+    best: f64,
+) -> (f64, u32, bool) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: the CPU supports AVX (checked just above).
+        return unsafe { earliest_avx(s, i, entries, shifts, best) };
+    }
+    earliest_in(s, i, entries, shifts, best)
+}
+
+/// [`earliest_in`] compiled with AVX's three-operand instructions (fewer register
+/// copies). Separate multiplies and adds (no FMA) keep the results bitwise those of
+/// the portable path.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+unsafe fn earliest_avx<Q: EventQueue>(
+    s: &State<Q>,
+    i: usize,
+    entries: &[u32],
+    shifts: &[[f64; 3]; 32],
+    best: f64,
+) -> (f64, u32, bool) {
+    earliest_in(s, i, entries, shifts, best)
+}
+
+/// See [`earliest`].
+#[inline(always)]
+fn earliest_in<Q: EventQueue>(
     s: &State<Q>,
     i: usize,
     entries: &[u32],
