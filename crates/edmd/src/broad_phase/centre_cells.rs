@@ -95,7 +95,7 @@ impl CentreCells {
 
     /// The members of the cells around particle `i`'s cell, each cell with the image
     /// code (see `neighbours::image_code`) and shift of its periodic image, to `visit`.
-    #[inline]
+    #[inline(always)]
     pub fn around(&self, i: usize, mut visit: impl FnMut(&[Member], u32, [f64; 3])) {
         let c = self.coords[i];
         if let Some(base) = self.grid.interior(c) {

@@ -182,6 +182,24 @@ impl Neighbours {
     /// Lists `i` with every particle whose centre lies within range of its own (and
     /// `i` on theirs if `both`), from the cells around its centre.
     fn link(&mut self, i: usize, both: bool) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU supports AVX (checked just above).
+            return unsafe { self.link_avx(i, both) };
+        }
+        self.link_in(i, both)
+    }
+
+    /// [`Neighbours::link_in`] compiled with AVX, as [`earliest_avx`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx")]
+    unsafe fn link_avx(&mut self, i: usize, both: bool) {
+        self.link_in(i, both)
+    }
+
+    /// See [`Neighbours::link`].
+    #[inline(always)]
+    fn link_in(&mut self, i: usize, both: bool) {
         let ci = self.centre[i];
         let range2 = self.range * self.range;
         let lists = &mut self.lists;
