@@ -289,6 +289,8 @@ fn earliest_in<Q: EventQueue>(
                 best = now + dt;
                 best_j = j as u32;
                 best_now = dt == 0.0;
+                // Keeping the prediction reads the partner's collision counter.
+                prefetch(&s.slot[j].ev);
             }
         }
     }
