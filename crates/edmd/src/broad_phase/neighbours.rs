@@ -95,10 +95,6 @@ impl Lists {
 
     /// Takes `i` off the lists of its neighbours and empties its own.
     fn unlink(&mut self, i: usize) {
-        let rows = self.list.as_ptr();
-        for &e in self.of(i) {
-            prefetch(rows.wrapping_add((e >> IMAGE_BITS) as usize * self.stride));
-        }
         for m in 0..self.count[i] as usize {
             let j = (self.list[i * self.stride + m] >> IMAGE_BITS) as usize;
             let row = j * self.stride;
