@@ -42,10 +42,10 @@ impl BroadPhaseKind {
     pub const AUTO_EPOCHS_BELOW: f64 = 0.02;
     /// [`BroadPhaseKind::Auto`] takes neighbour lists from this packing fraction on
     /// (hard spheres and eMD). Measured on elastic hard spheres, N = 32 000, collisions
-    /// per CPU second, best of three interleaved runs on a shared machine: cells 6.1e5
-    /// and lists 3.9e5 at η = 0.3, 4.4e5 and 5.3e5 at η = 0.4, 5.3e5 and 6.2e5 at
-    /// η = 0.45 (docs/performance.md).
-    pub const AUTO_NEIGHBOURS_FROM: f64 = 0.35;
+    /// per CPU second, best of four interleaved runs on a shared machine: cells 5.9e5
+    /// and lists 4.3e5 at η = 0.3, 5.9e5 and 5.2e5 at η = 0.35, 5.2e5 and 5.9e5 at
+    /// η = 0.4 (docs/performance.md).
+    pub const AUTO_NEIGHBOURS_FROM: f64 = 0.38;
 }
 
 /// The pair physics of every kind of contact ([`Interactions`], shared with the other

@@ -113,7 +113,7 @@ pub enum InterferenceChoice {
 pub enum BroadPhaseChoice {
     /// Epochs in dilute gases without gravity (packing fraction below 0.02) that are
     /// periodic or held by walls along every axis, neighbour lists for hard spheres and
-    /// eMD in such gases from packing fraction 0.35 on, cell crossings otherwise.
+    /// eMD in such gases from packing fraction 0.38 on, cell crossings otherwise.
     #[default]
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell.
