@@ -27,10 +27,11 @@ pub enum BroadPhaseKind {
     /// width, a cell being 0.8 mean spacings). A gas that spreads into free space
     /// piles into the grid's border cells and runs far slower than on crossings.
     Epochs,
-    /// A neighbour list per particle, of the particles within 1.5 largest contact
-    /// distances when it was built, rebuilt when the particle has moved a quarter of
-    /// that distance (Smallenburg 2022). For hard spheres and eMD without gravity, and
-    /// along periodic axes a box at least 4.5 largest contact distances wide.
+    /// A neighbour list per particle, of the particles whose shell centres lie within
+    /// 1.5 largest contact distances of its own, rebuilt when the particle has moved a
+    /// quarter of the largest contact distance from its centre (Smallenburg 2022). For
+    /// hard spheres and eMD without gravity, radii within a factor of two, and along
+    /// periodic axes a box at least 4.5 largest contact distances wide.
     Neighbours,
 }
 

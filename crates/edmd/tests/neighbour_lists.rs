@@ -171,3 +171,23 @@ fn a_restored_dense_gas_continues_bitwise() {
     assert_eq!(straight.stats(), resumed.stats());
     assert!(straight.stats().crossings > 1000, "{:?}", straight.stats());
 }
+
+/// Spheres whose radii differ by more than a factor of two are refused (every list would
+/// be as long as the large spheres'), and the automatic choice keeps cells for them.
+#[test]
+fn lists_refuse_widely_different_radii() {
+    // One sphere in eight shrunk to a fifth: η ≈ 0.43, dense enough for lists.
+    let mut mixed = fcc(5, 0.95, 1.0, 1.0, 1.0, 41);
+    for r in mixed.0.radius.iter_mut().step_by(8) {
+        *r = 0.1;
+    }
+    let lists = Engine::<emdstar_edmd::CalendarQueue>::with_broad_phase(
+        &mixed.0,
+        &mixed.1,
+        elastic(),
+        BroadPhaseKind::Neighbours,
+    );
+    assert!(matches!(lists, Err(EngineError::Invalid(m)) if m.contains("factor of two")));
+    let e: Engine = Engine::new(&mixed.0, &mixed.1, elastic()).unwrap();
+    assert_eq!(e.broad_phase(), BroadPhaseKind::Crossings);
+}

@@ -123,8 +123,8 @@ pub enum BroadPhaseChoice {
     /// gas that spreads into free space runs far slower on epochs than on crossings.
     Epochs,
     /// A neighbour list per particle, rebuilt when the particle leaves its shell (hard
-    /// spheres and eMD without gravity; along periodic axes a box at least 4.5 largest
-    /// contact distances wide).
+    /// spheres and eMD without gravity, radii within a factor of two; along periodic
+    /// axes a box at least 4.5 largest contact distances wide).
     Neighbours,
 }
 

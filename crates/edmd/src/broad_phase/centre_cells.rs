@@ -29,11 +29,15 @@ pub(crate) struct CentreCells {
 }
 
 impl CentreCells {
-    /// Cells at least `width` wide over `region` for `n` particles, all unfiled.
+    /// Cells at least `width` wide over `region` for `n` particles, all unfiled; at
+    /// most about two per particle, so that a sparse gas does not fill memory with
+    /// empty cells (wider cells only add candidates: the range test decides).
     pub fn new(region: &emdstar_system::SimBox, width: f64, n: usize) -> Self {
+        let limit = (2 * n).max(27) as f64;
+        let width = emdstar_system::bounded_cell_width(region.size, width, limit);
         let grid = LinkedCells::new(region.lo, region.size, region.periodic, width, 0);
         let cells: usize = grid.shape.dims.iter().product();
-        let cap = (2 * n.div_ceil(cells.max(1)) + 4).max(8);
+        let cap = 2 * n.div_ceil(cells.max(1)) + 4;
         Self {
             grid,
             cap,

@@ -13,9 +13,9 @@
 //!   inside their shells have centres within σ_max + 2·reach = range, so no collision
 //!   before both shell events is missed.
 //!
-//! The centres are filed in linked cells at least `range` wide, which only a shell
-//! event moves; there are no cell crossings. Only hard spheres and eMD run here: eMD*'s
-//! transients and rotations need the crossing cells.
+//! The centres are filed in cells at least `range` wide (`CentreCells`), which only a
+//! shell event moves; there are no cell crossings. Only hard spheres and eMD run here:
+//! eMD*'s transients and rotations need the crossing cells.
 
 use super::BroadPhase;
 use super::centre_cells::CentreCells;
@@ -146,7 +146,8 @@ impl Neighbours {
         let range = SHELL_RANGE * max_contact;
         let volume: f64 = region.size.iter().product();
         let expected = n as f64 / volume * 4.0 / 3.0 * std::f64::consts::PI * range.powi(3);
-        let stride = ((2.0 * expected).ceil() as usize + 8).clamp(16, 1 << 12);
+        // Lists grow (all of them) when one fills.
+        let stride = ((2.0 * expected).ceil() as usize + 8).clamp(16, 64);
         Self {
             cells: CentreCells::new(region, range, n),
             centre: vec![[0.0; 3]; n],

@@ -277,12 +277,19 @@ impl<Q: EventQueue> Prepared<Q> {
         self.neighbours_fit() && dense && confined(&s.region, &s.domain.walls)
     }
 
-    /// Whether neighbour lists can run here at all (hard spheres or eMD, no gravity, a
-    /// region they fit).
+    /// Whether neighbour lists can run here at all (hard spheres or eMD, no gravity,
+    /// radii within a factor of two, a region they fit). Every list is as long as the
+    /// largest: one large sphere among many small ones would make them all long.
     pub fn neighbours_fit(&self) -> bool {
         let s = &self.state;
+        let smallest = s
+            .slot
+            .iter()
+            .map(|p| p.kin.radius)
+            .fold(f64::INFINITY, f64::min);
         !s.has_gravity
             && !matches!(s.physics, Physics::EmdStar { .. })
+            && self.max_contact <= 4.0 * smallest
             && Neighbours::fits(&s.region, self.max_contact, s.len())
     }
 
@@ -356,8 +363,9 @@ impl<Q: EventQueue> EventEngine<Neighbours, Q> {
 
 /// Why [`BroadPhaseKind::Neighbours`] was refused.
 pub(crate) const NEIGHBOURS_DO_NOT_FIT: &str = "the neighbour-list broad phase runs hard \
-     spheres and eMD (not eMD*) without gravity and, along periodic axes, in a box at least \
-     4.5 largest contact distances wide; use BroadPhase::Crossings";
+     spheres and eMD (not eMD*) without gravity, with radii within a factor of two and, \
+     along periodic axes, in a box at least 4.5 largest contact distances wide; use \
+     BroadPhase::Crossings";
 
 /// Why [`BroadPhaseKind::Epochs`] was refused.
 pub(crate) const EPOCHS_DO_NOT_FIT: &str = "the epoch broad phase needs no gravity and, along \
