@@ -1,9 +1,10 @@
 //! [`Engine`]: the event engine with its broad phase chosen at run time. Each
 //! variant runs its own monomorphised event loop; the choice is made once.
 
-use crate::broad_phase::{Crossings, Epochs};
+use crate::broad_phase::{Crossings, Epochs, Neighbours};
 use crate::calendar::CalendarQueue;
-use crate::engine::{Event, EventEngine, build::EPOCHS_DO_NOT_FIT, build::Prepared};
+use crate::engine::build::{EPOCHS_DO_NOT_FIT, NEIGHBOURS_DO_NOT_FIT, Prepared};
+use crate::engine::{Event, EventEngine};
 use crate::error::{EngineError, Result};
 use crate::physics::{BroadPhaseKind, Physics};
 use crate::queue::EventQueue;
@@ -18,6 +19,7 @@ use emdstar_system::{Domain, Particles};
 pub enum Engine<Q: EventQueue = CalendarQueue> {
     Crossings(EventEngine<Crossings, Q>),
     Epochs(EventEngine<Epochs, Q>),
+    Neighbours(EventEngine<Neighbours, Q>),
 }
 
 impl<Q: EventQueue> Engine<Q> {
@@ -61,11 +63,19 @@ impl<Q: EventQueue> Engine<Q> {
         if kind == BroadPhaseKind::Epochs && !p.epochs_fit() {
             return Err(EngineError::Invalid(EPOCHS_DO_NOT_FIT.into()));
         }
-        Ok(if kind == BroadPhaseKind::Epochs || p.prefers_epochs() {
-            Self::Epochs(EventEngine::from_prepared(p))
-        } else {
-            Self::Crossings(EventEngine::from_crossings(p))
-        })
+        if kind == BroadPhaseKind::Neighbours && !p.neighbours_fit() {
+            return Err(EngineError::Invalid(NEIGHBOURS_DO_NOT_FIT.into()));
+        }
+        let auto = kind == BroadPhaseKind::Auto;
+        Ok(
+            if kind == BroadPhaseKind::Neighbours || auto && p.prefers_neighbours() {
+                Self::Neighbours(EventEngine::from_neighbours(p))
+            } else if kind == BroadPhaseKind::Epochs || p.prefers_epochs() {
+                Self::Epochs(EventEngine::from_prepared(p))
+            } else {
+                Self::Crossings(EventEngine::from_crossings(p))
+            },
+        )
     }
 
     /// The broad phase in use.
@@ -73,6 +83,7 @@ impl<Q: EventQueue> Engine<Q> {
         match self {
             Self::Crossings(_) => BroadPhaseKind::Crossings,
             Self::Epochs(_) => BroadPhaseKind::Epochs,
+            Self::Neighbours(_) => BroadPhaseKind::Neighbours,
         }
     }
 
@@ -179,6 +190,7 @@ impl<Q: EventQueue> Engine<Q> {
         Ok(match self {
             Self::Crossings(e) => Self::Crossings(e.with_friction(walton)?),
             Self::Epochs(e) => Self::Epochs(e.with_friction(walton)?),
+            Self::Neighbours(e) => Self::Neighbours(e.with_friction(walton)?),
         })
     }
 

@@ -18,7 +18,7 @@
 //!   counter; if the partner has changed since, the event is stale and the particle is
 //!   re-predicted (no deletions from the queue, no allocation per event);
 //! - particles are moved on only when touched (delayed updates);
-//! - candidate pairs come from one of two broad phases. With cell crossings, cells are
+//! - candidate pairs come from one of three broad phases. With cell crossings, cells are
 //!   at least one contact distance wide, with explicit periodic image shifts per
 //!   neighbour cell, and each crossing tests only the layer of cells that became
 //!   neighbours. With epochs (the default below η = 0.02, without gravity, in a
@@ -26,7 +26,11 @@
 //!   cut into epochs of about one cell width of flight; each particle's swept box is
 //!   filed once per epoch, one pass over the cells tests every pair that can meet
 //!   before the epoch ends, and a particle that changes course files its new box; a
-//!   particle that meets nobody costs no event at all. Both give the same collisions;
+//!   particle that meets nobody costs no event at all. With neighbour lists (the
+//!   default for hard spheres and eMD from η = 0.38, without gravity), each particle
+//!   lists the particles whose shell centres lie within 1.5 contact distances of its
+//!   own, and leaving its shell (a quarter of a contact distance) rebuilds its list.
+//!   All give the same collisions;
 //! - detection is Bannerman's Algorithm 1 (pairs) and 2 (walls under gravity): an
 //!   overlapping, approaching pair collides at once (a stabilising collision);
 //! - eMD*: E^φ rotates the pair and gives both the centre-of-mass velocity, the two
@@ -47,6 +51,7 @@ macro_rules! on_engine {
         match $self {
             $crate::Engine::Crossings($e) => $body,
             $crate::Engine::Epochs($e) => $body,
+            $crate::Engine::Neighbours($e) => $body,
         }
     };
 }
@@ -69,7 +74,7 @@ mod stats;
 mod sweep;
 
 pub use auto::Engine;
-pub use broad_phase::{BroadPhase, Crossings, Epochs};
+pub use broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 pub use calendar::CalendarQueue;
 pub use engine::{Event, EventEngine};
 pub use error::{EngineError, Result};

@@ -14,7 +14,9 @@ pub enum BroadPhaseKind {
     /// fraction [`BroadPhaseKind::AUTO_EPOCHS_BELOW`] that is periodic or held by
     /// axis-aligned walls from both sides along every axis; cell crossings otherwise.
     /// (A gas spreading into free space leaves the epoch grid for its unbounded border
-    /// cells, where every epoch tests all pairs.)
+    /// cells, where every epoch tests all pairs.) Neighbour lists for hard spheres and
+    /// eMD at and above the packing fraction [`BroadPhaseKind::AUTO_NEIGHBOURS_FROM`]
+    /// where they fit (see [`BroadPhaseKind::Neighbours`]), held the same way.
     #[default]
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell (Alder &
@@ -25,6 +27,12 @@ pub enum BroadPhaseKind {
     /// width, a cell being 0.8 mean spacings). A gas that spreads into free space
     /// piles into the grid's border cells and runs far slower than on crossings.
     Epochs,
+    /// A neighbour list per particle, of the particles whose shell centres lie within
+    /// 1.5 largest contact distances of its own, rebuilt when the particle has moved a
+    /// quarter of the largest contact distance from its centre (Smallenburg 2022). For
+    /// hard spheres and eMD without gravity, radii within a factor of two, and along
+    /// periodic axes a box at least 4.5 largest contact distances wide.
+    Neighbours,
 }
 
 impl BroadPhaseKind {
@@ -33,6 +41,12 @@ impl BroadPhaseKind {
     /// `speed_probe`, two interleaved runs each): at N = 2000, 0.88 at η = 0.015, 0.97
     /// at 0.02, 1.04 at 0.025, 1.14 at 0.03; at N = 10⁴, 1.00 at 0.02 and 1.13 at 0.025.
     pub const AUTO_EPOCHS_BELOW: f64 = 0.02;
+    /// [`BroadPhaseKind::Auto`] takes neighbour lists from this packing fraction on
+    /// (hard spheres and eMD). Measured on elastic hard spheres, N = 32 000, collisions
+    /// per CPU second, best of four interleaved runs on a shared machine: cells 5.9e5
+    /// and lists 4.3e5 at η = 0.3, 5.9e5 and 5.2e5 at η = 0.35, 5.2e5 and 5.9e5 at
+    /// η = 0.4 (docs/performance.md).
+    pub const AUTO_NEIGHBOURS_FROM: f64 = 0.38;
 }
 
 /// The pair physics of every kind of contact ([`Interactions`], shared with the other

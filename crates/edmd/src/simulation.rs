@@ -55,6 +55,7 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
         let (tag, mut state) = match self {
             Engine::Crossings(e) => (0u8, e.save_state()),
             Engine::Epochs(e) => (1u8, e.save_state()),
+            Engine::Neighbours(e) => (2u8, e.save_state()),
         };
         state.insert(0, tag);
         state
@@ -63,6 +64,7 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
     fn restore_state(&mut self, bytes: &[u8]) -> Result<(), SimulationError> {
         let tag = match self.broad_phase() {
             BroadPhaseKind::Epochs => 1,
+            BroadPhaseKind::Neighbours => 2,
             _ => 0,
         };
         if bytes.first() != Some(&tag) {

@@ -112,7 +112,8 @@ pub enum InterferenceChoice {
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum BroadPhaseChoice {
     /// Epochs in dilute gases without gravity (packing fraction below 0.02) that are
-    /// periodic or held by walls along every axis, cell crossings otherwise.
+    /// periodic or held by walls along every axis, neighbour lists for hard spheres and
+    /// eMD in such gases from packing fraction 0.38 on, cell crossings otherwise.
     #[default]
     Auto,
     /// A cell grid with a crossing event whenever a particle changes cell.
@@ -121,6 +122,10 @@ pub enum BroadPhaseChoice {
     /// least four times the sum of the largest contact distance and a cell width). A
     /// gas that spreads into free space runs far slower on epochs than on crossings.
     Epochs,
+    /// A neighbour list per particle, rebuilt when the particle leaves its shell (hard
+    /// spheres and eMD without gravity, radii within a factor of two; along periodic
+    /// axes a box at least 4.5 largest contact distances wide).
+    Neighbours,
 }
 
 impl From<BroadPhaseChoice> for emdstar_edmd::BroadPhaseKind {
@@ -129,6 +134,7 @@ impl From<BroadPhaseChoice> for emdstar_edmd::BroadPhaseKind {
             BroadPhaseChoice::Auto => Self::Auto,
             BroadPhaseChoice::Crossings => Self::Crossings,
             BroadPhaseChoice::Epochs => Self::Epochs,
+            BroadPhaseChoice::Neighbours => Self::Neighbours,
         }
     }
 }

@@ -1,15 +1,19 @@
-//! How the event engine finds the pairs it tests, behind one trait with two
+//! How the event engine finds the pairs it tests, behind one trait with three
 //! implementations: [`Crossings`] (a cell grid and a crossing event whenever a
-//! particle changes cell; Alder & Wainwright 1959, Rapaport 1980) and [`Epochs`]
-//! (swept boxes filed once per epoch, see [`crate::sweep`]). Both give the same
-//! collisions; the engine is generic over the broad phase, so each runs its own
+//! particle changes cell; Alder & Wainwright 1959, Rapaport 1980), [`Epochs`]
+//! (swept boxes filed once per epoch, see [`crate::sweep`]) and [`Neighbours`]
+//! (a neighbour list per particle, rebuilt when it leaves its shell). All give the
+//! same collisions; the engine is generic over the broad phase, so each runs its own
 //! monomorphised event loop.
 
+mod centre_cells;
 mod crossings;
 mod epochs;
+mod neighbours;
 
 pub use crossings::Crossings;
 pub use epochs::Epochs;
+pub use neighbours::Neighbours;
 
 use crate::queue::EventQueue;
 use crate::state::State;

@@ -1,7 +1,7 @@
 //! Building an engine: input checks with clear errors, the state, first predictions.
 
 use super::EventEngine;
-use crate::broad_phase::{BroadPhase, Crossings, Epochs};
+use crate::broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 use crate::cells::{NONE, auto_cell_width};
 use crate::collision::LastContact;
 use crate::error::{EngineError, Result};
@@ -267,6 +267,33 @@ impl<Q: EventQueue> Prepared<Q> {
         self.epochs_fit() && dilute && confined(&s.region, &s.domain.walls)
     }
 
+    /// Whether the automatic choice takes neighbour lists: hard spheres or eMD without
+    /// gravity, a gas dense enough (from [`BroadPhaseKind::AUTO_NEIGHBOURS_FROM`]) and
+    /// held along every axis, and a region they fit.
+    pub fn prefers_neighbours(&self) -> bool {
+        let s = &self.state;
+        let volume = s.region.size.iter().product::<f64>();
+        let radii: Vec<f64> = s.slot.iter().map(|slot| slot.kin.radius).collect();
+        let dense = sphere_volume(&radii) >= BroadPhaseKind::AUTO_NEIGHBOURS_FROM * volume;
+        self.neighbours_fit() && dense && confined(&s.region, &s.domain.walls)
+    }
+
+    /// Whether neighbour lists can run here at all (hard spheres or eMD, no gravity,
+    /// radii within a factor of two, a region they fit). Every list is as long as the
+    /// largest: one large sphere among many small ones would make them all long.
+    pub fn neighbours_fit(&self) -> bool {
+        let s = &self.state;
+        let smallest = s
+            .slot
+            .iter()
+            .map(|p| p.kin.radius)
+            .fold(f64::INFINITY, f64::min);
+        !s.has_gravity
+            && !matches!(s.physics, Physics::EmdStar { .. })
+            && self.max_contact <= 4.0 * smallest
+            && Neighbours::fits(&s.region, self.max_contact, s.len())
+    }
+
     /// Whether epochs can run here at all (no gravity, a region they fit).
     pub fn epochs_fit(&self) -> bool {
         !self.state.has_gravity
@@ -326,6 +353,20 @@ impl<Q: EventQueue> EventEngine<Epochs, Q> {
         Self::start(p, epochs)
     }
 }
+
+impl<Q: EventQueue> EventEngine<Neighbours, Q> {
+    /// The engine on neighbour lists from an input they fit.
+    pub(crate) fn from_neighbours(p: Prepared<Q>) -> Self {
+        let lists = Neighbours::new(&p.state.region, p.max_contact, p.state.len());
+        Self::start(p, lists)
+    }
+}
+
+/// Why [`BroadPhaseKind::Neighbours`] was refused.
+pub(crate) const NEIGHBOURS_DO_NOT_FIT: &str = "the neighbour-list broad phase runs hard \
+     spheres and eMD (not eMD*) without gravity, with radii within a factor of two and, \
+     along periodic axes, in a box at least 4.5 largest contact distances wide; use \
+     BroadPhase::Crossings";
 
 /// Why [`BroadPhaseKind::Epochs`] was refused.
 pub(crate) const EPOCHS_DO_NOT_FIT: &str = "the epoch broad phase needs no gravity and, along \
