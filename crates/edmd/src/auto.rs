@@ -204,6 +204,7 @@ impl<Q: EventQueue> Engine<Q> {
         Ok(match self {
             Self::Crossings(e) => Self::Crossings(e.with_exact_friction(friction)?),
             Self::Epochs(e) => Self::Epochs(e.with_exact_friction(friction)?),
+            Self::Neighbours(e) => Self::Neighbours(e.with_exact_friction(friction)?),
         })
     }
 

@@ -508,7 +508,8 @@ impl BoxConfig {
 /// particle could cross a face without moving).
 fn resolvable(k: usize, lo: f64, size: f64) -> Result<()> {
     let far = lo.abs().max((lo + size).abs());
-    let spacing = far.next_up() - far;
+    // The gap to the next double up (NaN where `far` overflowed, which is refused too).
+    let spacing = f64::from_bits(far.to_bits() + 1) - far;
     if size / spacing >= f64::from(1u32 << 24) {
         return Ok(());
     }
