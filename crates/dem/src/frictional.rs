@@ -16,8 +16,8 @@
 //!   corrected like the normal force ([`crate::touch_correction`]).
 
 use crate::forces::{ForceKernel, WALL, normal_force, touch_correction};
-use emdstar_contact::vec3::{add, add_scaled, dot, norm, scale, sub};
-use emdstar_contact::{Friction, lever_arm, slip_velocity, torque, turn_spring};
+use emdstar_contact::vec3::{add, add_scaled, dot, norm, norm2, scale, sub};
+use emdstar_contact::{Friction, TangentialModel, lever_arm, slip_velocity, torque, turn_spring};
 use emdstar_system::Wall;
 
 /// The key of a contact in [`Springs`]: the two config ids, smaller first; a wall
@@ -63,6 +63,19 @@ impl Springs {
     /// True without open contacts.
     pub fn is_empty(&self) -> bool {
         self.contacts.is_empty()
+    }
+
+    /// The elastic energy of the springs under `friction`, Σ ½ k_t |ξ_t|² (none for
+    /// pure Coulomb sliding, which has no spring).
+    pub fn energy(&self, friction: &Friction) -> f64 {
+        match friction.model {
+            TangentialModel::History => self
+                .contacts
+                .iter()
+                .map(|(_, s)| 0.5 * friction.stiffness * norm2(*s))
+                .sum(),
+            TangentialModel::Coulomb => 0.0,
+        }
     }
 }
 

@@ -94,14 +94,7 @@ pub fn step_subset(
     let gravity = g != [0.0; 3];
     let gk = [g[0] * h, g[1] * h, g[2] * h];
     kick_contacts(velocity, contact_acc, ids, h);
-    let mut v2_max: f64 = 0.0;
-    for &i in ids {
-        let i = i as usize;
-        let (y, w) = kick_drift(position[i], velocity[i], gk, dt, gravity);
-        position[i] = y;
-        velocity[i] = w;
-        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    }
+    let v2_max = drift(position, velocity, ids, gk, dt, gravity);
     let kernel = ForceKernel {
         model: *model,
         list,
@@ -129,6 +122,43 @@ pub fn step_subset(
             &mut sink,
         );
     }
+    close_step(velocity, contact_acc, new_acc, ids, h, gk, v2_max)
+}
+
+/// The drift of a subset's step, after the contact half kick: gravity's half kick
+/// (`gk`, if `gravity`) and x += v·dt for `ids`. Returns their largest |v|² (NaN
+/// passes).
+pub(crate) fn drift(
+    position: &mut [[f64; 3]],
+    velocity: &mut [[f64; 3]],
+    ids: &[u32],
+    gk: [f64; 3],
+    dt: f64,
+    gravity: bool,
+) -> f64 {
+    let mut v2_max: f64 = 0.0;
+    for &i in ids {
+        let i = i as usize;
+        let (y, w) = kick_drift(position[i], velocity[i], gk, dt, gravity);
+        position[i] = y;
+        velocity[i] = w;
+        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    }
+    v2_max
+}
+
+/// The end of a subset's step, once the forces at the new positions are in `new_acc`:
+/// they become `contact_acc` (the scratch zeroed), then the contact and gravity half
+/// kicks. `v2_max` is the largest |v|² of the drift; the bounds cover both.
+pub(crate) fn close_step(
+    velocity: &mut [[f64; 3]],
+    contact_acc: &mut [[f64; 3]],
+    new_acc: &mut [[f64; 3]],
+    ids: &[u32],
+    h: f64,
+    gk: [f64; 3],
+    mut v2_max: f64,
+) -> StepBounds {
     let mut a2_max: f64 = 0.0;
     for &i in ids {
         let i = i as usize;

@@ -6,7 +6,7 @@
 use crate::forces::{ForceKernel, ForceModel, WALL};
 use crate::frictional::{ContactForce, FrictionKernel, Springs};
 use crate::neighbour::{INDEX_MASK, NeighbourList};
-use crate::verlet::{Motion, StepBounds, kick_contacts, kick_drift, max_nan};
+use crate::verlet::{Motion, StepBounds, close_step, drift, kick_contacts};
 use emdstar_contact::Friction;
 
 /// What friction adds to the state one step of a subset changes, indexed by particle.
@@ -90,14 +90,7 @@ pub fn step_subset_frictional(
     let gk = [g[0] * h, g[1] * h, g[2] * h];
     kick_contacts(velocity, contact_acc, ids, h);
     kick_contacts(angular_velocity, angular_acc, ids, h);
-    let mut v2_max: f64 = 0.0;
-    for &i in ids {
-        let i = i as usize;
-        let (y, w) = kick_drift(position[i], velocity[i], gk, dt, gravity);
-        position[i] = y;
-        velocity[i] = w;
-        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    }
+    let v2_max = drift(position, velocity, ids, gk, dt, gravity);
     contacts.clear();
     {
         let kernel = FrictionKernel {
@@ -130,25 +123,7 @@ pub fn step_subset_frictional(
     }
     add_contact_forces(contacts, inv_mass, inv_inertia, new_acc, angular_acc);
     springs.replace(contacts.iter().map(|c| (c.key, c.spring)));
-    let mut a2_max: f64 = 0.0;
-    for &i in ids {
-        let i = i as usize;
-        let a = new_acc[i];
-        new_acc[i] = [0.0; 3];
-        contact_acc[i] = a;
-        a2_max = max_nan(a2_max, a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    }
-    kick_contacts(velocity, contact_acc, ids, h);
+    // The spins' half kick with the new torques (independent of the velocities' kicks).
     kick_contacts(angular_velocity, angular_acc, ids, h);
-    for &i in ids {
-        let i = i as usize;
-        let v = velocity[i];
-        let w = [v[0] + gk[0], v[1] + gk[1], v[2] + gk[2]];
-        velocity[i] = w;
-        v2_max = max_nan(v2_max, w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-    }
-    StepBounds {
-        v_max: v2_max.sqrt(),
-        a_max: a2_max.sqrt(),
-    }
+    close_step(velocity, contact_acc, new_acc, ids, h, gk, v2_max)
 }

@@ -4,9 +4,8 @@
 
 mod common;
 
-use common::fcc;
-use emdstar_edmd::{BroadPhaseKind, Engine, EngineError, Event, Physics};
-use emdstar_system::{SimBox, Wall};
+use common::{assert_same_collisions, fcc, first_collisions, walled_fcc};
+use emdstar_edmd::{BroadPhaseKind, Engine, EngineError, Physics};
 
 fn elastic() -> Physics {
     Physics::HardSpheres { restitution: 1.0 }
@@ -46,43 +45,10 @@ fn dense_mean_free_time_matches_carnahan_starling() {
 /// and wall collisions.
 #[test]
 fn lists_agree_with_crossings_between_walls() {
-    let mut setup = fcc(4, 0.6, 1.0, 1.0, 1.0, 29);
-    let region = setup.1.sim_box.unwrap();
-    setup.1.sim_box = Some(SimBox {
-        periodic: [false; 3],
-        ..region
-    });
-    for k in 0..3 {
-        for (side, sign) in [(region.lo[k], 1.0), (region.lo[k] + region.size[k], -1.0)] {
-            let mut normal = [0.0; 3];
-            normal[k] = sign;
-            let mut point = [0.0; 3];
-            point[k] = side - sign * 0.5;
-            setup.1.walls.push(Wall { normal, point });
-        }
-    }
-    let events = |broad_phase| {
-        let mut e: Engine =
-            Engine::with_broad_phase(&setup.0, &setup.1, elastic(), broad_phase).unwrap();
-        let mut out = vec![];
-        while out.len() < 400 {
-            match e.step().unwrap() {
-                Event::Collision(i, j) => out.push((i.min(j), i.max(j), e.time())),
-                Event::Wall(i, w) => out.push((i, u32::MAX - w, e.time())),
-                _ => {}
-            }
-        }
-        (out, *e.stats())
-    };
-    let (a, sa) = events(BroadPhaseKind::Crossings);
-    let (b, sb) = events(BroadPhaseKind::Neighbours);
-    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
-        assert_eq!((x.0, x.1), (y.0, y.1), "event {k}: {x:?} {y:?}");
-        assert!(
-            (x.2 - y.2).abs() < 1e-9 * x.2.max(1.0),
-            "event {k}: {x:?} {y:?}"
-        );
-    }
+    let setup = walled_fcc(4, 0.6, 29);
+    let (a, sa) = first_collisions(&setup, BroadPhaseKind::Crossings, 400);
+    let (b, sb) = first_collisions(&setup, BroadPhaseKind::Neighbours, 400);
+    assert_same_collisions(&a, &b);
     assert!(sb.wall_collisions > 20 && sb.crossings > 20, "{sb:?}");
     assert_eq!(
         (sa.pair_collisions, sa.wall_collisions),

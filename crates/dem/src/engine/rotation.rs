@@ -6,8 +6,7 @@ use super::{CHUNK, Md};
 use crate::forces::WALL;
 use crate::frictional::{ContactForce, FrictionKernel, Springs};
 use crate::verlet::kick_contacts;
-use emdstar_contact::vec3::norm2;
-use emdstar_contact::{Friction, TangentialModel};
+use emdstar_contact::Friction;
 use emdstar_system::{Particles, permute};
 use rayon::prelude::*;
 
@@ -51,14 +50,7 @@ impl Rotation {
 
     /// The elastic energy of the tangential springs, Σ ½ k_t |ξ_t|².
     pub(crate) fn spring_energy(&self) -> f64 {
-        match self.friction.model {
-            TangentialModel::History => self
-                .springs
-                .iter()
-                .map(|(_, s)| 0.5 * self.friction.stiffness * norm2(*s))
-                .sum(),
-            TangentialModel::Coulomb => 0.0,
-        }
+        self.springs.energy(&self.friction)
     }
 }
 

@@ -5,8 +5,7 @@
 
 use super::Hybrid;
 use crate::options::HybridError;
-use emdstar_contact::vec3::norm2;
-use emdstar_contact::{Friction, PairLaw, TangentialModel, Walton, sticking_restitution};
+use emdstar_contact::{Friction, PairLaw, Walton, sticking_restitution};
 use emdstar_dem::{ContactForce, Springs};
 use emdstar_edmd::Materials;
 use emdstar_system::{Interaction, Particles, System};
@@ -39,14 +38,7 @@ impl TdRotation {
 
     /// The elastic energy of the springs, Σ ½ k_t |ξ_t|² (as MD's thermo).
     pub fn spring_energy(&self) -> f64 {
-        match self.friction.model {
-            TangentialModel::History => self
-                .springs
-                .iter()
-                .map(|(_, s)| 0.5 * self.friction.stiffness * norm2(*s))
-                .sum(),
-            TangentialModel::Coulomb => 0.0,
-        }
+        self.springs.energy(&self.friction)
     }
 }
 
