@@ -346,16 +346,7 @@ impl Contact {
         let transport = add_scaled(slip, -dot(spring, n_dot), n);
         let trial = add_scaled(scale(-self.k_t, spring), -self.gamma_t, slip);
         let trial_norm = norm(trial);
-        let direction = if trial_norm > 0.0 {
-            scale(1.0 / trial_norm, trial)
-        } else {
-            let s = norm(slip);
-            if s > 0.0 {
-                scale(-1.0 / s, slip)
-            } else {
-                [0.0; 3]
-            }
-        };
+        let direction = sliding_direction(trial, slip);
         let f_t = if sliding {
             scale(cap, direction)
         } else {
@@ -447,17 +438,7 @@ impl Stretch<'_> {
         let slip = c.slip(y, n);
         let (_, _, f_n) = c.normal(y[S], e.rate);
         let trial = add_scaled(scale(-c.k_t, vec(y, SPRING)), -c.gamma_t, slip);
-        let t = norm(trial);
-        let direction = if t > 0.0 {
-            scale(1.0 / t, trial)
-        } else {
-            let s = norm(slip);
-            if s > 0.0 {
-                scale(-1.0 / s, slip)
-            } else {
-                [0.0; 3]
-            }
-        };
+        let direction = sliding_direction(trial, slip);
         let spring = scale(
             -1.0 / c.k_t,
             add_scaled(scale(c.mu * f_n.max(0.0), direction), c.gamma_t, slip),
@@ -535,5 +516,21 @@ fn failure(f: StepFailure) -> SolveError {
         StepFailure::Underflow { t } | StepFailure::OutsideDomain { t } => {
             SolveError::StepSizeUnderflow { t }
         }
+    }
+}
+
+/// The direction of the tangential force at the cap: that of the trial force
+/// −k_t ξ_t − γ_t v_t, or against the slip where the trial force vanishes (zero
+/// without slip).
+fn sliding_direction(trial: [f64; 3], slip: [f64; 3]) -> [f64; 3] {
+    let t = norm(trial);
+    if t > 0.0 {
+        return scale(1.0 / t, trial);
+    }
+    let s = norm(slip);
+    if s > 0.0 {
+        scale(-1.0 / s, slip)
+    } else {
+        [0.0; 3]
     }
 }
