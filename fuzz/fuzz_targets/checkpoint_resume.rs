@@ -102,7 +102,7 @@ fuzz_target!(|data: &[u8]| {
     let Some(mut engine) = common::build(kind, config, system) else {
         panic!("the fixed configs set up with every engine");
     };
-    if engine.sim().restore_state(&state).is_ok() {
-        engine.run_bounded(20);
+    if engine.sim_mut().restore_state(&state).is_ok() {
+        common::run_bounded(&mut engine, 20);
     }
 });

@@ -55,6 +55,18 @@ struct Material {
     restitution: Option<Num>,
     restitution_speed: Option<Num>,
     density: Option<Num>,
+    friction: Option<Num>,
+    tangential: Option<TangentialChoice>,
+    tangential_stiffness: Option<Num>,
+    tangential_damping: Option<Num>,
+    tangential_restitution: Option<Num>,
+}
+
+#[derive(Arbitrary, Debug)]
+enum TangentialChoice {
+    History,
+    Coulomb,
+    Other(String),
 }
 
 #[derive(Arbitrary, Debug)]
@@ -64,6 +76,7 @@ struct Particle {
     site: (u8, u8, u8),
     offset: Option<[Num; 3]>,
     velocity: Option<[Num; 3]>,
+    angular_velocity: Option<[Num; 3]>,
     mass: Option<Num>,
 }
 
@@ -136,9 +149,19 @@ impl Input {
             ("restitution", m.restitution),
             ("restitution_speed", m.restitution_speed),
             ("density", m.density),
+            ("friction", m.friction),
+            ("tangential_stiffness", m.tangential_stiffness),
+            ("tangential_damping", m.tangential_damping),
+            ("tangential_restitution", m.tangential_restitution),
         ] {
             put(&mut mat, key, v.map(num));
         }
+        let tangential = m.tangential.as_ref().map(|t| match t {
+            TangentialChoice::History => "history".to_string(),
+            TangentialChoice::Coulomb => "coulomb".to_string(),
+            TangentialChoice::Other(s) => s.clone(),
+        });
+        put(&mut mat, "tangential", tangential.map(Value::String));
         top.insert("material".into(), Value::Table(mat));
         let particles: Vec<Value> = self
             .particles
@@ -155,6 +178,7 @@ impl Input {
                 t.insert("radius".into(), Value::Float(r));
                 t.insert("position".into(), Value::Array(x));
                 put(&mut t, "velocity", p.velocity.map(vec3));
+                put(&mut t, "angular_velocity", p.angular_velocity.map(vec3));
                 put(&mut t, "mass", p.mass.map(num));
                 Value::Table(t)
             })
@@ -234,7 +258,7 @@ fuzz_target!(|input: Input| {
     let steps = u32::from(input.steps % 64) + 1;
     for kind in common::KINDS {
         if let Some(mut engine) = common::build(kind, &config, system.clone()) {
-            engine.run_bounded(steps);
+            common::run_bounded(&mut engine, steps);
         }
     }
 });

@@ -1,11 +1,10 @@
 //! What the config and checkpoint targets share: building each engine from a parsed
-//! config as `emdstar run` does (the default time step, the default MoR table with the
-//! exact fallback), and running it a bounded amount.
+//! config exactly as `emdstar run` does ([`AnyEngine::build`] with the default options:
+//! the default time step, the default MoR table with the exact fallback, automatic broad
+//! phase, friction where the material has it), and running it a bounded amount.
 
-use emdstar_dem::{ContactEnd, DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
-use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Materials, Physics};
-use emdstar_hybrid::{Hybrid, HybridOptions};
+use emdstar_dem::DEFAULT_DT_FRACTION;
+use emdstar_engines::{AnyEngine, EngineKind, EngineOptions};
 use emdstar_system::{Config, Simulation, System};
 
 /// Particles above which an input is skipped, so that each input runs in well under a
@@ -21,107 +20,46 @@ pub fn small_enough(config: &Config) -> bool {
             .is_none_or(|g| (g.count as u64) <= MAX_PARTICLES)
 }
 
-/// The engines `emdstar run` builds.
-#[derive(Debug, Clone, Copy)]
-pub enum Kind {
-    Md,
-    EmdStar,
-    Hybrid,
-}
-
-pub const KINDS: [Kind; 3] = [Kind::Md, Kind::EmdStar, Kind::Hybrid];
-
-/// A built engine.
-pub enum Built {
-    Md(Box<Md>),
-    Event(Box<Engine>),
-    Hybrid(Box<Hybrid>),
-}
-
-/// The MD time step `emdstar run` takes by default.
-fn default_dt(config: &Config, system: &System) -> Option<f64> {
-    let dt = match shortest_contact_time(system, config.t_end).ok()? {
-        Some(tc) => DEFAULT_DT_FRACTION * tc,
-        None => config.t_end,
-    };
-    let steps = (config.t_end / dt).ceil().max(1.0);
-    (steps <= 1e13).then_some(config.t_end / steps)
-}
+/// The engines `emdstar run --engine` offers (the checkpoint target picks among the
+/// first three).
+pub const KINDS: [EngineKind; 4] = [
+    EngineKind::Md,
+    EngineKind::EmdStar,
+    EngineKind::Hybrid,
+    EngineKind::Emd,
+];
 
 /// The engine of `kind` for the system of `config`, or `None` where set-up refuses it
 /// (a refusal must be an error, never a panic).
-pub fn build(kind: Kind, config: &Config, system: System) -> Option<Built> {
-    let dt = default_dt(config, &system)?;
-    let model = system.material.model();
-    let table = || {
-        emdstar_table::default_table(model)
-            .ok()
-            .map(|t| Box::new(TableMorSource::new(t, true)))
+pub fn build(kind: EngineKind, config: &Config, system: System) -> Option<AnyEngine> {
+    let options = EngineOptions {
+        engine: kind,
+        ..Default::default()
     };
-    Some(match kind {
-        Kind::Md => {
-            let opts = MdOptions {
-                dt,
-                contact_end: ContactEnd::ForceZero,
-                skin: None,
-            };
-            Built::Md(Box::new(Md::new(system, opts, config.t_end).ok()?))
-        }
-        Kind::EmdStar => {
-            let physics = Physics::EmdStar {
-                materials: Materials::from_system(&system).ok()?,
-                mor: table()?,
-                interference: Interference::HitOnly,
-            };
-            let engine = Engine::with_broad_phase(
-                &system.particles,
-                &system.domain,
-                physics,
-                BroadPhaseKind::Auto,
-            )
-            .ok()?;
-            Built::Event(Box::new(engine))
-        }
-        Kind::Hybrid => {
-            let opts = HybridOptions::with_dt(dt);
-            Built::Hybrid(Box::new(
-                Hybrid::new(system, opts, table()?, config.t_end).ok()?,
-            ))
-        }
-    })
+    AnyEngine::build(&options, config, system, DEFAULT_DT_FRACTION).ok()
 }
 
-impl Built {
-    pub fn sim(&mut self) -> &mut dyn Simulation {
-        match self {
-            Self::Md(e) => e.as_mut(),
-            Self::Event(e) => e.as_mut(),
-            Self::Hybrid(e) => e.as_mut(),
+/// Runs `n` time steps (MD, the hybrid) or events (the event engines), stopping at the
+/// first error, then reads the state out and saves it.
+pub fn run_bounded(engine: &mut AnyEngine, n: u32) {
+    match engine {
+        AnyEngine::Md(e) => {
+            let dt = e.options().dt;
+            let _ = e.advance_to(e.time() + f64::from(n) * dt);
         }
-    }
-
-    /// Runs `n` time steps (MD, the hybrid) or events (the event engine), stopping at
-    /// the first error, then reads the state out and saves it.
-    pub fn run_bounded(&mut self, n: u32) {
-        match self {
-            Self::Md(e) => {
-                let dt = e.options().dt;
-                let _ = e.advance_to(e.time() + f64::from(n) * dt);
-            }
-            Self::Event(e) => {
-                for _ in 0..n {
-                    if e.step().is_err() {
-                        break;
-                    }
+        AnyEngine::Event(e) => {
+            for _ in 0..n {
+                if e.step().is_err() {
+                    break;
                 }
             }
-            Self::Hybrid(e) => {
-                let _ = e.advance(u64::from(n));
-            }
         }
-        let sim = self.sim();
-        let _ = sim.thermo();
-        let _ = sim.particles();
-        let _ = sim.save_state();
+        AnyEngine::Hybrid(e) => {
+            let _ = e.advance(u64::from(n));
+        }
     }
+    let sim = engine.sim_mut();
+    let _ = sim.thermo();
+    let _ = sim.particles();
+    let _ = sim.save_state();
 }
