@@ -47,7 +47,8 @@ pub(crate) struct Counters {
 /// Why a step could not be taken.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum StepFailure {
-    /// The step size fell below the resolution of t.
+    /// The step size fell below the resolution of t, or is not a finite number (an
+    /// infinite first step stays infinite through every rejection).
     Underflow { t: f64 },
     /// f cannot be evaluated at the initial point.
     OutsideDomain { t: f64 },
@@ -130,7 +131,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         let mut rejected_before = false;
         loop {
             let h = self.h;
-            if self.t + h <= self.t || h.is_nan() {
+            if self.t + h <= self.t || !h.is_finite() {
                 return Err(StepFailure::Underflow { t: self.t });
             }
             let Some((y1, err)) = self.trial(h) else {

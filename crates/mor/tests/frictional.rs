@@ -182,3 +182,42 @@ fn momenta_are_conserved_and_no_energy_is_created() {
         assert!(spin_change > 0.0 || mu == 0.0, "{k}: the spins must change");
     }
 }
+
+/// Found by fuzzing: a linear law of subnormal stiffness (1.2e-310 N/m) makes the first
+/// step infinite, and an infinite step stayed infinite through every rejection (a hang).
+/// The solve must end, with an answer or an error, within seconds.
+#[test]
+fn a_contact_too_soft_for_a_finite_step_ends_with_an_error() {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let law = PairLaw::Linear {
+            stiffness: 1.168e-310,
+            damping: 0.0,
+        };
+        let bodies = [
+            Spinning {
+                radius: 55.0,
+                mass: 3.8e14,
+                spin: [0.0; 3],
+            },
+            Spinning {
+                radius: 5.1e4,
+                mass: 5.7e10,
+                spin: [0.0, 5.7e10, 5.7e10],
+            },
+        ];
+        let result = solve_frictional(
+            &law,
+            &history(56.0, 119.0, 0.0),
+            &bodies,
+            [55.0 + 5.1e4, 0.0, 0.0],
+            [-5.7e10, -5.7e10, -5.7e10],
+            &SolverOptions::default(),
+        );
+        let _ = tx.send(result.is_err());
+    });
+    let failed = rx
+        .recv_timeout(std::time::Duration::from_secs(20))
+        .expect("the solve ended");
+    assert!(failed, "an infinite step cannot give an answer");
+}
