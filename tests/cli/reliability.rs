@@ -245,3 +245,28 @@ fn a_trajectory_larger_than_the_disk_is_refused_before_the_run() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// Found by fuzzing: eMD* with friction on a linear law of subnormal stiffness hung in
+/// the exact frictional contact (an infinite step). It now stops at once and says what
+/// to check, once (no message repeated by its source).
+#[test]
+fn a_frictional_contact_too_soft_to_solve_stops_with_what_to_check() {
+    let dir = scratch("soft-friction");
+    let config = write(
+        &dir,
+        "soft.toml",
+        "t_end = 1.0\n[material]\nmodel = \"linear\"\nstiffness = 1.17e-310\n\
+         density = 5.5e8\nfriction = 56.0\ntangential_stiffness = 119.0\n\
+         [[particles]]\nposition = [0.0, 0.0, 0.0]\nradius = 55.0\n\
+         [[particles]]\nposition = [2e5, 0.0, 0.0]\nradius = 5.1e4\n\
+         velocity = [-5.7e6, 5.7e5, 0.0]\nangular_velocity = [0.0, 5.7e4, 5.7e4]\n",
+    );
+    let start = Instant::now();
+    let stderr = error_in(&dir, &["pair", &config, "--engine", "emdstar"]);
+    assert!(start.elapsed() < Duration::from_secs(10));
+    assert!(
+        stderr.contains("frictional contact") && stderr.contains("stiffness"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.matches("underflow").count(), 1, "{stderr}");
+}

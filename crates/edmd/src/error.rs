@@ -38,10 +38,11 @@ pub enum EngineError {
     },
     #[error(transparent)]
     System(#[from] emdstar_system::SystemError),
+    // Not `#[from]`: a source would print its message a second time in an error chain.
     #[error("pair physics: {0}")]
-    Contact(#[from] ContactError),
+    Contact(ContactError),
     #[error("matrix of restitution: {0}")]
-    Solve(#[from] SolveError),
+    Solve(SolveError),
     #[error(
         "collision parameters {what} lie outside the table's box; `--mor table-or-exact` (the \
          default) solves such collisions exactly and counts them, `--mor exact` solves every \
@@ -52,3 +53,15 @@ pub enum EngineError {
 
 /// Shorthand for engine results.
 pub type Result<T> = std::result::Result<T, EngineError>;
+
+impl From<ContactError> for EngineError {
+    fn from(e: ContactError) -> Self {
+        Self::Contact(e)
+    }
+}
+
+impl From<SolveError> for EngineError {
+    fn from(e: SolveError) -> Self {
+        Self::Solve(e)
+    }
+}

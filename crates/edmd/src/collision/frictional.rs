@@ -12,7 +12,7 @@
 //! which keeps the total angular momentum (|r| = R_i + R_j at touch).
 
 use super::{FrictionalFallback, Host, RotationProbe, kick_pair, note_contact, walls_block};
-use crate::error::Result;
+use crate::error::{EngineError, Result};
 use crate::physics::Physics;
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
 use emdstar_contact::{Friction, SOLID_SPHERE_INERTIA};
@@ -53,7 +53,14 @@ pub(super) fn pair<H: Host>(
         radii,
         spins_before,
         &SolverOptions::default(),
-    )?;
+    )
+    .map_err(|e| {
+        EngineError::Invalid(format!(
+            "the exact frictional contact of particles {i} and {j} could not be solved ({e}); \
+             check the material: its stiffness and tangential keys must give a contact time \
+             that double precision can step through"
+        ))
+    })?;
     h.stats().frictional_solves += 1;
     let new = [
         from_na(&out.rotated_positions[0]),
