@@ -11,7 +11,10 @@
 //! on the velocities, its tangential part also on the spins through the lever arms R_i,
 //! which keeps the total angular momentum (|r| = R_i + R_j at touch).
 
-use super::{FrictionalFallback, Host, RotationProbe, kick_pair, note_contact, walls_block};
+use super::{
+    FrictionalFallback, Host, RotationProbe, begin_pair_transients, kick_pair, note_contact,
+    walls_block,
+};
 use crate::error::{EngineError, Result};
 use crate::physics::Physics;
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
@@ -91,17 +94,7 @@ pub(super) fn pair<H: Host>(
     });
     let l = radii[0] + radii[1];
     note_contact(h, i, j, l - norm(r_end));
-    let g = h.gravity();
-    let end = h.now() + out.duration;
-    let partners = [j as u32, i as u32];
-    for (slot, &p) in [i, j].iter().enumerate() {
-        h.place(p, new[slot]);
-        h.set_velocity(p, from_na(&out.transient_velocity));
-        h.set_spin(p, spins[slot]);
-        let post = out.post_velocities[slot];
-        let after = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-        h.begin_transient(p, end, after, partners[slot]);
-    }
+    begin_pair_transients(h, [i, j], new, &out, Some(spins));
     Ok(None)
 }
 

@@ -21,7 +21,7 @@ use crate::rules::{HertzRestitution, restitution_kick};
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, from_na, sub, to_na};
 use emdstar_contact::{Friction, Impact, Walton, scale};
-use emdstar_mor::rule::{Body, resolve, resolve_wall};
+use emdstar_mor::rule::{Body, Outcome, resolve, resolve_wall};
 use emdstar_system::Wall;
 
 /// What the collision rules need of an engine. Particles are numbered by the host;
@@ -338,17 +338,34 @@ fn emdstar_pair<H: Host>(
     });
     // Eq. (28): the pair overlaps by l(1 − ε_r) until it has separated.
     note_contact(h, i, j, l - l * m.eps_r);
+    begin_pair_transients(h, [i, j], new, &out, None);
+    Ok(None)
+}
+
+/// eMD*'s E^φ for a pair (Müller & Pöschel 2013, Sec. VI B): both particles placed
+/// where the contact leaves them (`new`), moving with the transient velocity (and, with
+/// friction, given their new `spins`), their E^v scheduled at t + τ with the
+/// post-collision velocities plus gravity's share over τ.
+fn begin_pair_transients<H: Host>(
+    h: &mut H,
+    pair: [usize; 2],
+    new: [[f64; 3]; 2],
+    out: &Outcome,
+    spins: Option<[[f64; 3]; 2]>,
+) {
     let g = h.gravity();
     let end = h.now() + out.duration;
-    let partners = [j as u32, i as u32];
-    for (slot, &p) in [i, j].iter().enumerate() {
+    let partners = [pair[1] as u32, pair[0] as u32];
+    for (slot, &p) in pair.iter().enumerate() {
         h.place(p, new[slot]);
         h.set_velocity(p, from_na(&out.transient_velocity));
+        if let Some(spins) = spins {
+            h.set_spin(p, spins[slot]);
+        }
         let post = out.post_velocities[slot];
         let after = std::array::from_fn(|k| post[k] + g[k] * out.duration);
         h.begin_transient(p, end, after, partners[slot]);
     }
-    Ok(None)
 }
 
 /// Exception (a) for walls: would a party move deeper into a wall other than
