@@ -6,8 +6,9 @@ mod cmd;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
-/// Event-driven simulation of soft, frictionless spheres (eMD*, Müller & Pöschel 2013),
-/// its matrix-of-restitution tables, and its cross-validation against force-based MD.
+/// Event-driven simulation of soft spheres, with or without friction (eMD*, Müller &
+/// Pöschel 2013), its matrix-of-restitution tables, and its cross-validation against
+/// force-based MD.
 #[derive(Parser)]
 #[command(name = "emdstar", version, about, long_about = None, propagate_version = true)]
 struct Cli {
@@ -30,6 +31,9 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if !matches!(cli.command, Command::Run(_)) {
+        end_quietly_when_the_reader_leaves();
+    }
     let result = match cli.command {
         Command::Mor(args) => cmd::mor::run(&args),
         Command::Check(args) => cmd::check::run(&args),
@@ -52,5 +56,17 @@ fn main() -> ExitCode {
             eprintln!("error: {err:#}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// Restores the default action of SIGPIPE (Rust ignores it, so that printing to a pipe
+/// whose reader has gone fails, and `println!` panics): `emdstar table check … | head`
+/// then ends quietly, as other command-line tools do. `run` keeps it ignored, so that
+/// a closed pipe cannot end a run before its files are flushed and checkpointed.
+fn end_quietly_when_the_reader_leaves() {
+    #[cfg(unix)]
+    // SAFETY: sets a signal's disposition to its default, before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }

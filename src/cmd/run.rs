@@ -6,6 +6,7 @@ use super::engine::{drift_fields, load, progress_bar, with_fields};
 use super::run_loop::{Plan, Ticks, Trajectory, drive};
 use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
+use std::io::Write;
 use clap::Args;
 use emdstar_dem::DEFAULT_DT_FRACTION;
 use emdstar_engines::{AnyEngine, EngineOptions};
@@ -316,7 +317,13 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         summary,
         drift_fields(&outcome.first, &outcome.last, total_mass),
     );
-    println!("{}", serde_json::to_string_pretty(&summary)?);
+    let text = serde_json::to_string_pretty(&summary)?;
+    // The files are complete by now: a reader of stdout that has left misses only this.
+    if let Err(e) = writeln!(std::io::stdout().lock(), "{text}") {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            return Err(e.into());
+        }
+    }
     Ok(match outcome.interrupted {
         Some(signal) => ExitCode::from(signal.exit_code()),
         None => ExitCode::SUCCESS,

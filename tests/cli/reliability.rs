@@ -270,3 +270,21 @@ fn a_frictional_contact_too_soft_to_solve_stops_with_what_to_check() {
     );
     assert_eq!(stderr.matches("underflow").count(), 1, "{stderr}");
 }
+
+#[test]
+fn a_reader_that_leaves_early_ends_the_output_without_a_panic() {
+    use std::process::{Command, Stdio};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
+        .args(["table", "check", "default:linear", "--samples", "20000"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the emdstar binary runs");
+    // The reader leaves before the first line (the check takes a tenth of a second),
+    // as `| head -0` would.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+}
