@@ -5,7 +5,7 @@
 //! window has been used up. Average O(1) per operation; the order of events (by key,
 //! then id) is exactly that of [`crate::IndexedHeap`].
 
-use crate::queue::EventQueue;
+use crate::queue::{EventQueue, check_heap_order};
 
 const NONE: u32 = u32::MAX;
 const IN_HEAP: u32 = u32::MAX - 1;
@@ -263,5 +263,64 @@ impl EventQueue for CalendarQueue {
 
     fn key(&self, id: usize) -> f64 {
         self.node[id].key
+    }
+
+    fn check(&self, len: usize) -> Result<(), String> {
+        let bad = |why: String| Err(format!("calendar queue: {why}"));
+        if self.node.len() != len || self.heads.len() < 3 {
+            return bad(format!(
+                "{} ids and {} lists",
+                self.node.len(),
+                self.heads.len()
+            ));
+        }
+        let nb = self.buckets();
+        if self.current > nb || !(self.width > 0.0 && self.width.is_finite() && self.t0.is_finite())
+        {
+            return bad("its window is not a finite range of buckets".into());
+        }
+        let mut filed = vec![false; len];
+        // Every list: linked both ways, each id once, each filed under its own list.
+        for (list, &head) in self.heads.iter().enumerate() {
+            let loc = match list {
+                b if b < nb => b as u32,
+                b if b == nb => OVERFLOW,
+                _ => NEVER,
+            };
+            let (mut id, mut prev) = (head, NONE);
+            while id != NONE {
+                let Some(node) = self.node.get(id as usize) else {
+                    return bad(format!("list {list} names id {id}"));
+                };
+                if filed[id as usize] || node.loc != loc || node.prev != prev {
+                    return bad(format!("id {id} is linked twice or inconsistently"));
+                }
+                filed[id as usize] = true;
+                (prev, id) = (id, node.next);
+            }
+        }
+        for (k, &(key, id)) in self.heap.iter().enumerate() {
+            match self.node.get(id as usize) {
+                Some(node)
+                    if !filed[id as usize]
+                        && node.loc == IN_HEAP
+                        && node.heap_pos as usize == k
+                        && node.key.to_bits() == key.to_bits() =>
+                {
+                    filed[id as usize] = true
+                }
+                _ => return bad(format!("heap entry {k} (id {id}) is inconsistent")),
+            }
+        }
+        if let Some(id) = filed.iter().position(|&f| !f) {
+            return bad(format!("id {id} is filed nowhere"));
+        }
+        if self.node.iter().any(|n| n.key.is_nan()) {
+            return bad("a key is NaN".into());
+        }
+        if self.node.iter().filter(|n| n.key.is_finite()).count() != self.finite {
+            return bad("the count of finite keys is wrong".into());
+        }
+        check_heap_order(&self.heap, 2)
     }
 }

@@ -208,6 +208,43 @@ impl LinkedCells {
         self.shape.coords_of(p)
     }
 
+    /// Errors unless a decoded grid has the geometry of `built` (the same config's),
+    /// one entry per particle `0..n` with cell coordinates inside the grid, and lists
+    /// that hold each particle at most once (every particle if `all_filed`), in its cell.
+    pub fn check_restored(&self, built: &Self, n: usize, all_filed: bool) -> Result<(), String> {
+        let geometry = |g: &Self| (g.shape, g.offsets, g.layers, g.around.clone(), g.head.len());
+        if !crate::state::same_encoding(&geometry(self), &geometry(built))
+            || [self.next.len(), self.prev.len(), self.coords.len()] != [n; 3]
+        {
+            return Err("another cell grid than the config's".into());
+        }
+        let dims = self.shape.dims;
+        if self
+            .coords
+            .iter()
+            .any(|c| (0..3).any(|k| c[k] as usize >= dims[k]))
+        {
+            return Err("a particle's cell lies outside the grid".into());
+        }
+        let mut filed = vec![false; n];
+        for (cell, &head) in self.head.iter().enumerate() {
+            let (mut i, mut prev) = (head, NONE);
+            while i != NONE {
+                let k = i as usize;
+                if k >= n || filed[k] || self.prev[k] != prev || self.index(self.coords[k]) != cell
+                {
+                    return Err(format!("cell {cell} lists particle {i} inconsistently"));
+                }
+                filed[k] = true;
+                (prev, i) = (i, self.next[k]);
+            }
+        }
+        if all_filed && filed.contains(&false) {
+            return Err("a particle is in no cell".into());
+        }
+        Ok(())
+    }
+
     #[inline]
     fn index(&self, c: [u32; 3]) -> usize {
         c[0] as usize + self.shape.dims[0] * (c[1] as usize + self.shape.dims[1] * c[2] as usize)

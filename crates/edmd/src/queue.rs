@@ -19,6 +19,20 @@ pub trait EventQueue {
     fn peek(&mut self) -> (usize, f64);
     /// The key of `id`.
     fn key(&self, id: usize) -> f64;
+    /// Errors unless the queue (decoded from a checkpoint) holds exactly the ids
+    /// `0..len`, each once, in a consistent structure with keys that are not NaN:
+    /// what every other method relies on.
+    fn check(&self, len: usize) -> Result<(), String>;
+}
+
+/// Errors unless `heap` is a min-heap of `arity` by `less` (a decoded one).
+pub(crate) fn check_heap_order(heap: &[(f64, u32)], arity: usize) -> Result<(), String> {
+    for (k, &item) in heap.iter().enumerate().skip(1) {
+        if less(item, heap[(k - 1) / arity]) {
+            return Err(format!("heap entry {k} precedes its parent"));
+        }
+    }
+    Ok(())
 }
 
 /// An indexed 4-ary min-heap: O(log N) `set`, O(1) `peek`. Keys are stored in the
@@ -117,6 +131,19 @@ impl EventQueue for IndexedHeap {
     #[inline]
     fn key(&self, id: usize) -> f64 {
         self.heap[self.slot[id] as usize].0
+    }
+
+    fn check(&self, len: usize) -> Result<(), String> {
+        if self.heap.len() != len || self.slot.len() != len {
+            return Err(format!("{} heap entries for {len} ids", self.heap.len()));
+        }
+        for (id, &k) in self.slot.iter().enumerate() {
+            match self.heap.get(k as usize) {
+                Some(&(key, at)) if at as usize == id && !key.is_nan() => {}
+                _ => return Err(format!("id {id} is not where the heap says")),
+            }
+        }
+        check_heap_order(&self.heap, ARITY)
     }
 }
 

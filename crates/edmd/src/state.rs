@@ -96,6 +96,12 @@ pub(crate) fn min_image_in(d: [f64; 3], period: [f64; 3]) -> [f64; 3] {
     })
 }
 
+/// Whether `a` and `b` encode to the same bytes: for the parts of a decoded checkpoint
+/// that the config determines, compared with those of the engine the config builds.
+pub(crate) fn same_encoding<T: Serialize + ?Sized>(a: &T, b: &T) -> bool {
+    postcard::to_allocvec(a).ok() == postcard::to_allocvec(b).ok()
+}
+
 /// Everything of an event engine but its broad phase: what a [`crate::BroadPhase`]
 /// works on (opaque outside this crate).
 #[derive(Serialize, Deserialize)]
@@ -149,6 +155,59 @@ pub struct State<Q: EventQueue> {
 }
 
 impl<Q: EventQueue> State<Q> {
+    /// Errors unless `self`, decoded from a checkpoint, fits `built`, the state the same
+    /// config builds: the same particles (each original number once, with its mass,
+    /// species and radius), box, walls and gravity, one entry per particle in every
+    /// array, every partner a particle, a wall or none, and a whole queue of
+    /// `queue_len` ids.
+    pub(crate) fn check_restored(&self, built: &Self, queue_len: usize) -> Result<(), String> {
+        let n = built.len();
+        let lengths = [
+            self.slot.len(),
+            self.mass.len(),
+            self.id.len(),
+            self.species.len(),
+            self.pending_vel.len(),
+            self.last_contact.len(),
+            self.spin.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(format!(
+                "per-particle arrays of {lengths:?} entries for {n} particles"
+            ));
+        }
+        if self.region != built.region
+            || self.period.map(f64::to_bits) != built.period.map(f64::to_bits)
+            || self.domain != built.domain
+            || self.has_gravity != built.has_gravity
+        {
+            return Err("another box, walls or gravity than the config's".into());
+        }
+        // Where the built state keeps each original particle number.
+        let mut built_at = vec![usize::MAX; n];
+        for (k, &id) in built.id.iter().enumerate() {
+            built_at[id as usize] = k;
+        }
+        let mut seen = vec![false; n];
+        let parties = n + self.domain.walls.len();
+        for k in 0..n {
+            let id = self.id[k] as usize;
+            if id >= n || std::mem::replace(&mut seen[id], true) {
+                return Err(format!("particle number {id} is missing or repeated"));
+            }
+            let b = built_at[id];
+            let same = self.mass[k].to_bits() == built.mass[b].to_bits()
+                && self.species[k] == built.species[b]
+                && self.slot[k].kin.radius.to_bits() == built.slot[b].kin.radius.to_bits();
+            let ev = &self.slot[k].ev;
+            let partners = [ev.coll_partner, ev.partner, self.last_contact[k].partner];
+            if !same || partners.iter().any(|&j| j != NONE && j as usize >= parties) {
+                return Err(format!("particle {id} differs from the config's"));
+            }
+        }
+        self.queue.check(queue_len)
+    }
+
     /// Number of particles.
     #[inline]
     pub(crate) fn len(&self) -> usize {

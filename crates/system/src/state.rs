@@ -30,6 +30,7 @@ impl Species {
 /// it to report in the original order). `angular_velocity` is in rad/s; every particle
 /// is a solid sphere, I = (2/5) m R².
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "ParticleColumns")]
 pub struct Particles {
     pub position: Vec<[f64; 3]>,
     pub velocity: Vec<[f64; 3]>,
@@ -38,6 +39,56 @@ pub struct Particles {
     pub radius: Vec<f64>,
     pub mass: Vec<f64>,
     pub id: Vec<u32>,
+}
+
+/// [`Particles`] as decoded, before the check that makes them particles.
+#[derive(serde::Deserialize)]
+struct ParticleColumns {
+    position: Vec<[f64; 3]>,
+    velocity: Vec<[f64; 3]>,
+    angular_velocity: Vec<[f64; 3]>,
+    species: Vec<u32>,
+    radius: Vec<f64>,
+    mass: Vec<f64>,
+    id: Vec<u32>,
+}
+
+impl TryFrom<ParticleColumns> for Particles {
+    type Error = String;
+
+    /// Decoded particles (a checkpoint's) need one entry per particle in every column
+    /// and each number `0..n` once in `id`.
+    fn try_from(c: ParticleColumns) -> Result<Self, String> {
+        let n = c.position.len();
+        let lengths = [
+            c.velocity.len(),
+            c.angular_velocity.len(),
+            c.species.len(),
+            c.radius.len(),
+            c.mass.len(),
+            c.id.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(format!(
+                "particle columns of {lengths:?} entries for {n} positions"
+            ));
+        }
+        let mut seen = vec![false; n];
+        for &id in &c.id {
+            if id as usize >= n || std::mem::replace(&mut seen[id as usize], true) {
+                return Err(format!("particle number {id} is out of range or repeated"));
+            }
+        }
+        Ok(Self {
+            position: c.position,
+            velocity: c.velocity,
+            angular_velocity: c.angular_velocity,
+            species: c.species,
+            radius: c.radius,
+            mass: c.mass,
+            id: c.id,
+        })
+    }
 }
 
 impl Particles {
@@ -204,6 +255,31 @@ pub fn permute<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn decoded_particles_need_whole_columns_and_each_number_once() {
+        let whole = Particles::from_columns(
+            vec![[0.0; 3], [1.0; 3], [2.0; 3]],
+            vec![[0.5; 3]; 3],
+            vec![0.1; 3],
+            vec![1.0; 3],
+            vec![0; 3],
+        )
+        .unwrap();
+        let decode =
+            |p: &Particles| postcard::from_bytes::<Particles>(&postcard::to_allocvec(p).unwrap());
+        assert_eq!(decode(&whole).unwrap(), whole);
+        let mut short = whole.clone();
+        short.angular_velocity.pop();
+        // (postcard keeps no message: the caller says the state cannot be read.)
+        assert!(decode(&short).is_err());
+        let mut repeated = whole.clone();
+        repeated.id[2] = 0;
+        assert!(decode(&repeated).is_err());
+        let mut beyond = whole;
+        beyond.id[2] = 3;
+        assert!(decode(&beyond).is_err());
+    }
 
     #[test]
     fn temperature_ignores_the_centre_of_mass_motion() {

@@ -49,6 +49,46 @@ impl CentreCells {
         }
     }
 
+    /// Errors unless a decoded set has the grid of `built` (the same config's) and
+    /// holds particles `0..n` consistently: every member is the particle filed at its
+    /// place, and every filed particle a member of the cell of its coordinates.
+    pub fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
+        self.grid.check_restored(&built.grid, 0, false)?;
+        let cells = self.len.len();
+        let sized = cells == built.len.len()
+            && self.cap > 0
+            && cells.checked_mul(self.cap) == Some(self.members.len())
+            && [self.cell.len(), self.place.len(), self.coords.len()] == [n; 3];
+        if !sized {
+            return Err("another grid of shell centres than the config's".into());
+        }
+        for (c, &l) in self.len.iter().enumerate() {
+            let Some(members) = self.members[c * self.cap..].get(..l as usize) else {
+                return Err(format!("centre cell {c} holds more than it has room for"));
+            };
+            for (at, m) in members.iter().enumerate() {
+                let i = m.index as usize;
+                if i >= n || self.cell[i] as usize != c || self.place[i] as usize != at {
+                    return Err(format!("centre cell {c} holds particle {i} inconsistently"));
+                }
+            }
+        }
+        let dims = self.grid.shape.dims;
+        for i in 0..n {
+            let c = self.coords[i];
+            let filed = self.cell[i] == NONE
+                || (0..3).all(|k| (c[k] as usize) < dims[k])
+                    && self.index(c) == self.cell[i] as usize
+                    && self.place[i] < self.len[self.cell[i] as usize];
+            if !filed {
+                return Err(format!(
+                    "particle {i}'s shell centre is filed inconsistently"
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn index(&self, c: [u32; 3]) -> usize {
         let d = self.grid.shape.dims;
         c[0] as usize + d[0] * (c[1] as usize + d[1] * c[2] as usize)

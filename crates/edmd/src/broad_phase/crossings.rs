@@ -114,6 +114,10 @@ impl Crossings {
 impl BroadPhase for Crossings {
     const OWN_EVENTS: usize = 0;
 
+    fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
+        self.grid.check_restored(&built.grid, n, true)
+    }
+
     fn fits(_: &SimBox, _: f64, _: usize) -> bool {
         true
     }

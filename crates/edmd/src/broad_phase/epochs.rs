@@ -16,7 +16,7 @@ use super::BroadPhase;
 use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
-use crate::state::{State, min_image_in, morton_order};
+use crate::state::{State, min_image_in, morton_order, same_encoding};
 use crate::sweep::{Filing, Spans, SweepGrid};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
@@ -237,6 +237,17 @@ impl Epochs {
 impl BroadPhase for Epochs {
     /// The end of the epoch.
     const OWN_EVENTS: usize = 1;
+
+    fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
+        self.grid.check_restored(&built.grid, n)?;
+        let geometry = |e: &Self| (e.flight, e.width, e.reach, e.keys);
+        let whole = same_encoding(&geometry(self), &geometry(built))
+            && !self.end.is_nan()
+            && [self.motion.len(), self.partner.len(), self.best.len()] == [n; 3];
+        whole
+            .then_some(())
+            .ok_or_else(|| "the epochs are not those of the config's particles".into())
+    }
 
     /// Whether epochs fit: a quarter of each periodic axis must exceed the largest
     /// contact distance by a cell width, and the grid must be able to file `n`.

@@ -43,6 +43,11 @@ pub trait BroadPhase: Sized {
     /// distance is `max_contact`.
     fn fits(region: &SimBox, max_contact: f64, n: usize) -> bool;
 
+    /// Errors unless `self`, decoded from a checkpoint, fits `built` (what the same
+    /// config builds) for `n` particles: the geometry the config determines, one entry
+    /// per particle in every array and no index out of range.
+    fn check_restored(&self, built: &Self, n: usize) -> Result<(), String>;
+
     /// Files every particle of `state` at its stored position (already wrapped).
     fn file<Q: EventQueue>(&mut self, state: &State<Q>);
 

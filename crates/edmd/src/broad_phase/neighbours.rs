@@ -21,7 +21,7 @@ use super::BroadPhase;
 use super::centre_cells::CentreCells;
 use crate::cells::NONE;
 use crate::queue::EventQueue;
-use crate::state::{State, morton_order};
+use crate::state::{State, morton_order, same_encoding};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
 
@@ -65,6 +65,16 @@ struct Lists {
 }
 
 impl Lists {
+    /// Whether decoded lists hold one list per particle `0..n`, each within its
+    /// capacity and naming particles `0..n` only.
+    fn are_whole(&self, n: usize) -> bool {
+        self.count.len() == n
+            && self.stride > 0
+            && n.checked_mul(self.stride) == Some(self.list.len())
+            && self.count.iter().all(|&c| c as usize <= self.stride)
+            && (0..n).all(|i| self.of(i).iter().all(|&e| ((e >> IMAGE_BITS) as usize) < n))
+    }
+
     /// `i`'s entries.
     #[inline(always)]
     fn of(&self, i: usize) -> &[u32] {
@@ -314,6 +324,18 @@ fn prefetch<T>(x: *const T) {
 
 impl BroadPhase for Neighbours {
     const OWN_EVENTS: usize = 0;
+
+    fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
+        self.cells.check_restored(&built.cells, n)?;
+        let geometry = |b: &Self| (b.range, b.reach, b.shifts);
+        let whole = same_encoding(&geometry(self), &geometry(built))
+            && self.centre.len() == n
+            && self.listed_at.len() == n
+            && self.lists.are_whole(n);
+        whole
+            .then_some(())
+            .ok_or_else(|| "the neighbour lists are not those of the config's particles".into())
+    }
 
     fn fits(region: &SimBox, max_contact: f64, n: usize) -> bool {
         Self::fit(region, max_contact) && n < (1 << (32 - IMAGE_BITS))

@@ -35,6 +35,16 @@ where
                 self.len()
             )));
         }
+        saved
+            .state
+            .check_restored(&self.state, self.len() + B::OWN_EVENTS)
+            .and_then(|()| saved.broad.check_restored(&self.broad, self.len()))
+            .map_err(|why| {
+                EngineError::Invalid(format!(
+                    "the checkpoint's event-engine state does not fit this config ({why}); \
+                     resume with the config and the version of emdstar that wrote it"
+                ))
+            })?;
         std::mem::swap(&mut saved.state.physics, &mut self.state.physics);
         saved.state.walton = self.state.walton;
         saved.state.exact_friction = self.state.exact_friction;

@@ -2,7 +2,7 @@
 
 use super::EventEngine;
 use crate::Event;
-use crate::broad_phase::Crossings;
+use crate::broad_phase::{Crossings, Epochs};
 use crate::physics::Physics;
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::{Domain, Particles};
@@ -161,4 +161,80 @@ fn approach(e: &mut EventEngine<Crossings>, speed: f64) {
         e.state.slot[0].kin.vel[k] -= 0.5 * speed * rk / norm;
         e.state.slot[1].kin.vel[k] += 0.5 * speed * rk / norm;
     }
+}
+
+/// A small periodic gas of hard spheres on a lattice, at rest apart from a few.
+fn lattice_gas(side: usize) -> (Particles, Domain) {
+    let n = side * side * side;
+    let spacing = 4.0;
+    let x: Vec<[f64; 3]> = (0..n)
+        .map(|i| [i % side, i / side % side, i / (side * side)].map(|c| (c as f64 + 0.5) * spacing))
+        .collect();
+    let v: Vec<[f64; 3]> = (0..n)
+        .map(|i| [1.0, -0.5, 0.25].map(|c| c * ((i * 7 % 5) as f64 - 2.0)))
+        .collect();
+    let particles = Particles::from_columns(x, v, vec![0.5; n], vec![1.0; n], vec![0; n]).unwrap();
+    let size = side as f64 * spacing;
+    let domain = Domain::periodic(emdstar_system::SimBox {
+        lo: [0.0; 3],
+        size: [size; 3],
+        periodic: [true; 3],
+    });
+    (particles, domain)
+}
+
+/// Saves `engine` after a few events, spoils the decoded state with `spoil`, and
+/// restores the result into a fresh engine from `build`: it must be refused (a
+/// decoded checkpoint with a valid checksum may still be nonsense, and running it
+/// would index out of bounds).
+fn spoiled_restore_is_refused<B>(
+    build: impl Fn() -> EventEngine<B>,
+    spoil: impl Fn(&mut EventEngine<B>),
+) -> String
+where
+    B: crate::broad_phase::BroadPhase + serde::Serialize + serde::de::DeserializeOwned,
+{
+    let mut e = build();
+    for _ in 0..40 {
+        e.step().unwrap();
+    }
+    let bytes = e.save_state();
+    build()
+        .restore_state(&bytes)
+        .expect("the unspoilt state restores");
+    let mut decoded: EventEngine<B> = postcard::from_bytes(&bytes).unwrap();
+    spoil(&mut decoded);
+    let spoilt = postcard::to_allocvec(&decoded).unwrap();
+    let err = build()
+        .restore_state(&spoilt)
+        .expect_err("a spoilt state is refused");
+    err.to_string()
+}
+
+#[test]
+fn decoded_checkpoints_that_do_not_fit_the_config_are_refused() {
+    let (particles, domain) = lattice_gas(5);
+    let hard = || Physics::HardSpheres { restitution: 1.0 };
+    let crossings = || EventEngine::crossings(&particles, &domain, hard(), 0.0).unwrap();
+    let epochs = || EventEngine::<Epochs>::epochs(&particles, &domain, hard()).unwrap();
+    // The fuzzing finding: no spins although the gas has particles.
+    let err = spoiled_restore_is_refused(epochs, |e| e.state.spin.clear());
+    assert!(err.contains("per-particle arrays"), "{err}");
+    let err = spoiled_restore_is_refused(crossings, |e| e.state.id[3] = e.state.id[5]);
+    assert!(err.contains("missing or repeated"), "{err}");
+    let err = spoiled_restore_is_refused(crossings, |e| e.state.slot[2].ev.partner = 1 << 20);
+    assert!(err.contains("differs from the config"), "{err}");
+    let err = spoiled_restore_is_refused(crossings, |e| e.state.mass[0] *= 2.0);
+    assert!(err.contains("differs from the config"), "{err}");
+    // A queue whose lists or heap no longer hold every particle once.
+    let err = spoiled_restore_is_refused(crossings, |e| {
+        e.state.queue = <crate::CalendarQueue as crate::queue::EventQueue>::new(e.state.len() - 1)
+    });
+    assert!(err.contains("calendar queue"), "{err}");
+    // Cell lists: a particle taken out of its cell without being put anywhere else.
+    let err = spoiled_restore_is_refused(crossings, |e| e.broad.grid.remove(7));
+    assert!(err.contains("in no cell"), "{err}");
+    // An epoch grid with a box fewer than particles.
+    let err = spoiled_restore_is_refused(epochs, |e| e.broad.grid.spans.pop().map(drop).unwrap());
+    assert!(err.contains("epoch grid"), "{err}");
 }
