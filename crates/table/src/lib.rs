@@ -88,13 +88,13 @@
 mod error;
 mod fastmath;
 mod format;
-mod horner7;
 pub mod npz;
 mod pack;
 mod pair_map;
 mod physical;
 mod piece;
 mod poly;
+mod straight;
 mod table;
 
 #[cfg(feature = "embedded-defaults")]

@@ -151,10 +151,14 @@ impl Terms {
             };
         }
         match (self.degree, self.max) {
-            (7, [7, 7, 7]) => return crate::horner7::eval7_xyz(coefs, t),
-            (7, [7, 7, 0]) => return crate::horner7::eval7_xy(coefs, t),
-            (7, [0, 7, 7]) => return crate::horner7::eval7_yz(coefs, t),
-            (7, [0, 7, 0]) => return crate::horner7::eval7_y(coefs, t),
+            (7, [7, 7, 7]) => return crate::straight::eval7_xyz(coefs, t),
+            (7, [7, 7, 0]) => return crate::straight::eval7_xy(coefs, t),
+            (7, [0, 7, 7]) => return crate::straight::eval7_yz(coefs, t),
+            (7, [0, 7, 0]) => return crate::straight::eval7_y(coefs, t),
+            (10, [10, 10, 10]) => return crate::straight::eval10_xyz(coefs, t),
+            (10, [10, 10, 0]) => return crate::straight::eval10_xy(coefs, t),
+            (10, [0, 10, 10]) => return crate::straight::eval10_yz(coefs, t),
+            (10, [0, 10, 0]) => return crate::straight::eval10_y(coefs, t),
             _ => {}
         }
         fixed!(5, 6, 8);
@@ -331,9 +335,12 @@ mod tests {
     }
 
     #[test]
-    fn unrolled_degree_seven_agrees_with_the_general_horner() {
-        for max in [[7, 7, 7], [7, 7, 0], [0, 7, 7], [0, 7, 0]] {
-            let terms = Terms::new(7, max);
+    fn unrolled_degrees_seven_and_ten_agree_with_the_general_horner() {
+        for (n, max) in [7, 10]
+            .into_iter()
+            .flat_map(|n| [[n, n, n], [n, n, 0], [0, n, n], [0, n, 0]].map(|m| (n, m)))
+        {
+            let terms = Terms::new(n, max);
             let c: Vec<[f32; NQ]> = (0..terms.len())
                 .map(|k| std::array::from_fn(|q| ((k * 13 + q * 5) % 17) as f32 / 17.0 - 0.45))
                 .collect();
@@ -356,6 +363,8 @@ mod tests {
             (6, [0, 6, 0]),
             (7, [7, 7, 7]),
             (7, [0, 7, 7]),
+            (10, [10, 10, 10]),
+            (10, [10, 10, 0]),
         ] {
             let terms = Terms::new(degree, max);
             let cheb: Vec<[f64; NQ]> = (0..terms.len())
