@@ -6,13 +6,13 @@ use super::engine::{drift_fields, load, progress_bar, with_fields};
 use super::run_loop::{Plan, Ticks, Trajectory, drive};
 use super::stop::StopFlags;
 use anyhow::{Context, Result, bail};
-use std::io::Write;
 use clap::Args;
 use emdstar_dem::DEFAULT_DT_FRACTION;
 use emdstar_engines::{AnyEngine, EngineOptions};
 use emdstar_system::gsd::GsdWriter;
 use emdstar_system::{Checkpoint, Config, ThermoLog, XyzWriter};
 use serde_json::json;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
