@@ -50,6 +50,13 @@ impl Springs {
         self.contacts.sort_unstable_by_key(|c| c.0);
     }
 
+    /// Whether decoded springs (a checkpoint's) are sorted by key, each key once, each
+    /// seen by a particle below `n`.
+    pub fn are_whole(&self, n: usize) -> bool {
+        self.contacts.windows(2).all(|w| w[0].0 < w[1].0)
+            && self.contacts.iter().all(|((a, _), _)| (*a as usize) < n)
+    }
+
     /// The open contacts and their springs.
     pub fn iter(&self) -> impl Iterator<Item = &(ContactKey, [f64; 3])> {
         self.contacts.iter()

@@ -67,6 +67,27 @@ fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
 }
 
 impl NeighbourList {
+    /// Errors unless a decoded list (a checkpoint's) covers particles `0..n`: ranges
+    /// that follow each other through the entries, and entries that name particles
+    /// `0..n` and one of the 27 images.
+    pub fn check_restored(&self, n: usize) -> Result<(), String> {
+        let ranges = self.start.len() == n + 1
+            && self.start.first() == Some(&0)
+            && self.start.last().map(|&e| e as usize) == Some(self.entries.len())
+            && self.start.windows(2).all(|w| w[0] <= w[1])
+            && (self.upper_end.is_empty()
+                || self.upper_end.len() == n
+                    && (0..n)
+                        .all(|i| (self.start[i]..=self.start[i + 1]).contains(&self.upper_end[i])));
+        let entries = self
+            .entries
+            .iter()
+            .all(|&e| ((e & INDEX_MASK) as usize) < n && ((e >> INDEX_BITS) as usize) < 27);
+        (ranges && entries)
+            .then_some(())
+            .ok_or_else(|| "the neighbour list does not cover the config's particles".into())
+    }
+
     /// The layout of the last build.
     pub fn layout(&self) -> Layout {
         self.layout

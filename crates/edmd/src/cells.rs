@@ -144,8 +144,12 @@ impl LinkedCells {
     ) -> Self {
         // Where particles are few and far apart the cells widen.
         let min_width = emdstar_system::sparse_cell_width(size, min_width, n);
-        let shape = CellShape::new(lo, size, periodic, min_width);
-        let dims = shape.dims;
+        Self::from_shape(CellShape::new(lo, size, periodic, min_width), n)
+    }
+
+    /// The grid of `shape` for `n` particles, all outside any cell.
+    fn from_shape(shape: CellShape, n: usize) -> Self {
+        let (dims, periodic) = (shape.dims, shape.periodic);
         let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];
         let offset = |d: [isize; 3]| d[0] * stride[0] + d[1] * stride[1] + d[2] * stride[2];
         let mut offsets = [0; 27];
@@ -208,17 +212,25 @@ impl LinkedCells {
         self.shape.coords_of(p)
     }
 
-    /// Errors unless a decoded grid has the geometry of `built` (the same config's),
-    /// one entry per particle `0..n` with cell coordinates inside the grid, and lists
-    /// that hold each particle at most once (every particle if `all_filed`), in its cell.
-    pub fn check_restored(&self, built: &Self, n: usize, all_filed: bool) -> Result<(), String> {
-        let geometry = |g: &Self| (g.shape, g.offsets, g.layers, g.around.clone(), g.head.len());
-        if !crate::state::same_encoding(&geometry(self), &geometry(built))
+    /// Errors unless a decoded grid is whole: the stencils of its own shape, one entry
+    /// per particle `0..n` with cell coordinates inside the grid, and lists that hold
+    /// each particle at most once (every particle if `all_filed`), in its cell. (Whether
+    /// the shape is the config's is the caller's to check.)
+    pub fn check_restored(&self, n: usize, all_filed: bool) -> Result<(), String> {
+        let dims = self.shape.dims;
+        let cells = dims
+            .iter()
+            .try_fold(1usize, |p, &d| p.checked_mul(d).filter(|_| d > 0));
+        if cells != Some(self.head.len()) {
+            return Err("a cell grid whose cell count does not match its shape".into());
+        }
+        let reference = Self::from_shape(self.shape, 0);
+        let stencils = |g: &Self| (g.offsets, g.layers, g.around.clone());
+        if !crate::state::same_encoding(&stencils(self), &stencils(&reference))
             || [self.next.len(), self.prev.len(), self.coords.len()] != [n; 3]
         {
-            return Err("another cell grid than the config's".into());
+            return Err("a cell grid with other stencils or particles than its shape's".into());
         }
-        let dims = self.shape.dims;
         if self
             .coords
             .iter()

@@ -92,6 +92,28 @@ impl TryFrom<ParticleColumns> for Particles {
 }
 
 impl Particles {
+    /// Whether `self` holds the bodies of `other` (each particle number with the same
+    /// species, radius and mass), in any order: a decoded state against the config's.
+    pub fn same_bodies(&self, other: &Particles) -> bool {
+        let n = other.len();
+        let mut at = vec![usize::MAX; n];
+        for (k, &id) in other.id.iter().enumerate() {
+            match at.get_mut(id as usize) {
+                Some(slot) => *slot = k,
+                None => return false,
+            }
+        }
+        self.len() == n
+            && self.id.iter().enumerate().all(|(k, &id)| {
+                let Some(&b) = at.get(id as usize).filter(|&&b| b != usize::MAX) else {
+                    return false;
+                };
+                self.species[k] == other.species[b]
+                    && self.radius[k].to_bits() == other.radius[b].to_bits()
+                    && self.mass[k].to_bits() == other.mass[b].to_bits()
+            })
+    }
+
     /// Number of particles.
     pub fn len(&self) -> usize {
         self.position.len()

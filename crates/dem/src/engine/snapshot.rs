@@ -111,6 +111,25 @@ impl Md {
                 self.options().contact_end
             ));
         }
+        let n = self.system().particles.len();
+        let whole = state.particles.same_bodies(&self.system().particles)
+            && state.contact_acc.len() == n
+            && state.touched.iter().all(|&i| (i as usize) < n)
+            && state.springs.are_whole(n);
+        state
+            .list
+            .check_restored(n)
+            .and_then(|()| {
+                whole
+                    .then_some(())
+                    .ok_or_else(|| "its particles differ".into())
+            })
+            .map_err(|why| {
+                format!(
+                    "the checkpoint's MD state does not fit this config ({why}); resume with \
+                     the config and the version of emdstar that wrote it"
+                )
+            })?;
         let spins = if self.rotation.is_some() {
             self.system().particles.len()
         } else {

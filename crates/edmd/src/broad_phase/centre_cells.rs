@@ -53,7 +53,10 @@ impl CentreCells {
     /// holds particles `0..n` consistently: every member is the particle filed at its
     /// place, and every filed particle a member of the cell of its coordinates.
     pub fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
-        self.grid.check_restored(&built.grid, 0, false)?;
+        if !crate::state::same_encoding(&self.grid.shape, &built.grid.shape) {
+            return Err("another grid of shell centres than the config's".into());
+        }
+        self.grid.check_restored(0, false)?;
         let cells = self.len.len();
         let sized = cells == built.len.len()
             && self.cap > 0

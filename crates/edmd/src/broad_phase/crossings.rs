@@ -115,7 +115,10 @@ impl BroadPhase for Crossings {
     const OWN_EVENTS: usize = 0;
 
     fn check_restored(&self, built: &Self, n: usize) -> Result<(), String> {
-        self.grid.check_restored(&built.grid, n, true)
+        if !crate::state::same_encoding(&self.grid.shape, &built.grid.shape) {
+            return Err("another cell grid than the config's".into());
+        }
+        self.grid.check_restored(n, true)
     }
 
     fn fits(_: &SimBox, _: f64, _: usize) -> bool {

@@ -2,7 +2,8 @@
 
 use super::Hybrid;
 use crate::options::HybridError;
-use emdstar_edmd::Physics;
+use emdstar_edmd::collision::NONE;
+use emdstar_edmd::{EventQueue, Physics};
 
 /// The physics of a state just read from a checkpoint, until the engine's own is put
 /// back.
@@ -45,10 +46,61 @@ impl Hybrid {
                 saved.opts, self.opts
             )));
         }
+        saved.check_restored(self).map_err(|why| {
+            HybridError::Invalid(format!(
+                "the checkpoint's hybrid state does not fit this config ({why}); resume with \
+                 the config and the version of emdstar that wrote it"
+            ))
+        })?;
         std::mem::swap(&mut saved.materials, &mut self.materials);
         std::mem::swap(&mut saved.physics, &mut self.physics);
         std::mem::swap(&mut saved.ed_friction, &mut self.ed_friction);
         *self = saved;
         Ok(())
+    }
+}
+
+impl Hybrid {
+    /// Errors unless `self`, decoded from a checkpoint, fits `built`, the engine of
+    /// the same config: the same bodies, one entry per particle in every array, indices
+    /// and partners in range, whole lists, queue, cells and springs.
+    fn check_restored(&self, built: &Self) -> Result<(), String> {
+        let n = built.mode.len();
+        let parties = n + built.system.domain.walls.len();
+        let party = |j: u32| j == NONE || (j as usize) < parties;
+        let indices = |v: &[u32]| v.iter().all(|&i| (i as usize) < n);
+        let lengths = [
+            self.inv_mass.len(),
+            self.contact_acc.len(),
+            self.new_acc.len(),
+            self.ed.len(),
+            self.jump.len(),
+        ];
+        let rotation = match (&self.rotation, &built.rotation) {
+            (None, None) => true,
+            (Some(r), Some(_)) => {
+                r.inv_inertia.len() == n && r.angular_acc.len() == n && r.springs.are_whole(n)
+            }
+            _ => false,
+        };
+        let whole = self.system.particles.same_bodies(&built.system.particles)
+            && lengths == [n; 5]
+            && [&self.td, &self.converted, &self.boundary, &self.deferred]
+                .into_iter()
+                .all(|v| indices(v))
+            && self
+                .ed
+                .iter()
+                .all(|r| party(r.partner) && party(r.coll_partner))
+            && rotation;
+        if !whole {
+            return Err("its particles or their records differ".into());
+        }
+        self.heap.check(n)?;
+        self.list.check_restored(n)?;
+        match &self.grid {
+            Some(grid) => grid.check_restored(n, false),
+            None => Ok(()),
+        }
     }
 }
