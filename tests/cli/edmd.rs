@@ -272,7 +272,7 @@ velocity = [1.25, -2.5, 0.0]
 "#;
 
 #[test]
-fn emd_runs_walton_friction_and_md_and_emdstar_refuse_its_material() {
+fn emd_runs_walton_friction_and_md_emdstar_and_the_hybrid_refuse_its_material() {
     let path = std::env::temp_dir().join(format!("emdstar_walton_{}.toml", std::process::id()));
     std::fs::write(&path, WALTON_PAIR).unwrap();
     let p = path.to_str().unwrap();
@@ -285,10 +285,16 @@ fn emd_runs_walton_friction_and_md_and_emdstar_refuse_its_material() {
     );
     let md = emdstar_error(&["pair", p, "--engine", "md"]);
     let star = emdstar_error(&["pair", p, "--engine", "emdstar"]);
+    let hybrid = emdstar_error(&["pair", p, "--engine", "hybrid"]);
     std::fs::remove_file(&path).unwrap();
     assert!(
         md.contains("tangential_restitution") && md.contains("tangential_stiffness"),
         "{md}"
+    );
+    // The hybrid is named as the hybrid, not as MD.
+    assert!(
+        hybrid.contains("hybrid's time-driven part") && hybrid.contains("tangential_stiffness"),
+        "{hybrid}"
     );
     assert!(
         star.contains("eMD*") && star.contains("--engine emd"),

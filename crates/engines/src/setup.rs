@@ -14,20 +14,25 @@ use emdstar_table::{Table, TableError};
 /// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
 /// shortened so that the config's `t_end` is a whole number of steps (a run stopped
 /// earlier or resumed later keeps this step).
+/// Refuses Walton's rule (`tangential_restitution`) for MD and for the hybrid, whose
+/// time-driven part is MD (`engine`: how the message names the engine).
+pub fn refuse_walton_for_md(system: &System, engine: &str) -> Result<()> {
+    if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
+        bail!(
+            "material.tangential_restitution is Walton's rule of the event-driven engines \
+             (--engine emd); {engine} a tangential spring: replace it by \
+             tangential_stiffness (and tangential_damping), or by tangential = \"coulomb\""
+        );
+    }
+    Ok(())
+}
+
 pub fn md_options(
     config: &Config,
     system: &System,
     md: &MdChoice,
     default_fraction: f64,
 ) -> Result<MdOptions> {
-    if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
-        bail!(
-            "material.tangential_restitution is Walton's rule of the event-driven engines \
-             (--engine emd); MD's friction is a tangential spring: replace it by \
-             tangential_stiffness (and tangential_damping), or by tangential = \"coulomb\", \
-             to run MD"
-        );
-    }
     let section = config.md.clone().unwrap_or_default();
     let contact_end: ContactEnd = match md.contact_end.as_ref().or(section.contact_end.as_ref()) {
         Some(s) => s.parse().map_err(anyhow::Error::msg)?,
