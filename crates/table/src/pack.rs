@@ -18,7 +18,8 @@ const MAX_BITS: u32 = 54;
 
 /// The quantum of a table with error goal `tolerance`: the largest power of two not
 /// above tolerance/256. A patch of t terms then moves by at most t·q/2 (below 0.24 of
-/// the goal for the 120 terms of degree 7), typically by about √t·q/3.5.
+/// the goal for the 120 terms of degree 7, 0.56 for the 286 of degree 10), typically by
+/// about √t·q/3.5.
 pub fn quantum(tolerance: f64) -> f64 {
     let target = tolerance / 256.0;
     let mut q = 1.0f64;
