@@ -271,6 +271,33 @@ fn a_frictional_contact_too_soft_to_solve_stops_with_what_to_check() {
     assert_eq!(stderr.matches("underflow").count(), 1, "{stderr}");
 }
 
+/// A contact that needs more solver steps than the bound (found by fuzzing: spins of
+/// 3·10¹⁰ rad/s, µ = 10⁵) is reported in terms of the config, not of solver options.
+#[test]
+fn a_frictional_contact_too_long_to_solve_names_the_material_and_spins() {
+    let dir = scratch("long-friction");
+    let config = write(
+        &dir,
+        "long.toml",
+        "t_end = 5.3e6\n[material]\nmodel = \"linear\"\nstiffness = 51000.0\n\
+         density = 33000.0\nfriction = 123000.0\ntangential_stiffness = 123000.0\n\
+         tangential_damping = 5.2e8\n\
+         [[particles]]\nposition = [6.72e9, 6.72e9, 6.72e9]\nradius = 5.6e8\nmass = 7e7\n\
+         velocity = [7e7, 7e7, 7e7]\nangular_velocity = [7e7, 7e7, 7e7]\n\
+         [[particles]]\nposition = [8.4000013e8, 8.4000013e8, 8.4e8]\nradius = 7e7\n\
+         mass = 3.3e10\nvelocity = [3.3e10, 3.3e10, 3.3e10]\n\
+         angular_velocity = [3.3e10, 3.3e10, 3.3e10]\n",
+    );
+    let start = Instant::now();
+    let stderr = error_in(&dir, &["pair", &config, "--engine", "emdstar"]);
+    assert!(start.elapsed() < Duration::from_secs(10));
+    assert!(
+        stderr.contains("solver steps") && stderr.contains("spins and speeds"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("max_steps"), "{stderr}");
+}
+
 #[test]
 fn a_reader_that_leaves_early_ends_the_output_without_a_panic() {
     use std::process::{Command, Stdio};

@@ -19,8 +19,8 @@ use crate::error::{EngineError, Result};
 use crate::physics::Physics;
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
 use emdstar_contact::{Friction, SOLID_SPHERE_INERTIA};
-use emdstar_mor::SolverOptions;
 use emdstar_mor::rule::{Body, frictional_collision};
+use emdstar_mor::{SolveError, SolverOptions};
 
 /// The E^φ of the pair `i`, `j` meeting now with `r` = x_i − x_j (minimum image) and
 /// `v` = v_i − v_j, or the restitution of eMD's fallback (exception a).
@@ -58,10 +58,20 @@ pub(super) fn pair<H: Host>(
         &SolverOptions::default(),
     )
     .map_err(|e| {
+        let why = match e {
+            // The solver's own advice names options a run does not have.
+            SolveError::TooManySteps(n) => format!(
+                "it did not end within {n} solver steps: its friction, tangential spring \
+                 and dashpot, spins or speeds make it far stiffer or longer than the normal \
+                 contact alone"
+            ),
+            e => e.to_string(),
+        };
         EngineError::Invalid(format!(
-            "the exact frictional contact of particles {i} and {j} could not be solved ({e}); \
-             check the material: its stiffness and tangential keys must give a contact time \
-             that double precision can step through"
+            "the exact frictional contact of particles {i} and {j} could not be solved \
+             ({why}); check the material and the particles' spins and speeds: the stiffness \
+             and tangential keys must give a contact that double precision can step through \
+             in a bounded number of steps"
         ))
     })?;
     h.stats().frictional_solves += 1;
