@@ -49,7 +49,8 @@ pub struct BenchEdmdArgs {
     #[arg(long, default_value_t = 0.10)]
     pub hs_eta: f64,
     /// Also measure the rates for N = 864 … 1 000 188 (hard spheres at --hs-eta and, unless
-    /// --hard-spheres-only, the eMD* gas at η = 0.01; 10 collisions per particle at most).
+    /// --hard-spheres-only, the eMD* gas at η = 0.01; --per-particle up to 10 collisions
+    /// per particle, and at least 2·10⁵ collisions per run).
     #[arg(long)]
     pub scaling: bool,
     /// With --scaling: also draw the rates against N into this PNG (log-log).
@@ -179,6 +180,18 @@ const EMDSTAR_CELLS: usize = 14;
 const EMDSTAR_ETA: f64 = 0.01;
 /// FCC cells per side of the scaling runs: N = 864 … 1 000 188.
 const SCALING_CELLS: [usize; 5] = [6, 10, 22, 46, 63];
+/// Collisions each scaling run times at least: a few milliseconds at small N varied by
+/// half from run to run.
+const SCALING_MIN_COLLISIONS: f64 = 2e5;
+
+/// Collisions per particle of a scaling run on `cells` FCC cells per side: the asked
+/// number up to 10, more where that would time fewer than [`SCALING_MIN_COLLISIONS`].
+fn scaling_per_particle(per_particle: f64, cells: usize) -> f64 {
+    let n = 4.0 * (cells as f64).powi(3);
+    per_particle
+        .min(10.0)
+        .max(SCALING_MIN_COLLISIONS / (0.5 * n))
+}
 
 /// Müller & Pöschel 2013, Sec. VI B 6: elastic Hertz spheres, R = 0.1 m,
 /// ρ = 1140 kg/m³, ν = 0.4, thermal speed ≈ 2 m/s; here Y = 1 GPa and η = 0.01.
@@ -314,7 +327,12 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         let mut emdstar_rows = vec![];
         for cells in SCALING_CELLS {
             let (rate, v) = best_of(a.rounds, || {
-                hard_spheres(cells, a.hs_eta, a.per_particle.min(10.0), build)
+                hard_spheres(
+                    cells,
+                    a.hs_eta,
+                    scaling_per_particle(a.per_particle, cells),
+                    build,
+                )
             })?;
             let line = format!(
                 "  N = {:>8}: hard spheres (η = {}) {rate:.3e} collisions/s{}",
@@ -330,7 +348,8 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
                 continue;
             }
             let (star, w) = best_of(a.rounds, || {
-                emdstar_gas(cells, a.per_particle.min(10.0), mor_source()?, build)
+                let per_particle = scaling_per_particle(a.per_particle, cells);
+                emdstar_gas(cells, per_particle, mor_source()?, build)
             })?;
             if !a.json {
                 println!(
