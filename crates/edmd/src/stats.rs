@@ -34,12 +34,10 @@ pub struct Stats {
     /// MoR taken from the exact solver because the table did not cover it.
     pub mor_fallbacks: u64,
     /// eMD* with friction: collisions solved by the exact frictional contact (every
-    /// frictional pair collision; not saved in checkpoints, counted from a resume).
-    #[serde(skip)]
+    /// frictional pair collision).
     pub frictional_solves: u64,
     /// eMD* with friction: exceptions (a) whose exact impulse would not separate the
-    /// pair at touch, given eMD's frictionless kick instead (not saved either).
-    #[serde(skip)]
+    /// pair at touch, given eMD's frictionless kick instead.
     pub frictional_fallback_kicks: u64,
     /// Spatial re-sorts of the particle order.
     pub resorts: u64,

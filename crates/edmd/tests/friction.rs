@@ -2,7 +2,8 @@
 //! momentum and never gains energy, a perfectly rough elastic one keeps its energy
 //! while spins take their share; smooth limits leave spins alone; a rough sphere leaves
 //! a wall as a superball does; eMD applies the force law's restitution; checkpoints
-//! restore the spins bitwise; eMD* refuses Walton's rule (it solves the history spring).
+//! restore the spins bitwise, and frictional eMD*'s counters too; eMD* refuses Walton's
+//! rule (it solves the history spring).
 
 mod common;
 
@@ -387,6 +388,35 @@ fn frictional_emdstar_keeps_momentum_moves_energy_into_spins_and_counts_its_solv
         smooth.exact_friction().is_none(),
         "µ = 0 keeps the frictionless rule"
     );
+}
+
+/// A frictional eMD* gas saved half way and restored into a fresh engine ends with the
+/// particles and the counters of the run that went through, its frictional solves
+/// included.
+#[test]
+fn a_restored_frictional_emdstar_gas_continues_bitwise_with_its_counters() {
+    let (p, d) = fcc(3, 0.3, 1.0, 1.0, 1.0, 11);
+    let friction = emdstar_contact::Friction::new(
+        0.4,
+        2e4 / 7.0,
+        0.0,
+        emdstar_contact::TangentialModel::History,
+    )
+    .unwrap();
+    let engine = || frictional_emdstar(&p, &d, friction);
+    let t_end = 4.0;
+    let mut straight = engine();
+    straight.advance_to(t_end).unwrap();
+    let mut first = engine();
+    first.advance_to(0.5 * t_end).unwrap();
+    assert!(first.stats().frictional_solves > 50, "{:?}", first.stats());
+    let saved = Simulation::save_state(&first);
+    let mut resumed = engine();
+    resumed.restore_state(&saved).unwrap();
+    resumed.advance_to(t_end).unwrap();
+    assert_eq!(straight.particles(), resumed.particles());
+    assert_eq!(straight.stats(), resumed.stats());
+    assert!(straight.stats().frictional_solves > first.stats().frictional_solves);
 }
 
 #[test]

@@ -17,8 +17,9 @@ const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 /// angular velocities, MD its tangential springs; 3: the event engines keep each
 /// particle's last pair collision; 4: a cell grid holds
 /// each particle's cell, not its per-cell index; 5: the hybrid keeps spins' angular
-/// accelerations and the springs of its time-driven contacts).
-pub const CHECKPOINT_VERSION: u32 = 5;
+/// accelerations and the springs of its time-driven contacts; 6: the event engines keep
+/// their counts of frictional eMD* solves and fallback kicks).
+pub const CHECKPOINT_VERSION: u32 = 6;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]
