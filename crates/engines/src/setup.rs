@@ -9,11 +9,6 @@ use emdstar_edmd::{Engine, Interference, Materials, Physics};
 use emdstar_system::{Config, System};
 use emdstar_table::{Table, TableError};
 
-/// The MD options (`md` over the config's `[md]`); a material with Walton's rule
-/// (`tangential_restitution`) and friction is refused. Without an explicit dt the step is
-/// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
-/// shortened so that the config's `t_end` is a whole number of steps (a run stopped
-/// earlier or resumed later keeps this step).
 /// Refuses Walton's rule (`tangential_restitution`) for MD and for the hybrid, whose
 /// time-driven part is MD (`engine`: how the message names the engine).
 pub fn refuse_walton_for_md(system: &System, engine: &str) -> Result<()> {
@@ -27,6 +22,10 @@ pub fn refuse_walton_for_md(system: &System, engine: &str) -> Result<()> {
     Ok(())
 }
 
+/// The MD options (`md` over the config's `[md]`). Without an explicit dt the step is
+/// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
+/// shortened so that the config's `t_end` is a whole number of steps (a run stopped
+/// earlier or resumed later keeps this step).
 pub fn md_options(
     config: &Config,
     system: &System,

@@ -2,10 +2,10 @@
 
 use crate::plot::{PALETTE, RGBColor, Style};
 use crate::{HarnessError, Result};
-use emdstar_contact::{ForceLaw, Model};
+use emdstar_contact::ForceLaw;
 use emdstar_dem::{DEFAULT_DT_FRACTION, Md, MdOptions, shortest_contact_time};
-use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Interference, Materials, Physics};
+use emdstar_edmd::Engine;
+use emdstar_engines::{EngineKind, EventChoice, MorChoice};
 use emdstar_system::{
     Arrangement, Config, GasConfig, MaterialConfig, ParticleConfig, Simulation, System,
 };
@@ -111,29 +111,21 @@ pub fn lattice_gas(
     Ok(c.build()?)
 }
 
-/// The MoR source of an eMD* kind.
-fn mor_source(kind: EventKind, model: Model) -> Result<Box<dyn MorSource>> {
-    Ok(match kind {
-        EventKind::EmdStarExact => Box::new(ExactMor),
-        _ => Box::new(TableMorSource::new(
-            emdstar_table::default_table(model)?,
-            true,
-        )),
-    })
-}
-
-/// An event engine of `kind` on `system`.
+/// An event engine of `kind` on `system`, built as `emdstar run` builds it (automatic
+/// broad phase, exception (b) on the hit particle only; with friction, eMD's Walton
+/// rule or eMD*'s exact frictional contact).
 pub fn event_engine(system: &System, kind: EventKind) -> Result<Engine> {
-    let materials = Materials::from_system(system)?;
-    let physics = match kind {
-        EventKind::Emd => Physics::Emd(materials),
-        _ => Physics::EmdStar {
-            materials,
-            mor: mor_source(kind, system.material.model())?,
-            interference: Interference::HitOnly,
-        },
+    let (engine, mor) = match kind {
+        EventKind::Emd => (EngineKind::Emd, MorChoice::default()),
+        EventKind::EmdStarTable => (EngineKind::EmdStar, MorChoice::TableOrExact),
+        EventKind::EmdStarExact => (EngineKind::EmdStar, MorChoice::Exact),
     };
-    Ok(Engine::new(&system.particles, &system.domain, physics)?)
+    let choice = EventChoice {
+        mor,
+        ..Default::default()
+    };
+    emdstar_engines::event_engine(engine, system, &choice)
+        .map_err(|e| HarnessError::Invalid(format!("{e:#}")))
 }
 
 /// Positions and velocities of an event engine at its current time, by particle number,

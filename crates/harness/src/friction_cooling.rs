@@ -160,8 +160,7 @@ fn one_gas(
                 AnyEngine::Event(Box::new(engine))
             }
             _ => {
-                let engine = event_engine(&system, EventKind::EmdStarExact)?
-                    .with_exact_friction(system.friction)?;
+                let engine = event_engine(&system, EventKind::EmdStarExact)?;
                 AnyEngine::Event(Box::new(engine))
             }
         };

@@ -242,8 +242,7 @@ fn md_run(d: &Drawn, lead: f64, dt: f64, t_obs: f64) -> Result<Relative> {
 /// The eMD* engine's relative state at `t_obs` (exact contacts with friction).
 fn emdstar_run(d: &Drawn, lead: f64, t_obs: f64) -> Result<Relative> {
     let system = pair_system(d, lead, t_obs)?;
-    let mut engine =
-        event_engine(&system, EventKind::EmdStarExact)?.with_exact_friction(system.friction)?;
+    let mut engine = event_engine(&system, EventKind::EmdStarExact)?;
     engine
         .advance_to(t_obs)
         .map_err(|e| HarnessError::Invalid(e.to_string()))?;
