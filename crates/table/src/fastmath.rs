@@ -1,12 +1,15 @@
-//! e^x and ln x in plain arithmetic that the compiler inlines and vectorises: the four
-//! exponentials at the end of every lookup cost about one library call, and the
-//! logarithms of the physical map a fraction of one. Separate multiplies and adds, no
-//! FMA: the same bits on every machine.
+//! e^x and ln x in plain arithmetic that the compiler inlines: the four exponentials at
+//! the end of every lookup cost less than one library call, and the logarithms of the
+//! physical map a fraction of one. Separate multiplies and adds, no FMA: the same bits
+//! on every machine.
 //!
 //! - [`exp4`]: Cody–Waite reduction x = n·ln 2 + r, |r| ≤ ln 2 / 2, the Taylor
 //!   polynomial of e^r to degree 12 (truncation below 2e-16 relative; summed by
 //!   Estrin's scheme), and the scale 2^n
 //!   built from its bits (split in two factors so that subnormal results come out right).
+//!   With AVX2 (detected at run time) the four lanes run in one vector register, with
+//!   the same operations in the same order, so that each lane has the bits of the
+//!   scalar [`exp`] on every machine (a random lookup is about a tenth faster).
 //! - [`ln`]: x = 2^e·m with m ∈ [1/√2, √2), ln m = 2 atanh(s) with s = (m − 1)/(m + 1),
 //!   |s| ≤ 0.1716, summed to s²³ (truncation below 1e-17 relative), plus e·ln 2 in two
 //!   parts. The error is a few units in the last place of the result (tested below
@@ -62,9 +65,24 @@ fn pow2(k: f64) -> f64 {
     f64::from_bits((k + (ROUND + 1023.0)).to_bits() << 52)
 }
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+
+/// Whether [`exp4`] may run its AVX2 code.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn has_avx2() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+}
+
 /// e^x for each lane; exact 0 for −∞ (and below −745.2), +∞ above 709.79, NaN for NaN.
 #[inline(always)]
 pub fn exp4(x: [f64; 4]) -> [f64; 4] {
+    #[cfg(target_arch = "x86_64")]
+    if has_avx2() {
+        // SAFETY: the CPU supports AVX2 (checked just above).
+        return unsafe { avx2::exp4(x) };
+    }
     x.map(exp)
 }
 
@@ -193,6 +211,55 @@ mod tests {
         assert_eq!(ln(0.0), f64::NEG_INFINITY);
         assert_eq!(ln(f64::INFINITY), f64::INFINITY);
         assert!(ln(-1.0).is_nan() && ln(f64::NAN).is_nan());
+    }
+
+    /// Arguments over the whole range, the special values and the switches of `exp`
+    /// and `ln`.
+    fn probe_arguments() -> Vec<f64> {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            f64::MIN_POSITIVE * (1.0 - 1e-16),
+            5e-324,
+            f64::MAX,
+            std::f64::consts::SQRT_2,
+            std::f64::consts::SQRT_2 * (1.0 + 1e-15),
+            709.79,
+            709.8,
+            709.78,
+            -745.2,
+            -745.3,
+            -745.1,
+            710.5,
+            -746.5,
+        ];
+        let mut state = 0x9E37_79B9_7F4A_7C15u64;
+        for _ in 0..20_000 {
+            // xorshift64*: arbitrary bit patterns, then values of every exponent.
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            let r = state.wrapping_mul(0x2545_F491_4F6C_DD1D);
+            xs.push(f64::from_bits(r));
+            xs.push((r >> 11) as f64 / (1u64 << 53) as f64 * 1500.0 - 750.0);
+        }
+        xs
+    }
+
+    #[test]
+    fn four_lanes_give_the_bits_of_the_scalar_exp() {
+        let xs = probe_arguments();
+        for w in xs.windows(4) {
+            let x = [w[0], w[1], w[2], w[3]];
+            let e = exp4(x);
+            for i in 0..4 {
+                assert_eq!(e[i].to_bits(), exp(x[i]).to_bits(), "exp({:e})", x[i]);
+            }
+        }
     }
 
     #[test]
