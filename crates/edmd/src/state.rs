@@ -96,6 +96,20 @@ pub(crate) fn min_image_in(d: [f64; 3], period: [f64; 3]) -> [f64; 3] {
     })
 }
 
+/// Asks for the cache line at `x`: a prediction asks for all its candidates' lines
+/// first, so that it waits for memory about once rather than once per candidate.
+#[inline(always)]
+pub(crate) fn prefetch<T>(x: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch is a hint that never faults, whatever the address.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(x as *const i8) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = x;
+}
+
 /// Whether `a` and `b` encode to the same bytes: for the parts of a decoded checkpoint
 /// that the config determines, compared with those of the engine the config builds.
 pub(crate) fn same_encoding<T: Serialize + ?Sized>(a: &T, b: &T) -> bool {

@@ -16,7 +16,7 @@ use super::BroadPhase;
 use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
-use crate::state::{State, min_image_in, morton_order, same_encoding};
+use crate::state::{State, min_image_in, morton_order, prefetch, same_encoding};
 use crate::sweep::{Filing, Spans, SweepGrid};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
@@ -51,6 +51,9 @@ pub struct Epochs {
     /// The rebuild's candidate pairs (scratch).
     #[serde(skip)]
     pairs: Vec<[u32; 2]>,
+    /// A prediction's candidates (scratch).
+    #[serde(skip)]
+    candidates: Vec<u32>,
     /// The cells whose Morton order the particles are re-sorted in (those the
     /// crossing broad phase would use).
     keys: CellShape,
@@ -87,6 +90,7 @@ impl Epochs {
             partner: vec![NONE; n],
             best: vec![(f64::INFINITY, 0); n],
             pairs: Vec::new(),
+            candidates: Vec::new(),
             keys: CellShape::new(region.lo, region.size, region.periodic, key_width),
         }
     }
@@ -282,13 +286,25 @@ impl BroadPhase for Epochs {
         } else {
             f64::INFINITY
         };
+        // The candidates first, asking for their records as they are found, so that
+        // the tests below wait for memory about once (in a large gas each is a miss).
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.clear();
+        let slots = s.slot.as_ptr();
+        self.grid.scan_and_file(i, &spans, |j| {
+            candidates.push(j as u32);
+            let slot = slots.wrapping_add(j);
+            prefetch(slot);
+            prefetch((slot as *const u8).wrapping_add(64));
+        });
         let mut best = (s.slot[i].ev.coll_time, NONE);
         let probe = s.probe_slot(i);
         let mut blocked = false;
         let state = &*s;
-        self.grid.scan_and_file(i, &spans, |j| {
+        for &j in &candidates {
+            let j = j as usize;
             if state.in_shared_transient(i, j) {
-                return;
+                continue;
             }
             let (pj, vj) = state.state_at(j, now);
             let r = state.min_image(sub(p, pj));
@@ -297,14 +313,15 @@ impl BroadPhase for Epochs {
                 blocked |= state.blocks_rotation(probe, *slot, j, r, pj, sigma);
             }
             if !on_collision_course(r, v, sigma) {
-                return;
+                continue;
             }
             let dt = sphere_sphere(r, v, sigma);
             let limit = horizon.min(state.slot[j].ev.cross[0]);
             if now + dt < limit && now + dt < best.0 {
                 best = (now + dt, j as u32);
             }
-        });
+        }
+        self.candidates = candidates;
         s.keep_earliest(i, (best.0, best.1, best.0 == now));
         if blocked {
             s.block_probe();

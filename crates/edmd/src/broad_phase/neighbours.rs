@@ -21,7 +21,7 @@ use super::BroadPhase;
 use super::centre_cells::CentreCells;
 use crate::cells::NONE;
 use crate::queue::EventQueue;
-use crate::state::{State, morton_order, same_encoding};
+use crate::state::{State, morton_order, prefetch, same_encoding};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
 
@@ -306,20 +306,6 @@ fn earliest_in<Q: EventQueue>(
         }
     }
     (best, best_j, best_now)
-}
-
-/// Asks for the cache line at `x`: a prediction asks for all its candidates' lines
-/// first, so that it waits for memory about once rather than once per candidate.
-#[inline(always)]
-fn prefetch<T>(x: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        // SAFETY: a prefetch is a hint that never faults, whatever the address.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(x as *const i8) };
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = x;
 }
 
 impl BroadPhase for Neighbours {
