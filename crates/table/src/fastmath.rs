@@ -213,8 +213,7 @@ mod tests {
         assert!(ln(-1.0).is_nan() && ln(f64::NAN).is_nan());
     }
 
-    /// Arguments over the whole range, the special values and the switches of `exp`
-    /// and `ln`.
+    /// Arguments over the whole range, the special values and the limits of `exp`.
     fn probe_arguments() -> Vec<f64> {
         let mut xs = vec![
             0.0,
@@ -222,12 +221,8 @@ mod tests {
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::NAN,
-            f64::MIN_POSITIVE,
-            f64::MIN_POSITIVE * (1.0 - 1e-16),
             5e-324,
             f64::MAX,
-            std::f64::consts::SQRT_2,
-            std::f64::consts::SQRT_2 * (1.0 + 1e-15),
             709.79,
             709.8,
             709.78,
