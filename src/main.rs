@@ -6,6 +6,9 @@ mod cmd;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+#[global_allocator]
+static ALLOCATOR: emdstar_hugepages::HugePages = emdstar_hugepages::HugePages;
+
 /// Event-driven simulation of soft spheres, with or without friction (eMD*, Müller &
 /// Pöschel 2013), its matrix-of-restitution tables, and its cross-validation against
 /// force-based MD.
@@ -30,6 +33,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    emdstar_hugepages::configure_from_env();
     let cli = Cli::parse();
     if !matches!(cli.command, Command::Run(_)) {
         end_quietly_when_the_reader_leaves();

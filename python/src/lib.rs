@@ -18,6 +18,10 @@ use emdstar_table::SharedTable as TableRef;
 
 mod run;
 
+// Huge pages under large arrays (the engines' particle records at N ≈ 10⁶); see the crate.
+#[global_allocator]
+static ALLOCATOR: emdstar_hugepages::HugePages = emdstar_hugepages::HugePages;
+
 fn table_error(e: TableError) -> PyErr {
     match e {
         TableError::Io(_) => PyOSError::new_err(e.to_string()),
@@ -354,6 +358,7 @@ fn resolve_collisions<'py>(
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    emdstar_hugepages::configure_from_env();
     m.add_class::<PyTable>()?;
     m.add_function(wrap_pyfunction!(exact, m)?)?;
     m.add_function(wrap_pyfunction!(exact_scaled, m)?)?;
