@@ -11,10 +11,6 @@ const NONE: u32 = u32::MAX;
 const IN_HEAP: u32 = u32::MAX - 1;
 const OVERFLOW: u32 = u32::MAX - 2;
 const NEVER: u32 = u32::MAX - 3;
-/// [`EventQueue::due_soon`] names the first keys of the buckets this many and twice
-/// as many past the current one (about two keys per bucket: some four and eight events
-/// ahead). Measured at N = 10⁶: 1 and 4 gain less, 8 loses.
-const AHEAD: usize = 2;
 
 /// The calendar queue.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -267,22 +263,6 @@ impl EventQueue for CalendarQueue {
 
     fn key(&self, id: usize) -> f64 {
         self.node[id].key
-    }
-
-    #[inline(always)]
-    fn due_soon(&self) -> [u32; 2] {
-        let at = |ahead: usize| {
-            let id = self
-                .heads
-                .get(self.current + ahead)
-                .copied()
-                .unwrap_or(NONE);
-            if id != NONE && (id as usize) < self.node.len() {
-                crate::state::prefetch(&self.node[id as usize]);
-            }
-            id
-        };
-        [at(AHEAD), at(2 * AHEAD)]
     }
 
     fn check(&self, len: usize) -> Result<(), String> {

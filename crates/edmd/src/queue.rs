@@ -19,13 +19,6 @@ pub trait EventQueue {
     fn peek(&mut self) -> (usize, f64);
     /// The key of `id`.
     fn key(&self, id: usize) -> f64;
-    /// Ids whose keys are likely to come up a few events from now (`u32::MAX`: none),
-    /// for the engine to ask for their records early; the queue asks for its own
-    /// entries of them. A hint only: it changes no event.
-    #[inline(always)]
-    fn due_soon(&self) -> [u32; 2] {
-        [u32::MAX; 2]
-    }
     /// Errors unless the queue (decoded from a checkpoint) holds exactly the ids
     /// `0..len`, each once, in a consistent structure with keys that are not NaN:
     /// what every other method relies on.

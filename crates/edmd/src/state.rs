@@ -228,24 +228,6 @@ impl<Q: EventQueue> State<Q> {
         self.slot.len()
     }
 
-    /// Asks for the records of the particles whose events the queue expects a few
-    /// events from now: in a large gas their misses then overlap this event's work
-    /// instead of stalling the step that reaches them.
-    #[inline(always)]
-    pub(crate) fn prefetch_due_soon(&self) {
-        let [near, far] = self.queue.due_soon();
-        if let Some(slot) = self.slot.get(near as usize) {
-            // Asked for as `far` a few events ago: its partner is known by now.
-            if let Some(partner) = self.slot.get(slot.ev.coll_partner as usize) {
-                prefetch(&partner.ev);
-            }
-        }
-        if let Some(slot) = self.slot.get(far as usize) {
-            prefetch(slot);
-            prefetch(&slot.ev);
-        }
-    }
-
     /// Position and velocity of particle `j` at time `t` ≥ its stamp (no update).
     #[inline(always)]
     pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {

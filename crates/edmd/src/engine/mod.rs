@@ -159,7 +159,6 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     pub fn step(&mut self) -> Result<Event> {
         let s = &mut self.state;
         let (i, t) = s.queue.peek();
-        s.prefetch_due_soon();
         if !t.is_finite() {
             return Err(EngineError::Invalid(
                 "no event is left: every particle flies freely for ever (an empty or \
