@@ -36,7 +36,7 @@ pub const LARGE: usize = 2 * HUGE_PAGE;
 
 static ADVISE: AtomicBool = AtomicBool::new(true);
 
-/// Reads `EMDSTAR_HUGE_PAGES` (`off`, `0` or `no` leave the advice out); call once,
+/// Reads `EMDSTAR_HUGE_PAGES` (`off`, `0`, `no` or `false` leave the advice out); call once,
 /// first thing in `main`.
 pub fn configure_from_env() {
     if let Some(v) = std::env::var_os("EMDSTAR_HUGE_PAGES") {
@@ -49,10 +49,11 @@ pub fn configure_from_env() {
 pub struct HugePages;
 
 impl HugePages {
-    /// The layout a block of this layout is given: large blocks are aligned to a huge
-    /// page. A function of the size only, so that `dealloc` sees what `alloc` used.
+    /// The layout a block of this layout is given: on Linux, large blocks are aligned
+    /// to a huge page. A function of the size only, so that `dealloc` sees what `alloc`
+    /// used.
     fn actual(layout: Layout) -> Layout {
-        if layout.size() >= LARGE && layout.align() < HUGE_PAGE {
+        if cfg!(target_os = "linux") && layout.size() >= LARGE && layout.align() < HUGE_PAGE {
             // SAFETY: HUGE_PAGE is a power of two, and a size this large rounded up to
             // it stays far below isize::MAX (the caller's layout was valid).
             unsafe { Layout::from_size_align_unchecked(layout.size(), HUGE_PAGE) }
@@ -140,6 +141,7 @@ mod tests {
         unsafe {
             let p = a.alloc_zeroed(large);
             assert!(!p.is_null());
+            #[cfg(target_os = "linux")]
             assert_eq!(p as usize % HUGE_PAGE, 0);
             assert!((0..large.size()).step_by(4093).all(|i| *p.add(i) == 0));
             for i in 0..1000 {
@@ -149,6 +151,7 @@ mod tests {
             let q = a.realloc(p, large, 1000);
             assert!((0..1000).all(|i| *q.add(i) == i as u8));
             let r = a.realloc(q, small, 3 * LARGE);
+            #[cfg(target_os = "linux")]
             assert_eq!(r as usize % HUGE_PAGE, 0);
             assert!((0..1000).all(|i| *r.add(i) == i as u8));
             a.dealloc(r, Layout::from_size_align(3 * LARGE, 8).unwrap());
