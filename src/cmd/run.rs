@@ -10,7 +10,7 @@ use clap::Args;
 use emdstar_dem::DEFAULT_DT_FRACTION;
 use emdstar_engines::{AnyEngine, EngineOptions};
 use emdstar_system::gsd::GsdWriter;
-use emdstar_system::{Checkpoint, Config, ThermoLog, XyzWriter};
+use emdstar_system::{Checkpoint, Config, Cut, ThermoLog, XyzWriter};
 use serde_json::json;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -33,8 +33,10 @@ use std::process::ExitCode;
 ///
 /// Restarts: --checkpoint FILE writes the whole state when the run ends (and every
 /// [output] restart_interval); --resume FILE continues a run from its checkpoint, with
-/// the same config and engine options, appending to its trajectory and log. A run
-/// stopped and resumed ends in bitwise the same state as one that ran through. With
+/// the same config and engine options, appending to its trajectory and log after
+/// cutting off what the run wrote after the checkpoint (if it was killed: frames, log
+/// lines, and a last one left unfinished). A run stopped, or killed, and resumed ends in
+/// bitwise the same state, with the same files, as one that ran through. With
 /// --t-end a run stops earlier or goes on later than the config's t_end.
 ///
 /// Before it starts, a run is refused if its particles seem not to fit into the free
@@ -122,6 +124,26 @@ fn output_path(
         .unwrap_or_else(|| format!("{stem}.{extension}").into())
 }
 
+/// Tells what resuming cut off the end of `path` (`record` names one record).
+fn report_cut(path: &Path, record: &str, cut: Cut) {
+    if cut.records > 0 {
+        eprintln!(
+            "{}: cut {} {record}{} written after the checkpoint (the run went on after it)",
+            path.display(),
+            cut.records,
+            if cut.records == 1 { "" } else { "s" }
+        );
+    }
+    if cut.partial_bytes > 0 {
+        eprintln!(
+            "{}: cut an unfinished last {record} of {} bytes (the run was killed while \
+             writing it)",
+            path.display(),
+            cut.partial_bytes
+        );
+    }
+}
+
 /// Restores `engine` from the checkpoint at `path`, refusing one of another engine,
 /// options or config.
 fn resume(engine: &mut AnyEngine, path: &Path, config: &Config) -> Result<f64> {
@@ -185,6 +207,8 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     let output = config.output.clone().unwrap_or_default();
     let step = engine.sim().time_step();
     let fresh = resumed_at.is_none();
+    // What resuming cut off the files' ends (written after the checkpoint).
+    let mut cuts = serde_json::Map::new();
     let traj_path = output_path(&args.trajectory, &output.trajectory, &args.config, "xyz");
     let trajectory = if traj_path == Path::new("none") {
         None
@@ -214,7 +238,12 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         }
         let writer = match (gsd, fresh) {
             (false, true) => Trajectory::Xyz(XyzWriter::create(&traj_path)?),
-            (false, false) => Trajectory::Xyz(XyzWriter::append(&traj_path)?),
+            (false, false) => {
+                let (writer, cut) = XyzWriter::resume(&traj_path, t_now, n)?;
+                report_cut(&traj_path, "frame", cut);
+                cuts.insert("trajectory".into(), json!(cut));
+                Trajectory::Xyz(writer)
+            }
             (true, true) => Trajectory::Gsd {
                 writer: GsdWriter::create(&traj_path)?,
                 species,
@@ -232,7 +261,10 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     let log = if fresh {
         ThermoLog::create(&log_path)?
     } else {
-        ThermoLog::append(&log_path)?
+        let (log, cut) = ThermoLog::resume(&log_path, t_now)?;
+        report_cut(&log_path, "line", cut);
+        cuts.insert("log".into(), json!(cut));
+        log
     };
     let restart_every = output
         .restart_interval
@@ -303,6 +335,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         "log": log_path,
         "interrupted": outcome.interrupted.is_some(),
         "resumed_from": resumed_at,
+        "cut_at_resume": resumed_at.map(|_| cuts),
         "checkpoint": outcome.checkpoint_written,
     });
     summary = with_fields(

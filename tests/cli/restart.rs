@@ -146,44 +146,143 @@ fn wrong_checkpoints_are_refused_with_reasons() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// SIGKILL gives a run no chance to finish what it writes: it may leave frames and log
+/// lines from after its last checkpoint, and a last one cut in the middle of a write.
+/// Resumed from that checkpoint, the run must end with the files of a run that went
+/// through.
 #[test]
-fn a_killed_run_leaves_whole_lines_and_frames() {
+fn a_killed_run_resumed_from_its_checkpoint_leaves_the_files_of_one_run() {
     let dir = scratch("kill");
     let cfg = long_config(&dir);
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    std::fs::write(
+        &cfg,
+        text.replace(
+            "log_interval = 0.001",
+            "log_interval = 0.001\nrestart_interval = 0.0073",
+        ),
+    )
+    .unwrap();
+    let cfg = cfg.to_str().unwrap();
     for engine in ["md", "emdstar", "hybrid"] {
-        let (traj, log) = (format!("{engine}.xyz"), format!("{engine}.log"));
+        let (traj, log, ckpt) = (
+            format!("{engine}.xyz"),
+            format!("{engine}.log"),
+            format!("{engine}.ckpt"),
+        );
         let mut child = Command::new(env!("CARGO_BIN_EXE_emdstar"))
             .current_dir(&dir)
-            .args(["run", cfg.to_str().unwrap(), "--engine", engine, "--quiet"])
+            .args(["run", cfg, "--engine", engine, "--quiet"])
             .args(["--trajectory", &traj, "--log", &log])
             .stdout(std::process::Stdio::null())
             .spawn()
             .unwrap();
+        // Kill it once it has written a checkpoint and a frame after it.
         let start = Instant::now();
-        while std::fs::read_to_string(dir.join(&traj)).map_or(0, |t| t.lines().count()) < 3 * 502 {
+        while !dir.join(&ckpt).exists()
+            || std::fs::read_to_string(dir.join(&traj)).map_or(0, |t| t.lines().count()) < 4 * 502
+        {
             assert!(
                 start.elapsed() < Duration::from_secs(60),
-                "{engine}: no frames written"
+                "{engine}: no checkpoint written"
             );
             std::thread::sleep(Duration::from_millis(5));
         }
         child.kill().unwrap();
         child.wait().unwrap();
-        let text = std::fs::read_to_string(dir.join(&log)).unwrap();
-        assert!(text.ends_with('\n'), "{engine}");
-        assert!(
-            text.lines()
-                .skip(1)
-                .all(|l| l.split_whitespace().count() == 12),
-            "{engine}"
-        );
+        // Resume to a little after the last frame the killed run got to.
         let frames = std::fs::read_to_string(dir.join(&traj)).unwrap();
-        assert!(
-            frames.ends_with('\n') && frames.lines().count() % 502 == 0,
-            "{engine}"
+        let log_text = std::fs::read_to_string(dir.join(&log)).unwrap();
+        let t_last = frames
+            .split_whitespace()
+            .filter_map(|field| field.strip_prefix("Time=")?.parse::<f64>().ok())
+            .fold(0.0, f64::max);
+        let t_end = format!("{}", t_last + 0.0125);
+        let resumed = stdout_in(
+            &dir,
+            &[
+                "run",
+                cfg,
+                "--engine",
+                engine,
+                "--quiet",
+                "--trajectory",
+                &traj,
+                "--log",
+                &log,
+                "--resume",
+                &ckpt,
+                "--t-end",
+                &t_end,
+            ],
         );
+        let resumed: serde_json::Value = serde_json::from_str(&resumed).unwrap();
+        let t_ckpt = resumed["resumed_from"].as_f64().unwrap();
+        let cut = &resumed["cut_at_resume"];
+        assert_eq!(
+            cut["trajectory"],
+            serde_json::json!(after(&frames, 502, "Time=", t_ckpt)),
+            "{engine}: frames after t = {t_ckpt}"
+        );
+        assert_eq!(
+            cut["log"],
+            serde_json::json!(after(&log_text, 1, "", t_ckpt)),
+            "{engine}: log lines after t = {t_ckpt}"
+        );
+        let one = |ext: &str| format!("{engine}-one.{ext}");
+        stdout_in(
+            &dir,
+            &[
+                "run",
+                cfg,
+                "--engine",
+                engine,
+                "--quiet",
+                "--trajectory",
+                &one("xyz"),
+                "--log",
+                &one("log"),
+                "--t-end",
+                &t_end,
+            ],
+        );
+        for (killed, through) in [(&traj, one("xyz")), (&log, one("log"))] {
+            let a = std::fs::read_to_string(dir.join(killed)).unwrap();
+            let b = std::fs::read_to_string(dir.join(&through)).unwrap();
+            assert!(
+                a == b,
+                "{killed}, killed and resumed, differs from {through} of one run ({} against \
+                 {} lines)",
+                a.lines().count(),
+                b.lines().count()
+            );
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// What resuming at `t` must cut off `text`, records of `lines` lines whose time is the
+/// field after `prefix`: whole records stamped after `t`, and the bytes of an unfinished
+/// last one.
+fn after(text: &str, lines: usize, prefix: &str, t: f64) -> serde_json::Value {
+    let all: Vec<&str> = text.split_inclusive('\n').collect();
+    let whole: Vec<&[&str]> = all
+        .chunks(lines)
+        .filter(|r| r.len() == lines && r[lines - 1].ends_with('\n'))
+        .collect();
+    let whole_bytes: usize = whole.iter().flat_map(|r| r.iter()).map(|l| l.len()).sum();
+    let records = whole
+        .iter()
+        .filter(|r| !r[0].starts_with('#'))
+        .filter(|r| {
+            let time = r
+                .iter()
+                .flat_map(|l| l.split_whitespace())
+                .find_map(|f| f.strip_prefix(prefix)?.parse::<f64>().ok());
+            time.unwrap() > t
+        })
+        .count();
+    serde_json::json!({ "records": records, "partial_bytes": text.len() - whole_bytes })
 }
 
 /// A run long enough to be stopped in the middle.

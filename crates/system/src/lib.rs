@@ -29,6 +29,7 @@ mod parse;
 mod simulation;
 mod state;
 mod system;
+mod tail;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, write_atomically};
@@ -46,4 +47,5 @@ pub use interactions::{Interaction, Interactions};
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
 pub use system::System;
+pub use tail::Cut;
 pub use writers::{Thermo, ThermoLog, XyzWriter};

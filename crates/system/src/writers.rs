@@ -3,6 +3,7 @@
 use crate::error::{Result, SystemError};
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
+use crate::tail::{Cut, LogLines, XyzFrames, cut_after};
 use std::fs::File;
 use std::io::Write;
 use std::path::Path;
@@ -42,8 +43,9 @@ fn open(path: &Path, append: bool) -> Result<(File, String)> {
 /// `Lattice`, `Origin`, `pbc` and `Time` fields.
 ///
 /// In free space the lattice is the particles' bounding box (grown by the largest
-/// radius) and `pbc="F F F"`. Each frame is formatted in memory and written at once,
-/// so that a killed run leaves whole frames only (up to the last write).
+/// radius) and `pbc="F F F"`. Each frame is formatted in memory and written at once.
+/// A run killed in the middle of that write may leave a frame unfinished;
+/// [`XyzWriter::resume`] cuts it off.
 pub struct XyzWriter {
     out: File,
     frame: Vec<u8>,
@@ -56,9 +58,14 @@ impl XyzWriter {
         Self::open(path, false)
     }
 
-    /// Opens the file to add frames at its end (a resumed run).
-    pub fn append(path: &Path) -> Result<Self> {
-        Self::open(path, true)
+    /// Opens the trajectory of a run resumed from a checkpoint at time `t`, to add
+    /// frames at its end, after cutting off what a killed run wrote after `t`: whole
+    /// frames, and a last frame left unfinished. The frames must hold `particles`
+    /// particles.
+    pub fn resume(path: &Path, t: f64, particles: usize) -> Result<(Self, Cut)> {
+        let cut = cut_after(path, t, &XyzFrames { particles })
+            .map_err(io_error(&path.display().to_string()))?;
+        Ok((Self::open(path, true)?, cut))
     }
 
     fn open(path: &Path, append: bool) -> Result<Self> {
@@ -186,10 +193,13 @@ impl ThermoLog {
         Ok(Self { out, path: name })
     }
 
-    /// Opens the log to add lines at its end (a resumed run).
-    pub fn append(path: &Path) -> Result<Self> {
+    /// Opens the log of a run resumed from a checkpoint at time `t`, to add lines at
+    /// its end, after cutting off what a killed run wrote after `t`: whole lines, and a
+    /// last line left unfinished.
+    pub fn resume(path: &Path, t: f64) -> Result<(Self, Cut)> {
+        let cut = cut_after(path, t, &LogLines).map_err(io_error(&path.display().to_string()))?;
         let (out, path) = open(path, true)?;
-        Ok(Self { out, path })
+        Ok((Self { out, path }, cut))
     }
 
     /// Appends one line.
