@@ -294,7 +294,7 @@ fn earliest_in<Q: EventQueue>(
         ];
         let v = [vi[0] - kj.vel[0], vi[1] - kj.vel[1], vi[2] - kj.vel[2]];
         let sigma = ri + kj.radius;
-        if crate::detect::on_collision_course(r, v, sigma) {
+        if crate::detect::on_collision_course_within(r, v, sigma, best - now) {
             let dt = crate::detect::sphere_sphere(r, v, sigma);
             if now + dt < best {
                 best = now + dt;
