@@ -248,11 +248,12 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
                 writer: GsdWriter::create(&traj_path)?,
                 species,
             },
-            (true, false) => bail!(
-                "a resumed run cannot add frames to the GSD file {}; give it a new one with \
-                 --trajectory (one file per part of the run), or an .xyz file",
-                traj_path.display()
-            ),
+            (true, false) => {
+                let (writer, cut) = GsdWriter::resume(&traj_path, t_now, n, species)?;
+                report_cut(&traj_path, "frame", cut);
+                cuts.insert("trajectory".into(), json!(cut));
+                Trajectory::Gsd { writer, species }
+            }
         };
         Some((traj_path.clone(), writer, ticks))
     };

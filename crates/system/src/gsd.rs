@@ -8,7 +8,8 @@
 //! array in row-major order. Data is written before the index entries that point to it,
 //! so a run cut short leaves a readable file with the frames completed. When the index
 //! is full, a twice as large one is written at the end of the file and the header
-//! pointed to it.
+//! pointed to it. A resumed run ([`GsdWriter::resume`]) reads the index back and cuts
+//! the frames written after its checkpoint.
 //!
 //! Per frame (HOOMD schema 1.4): `configuration/step` (the frame number),
 //! `configuration/dimensions` (3), `configuration/box` [Lx, Ly, Lz, 0, 0, 0],
@@ -24,12 +25,13 @@
 use crate::error::{Result, SystemError};
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
+use crate::tail::Cut;
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::Path;
 
-const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
-const HEADER_BYTES: u64 = 256;
+pub(crate) const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
+pub(crate) const HEADER_BYTES: u64 = 256;
 const ENTRY_BYTES: u64 = 32;
 /// Index entries allocated at first (9 chunks per frame: about 110 frames).
 const FIRST_INDEX_ENTRIES: u64 = 1024;
@@ -47,7 +49,7 @@ enum Type {
 }
 
 /// The chunk names, in name-id order (alphabetical, so each frame's index is sorted).
-const NAMES: [&str; 12] = [
+pub(crate) const NAMES: [&str; 12] = [
     "configuration/box",
     "configuration/dimensions",
     "configuration/step",
@@ -62,7 +64,7 @@ const NAMES: [&str; 12] = [
     "particles/velocity",
 ];
 
-fn name_id(name: &str) -> u16 {
+pub(crate) fn name_id(name: &str) -> u16 {
     NAMES
         .iter()
         .position(|n| *n == name)
@@ -100,14 +102,7 @@ impl GsdWriter {
     pub fn create(path: &Path) -> Result<Self> {
         let name = path.display().to_string();
         let file = File::create(path).map_err(io_error(&name))?;
-        let mut names = Vec::new();
-        for n in NAMES {
-            names.extend_from_slice(n.as_bytes());
-            names.push(0);
-        }
-        // The list ends at the first empty name: at least one more 0, then padding.
-        names.push(0);
-        names.resize(names.len().div_ceil(64) * 64, 0);
+        let names = name_list();
         let namelist_location = HEADER_BYTES;
         let index_location = namelist_location + names.len() as u64;
         let mut w = Self {
@@ -129,6 +124,49 @@ impl GsdWriter {
             &vec![0; (FIRST_INDEX_ENTRIES * ENTRY_BYTES) as usize],
         )?;
         Ok(w)
+    }
+
+    /// Opens the GSD trajectory of a run resumed from a checkpoint at time `t`, to add
+    /// frames at its end, after cutting off what the run wrote after `t`: whole frames,
+    /// and a last frame left unfinished. The file must be one this writer wrote for
+    /// `particles` spheres of `species` kinds; a missing file is created.
+    pub fn resume(path: &Path, t: f64, particles: usize, species: usize) -> Result<(Self, Cut)> {
+        if !path.exists() {
+            return Ok((Self::create(path)?, Cut::default()));
+        }
+        let name = path.display().to_string();
+        let err = io_error(&name);
+        let mut file = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(path)
+            .map_err(&err)?;
+        let names = name_list();
+        let kept =
+            crate::gsd_tail::keep_until(&mut file, &names, t, particles as u64, species as u64)
+                .map_err(&err)?;
+        let mut w = Self {
+            file,
+            path: name.clone(),
+            end: kept.end,
+            index_location: kept.index_location,
+            index_capacity: kept.index_capacity,
+            entries: kept.entries,
+            frames: kept.frames,
+            namelist_blocks: names.len() as u64 / 64,
+            free_centre: kept.first_centre,
+        };
+        // The index ends at the kept entries; the file at the kept data and the index.
+        let from = w.entries.len() as u64;
+        let zeros = vec![0u8; ((w.index_capacity - from) * ENTRY_BYTES) as usize];
+        w.write_at(w.index_location + from * ENTRY_BYTES, &zeros)?;
+        w.file.set_len(w.end).map_err(&err)?;
+        crate::writers::sync_data(&w.file).map_err(&err)?;
+        let cut = Cut {
+            records: kept.cut_frames,
+            partial_bytes: kept.partial_bytes,
+        };
+        Ok((w, cut))
     }
 
     /// Bytes one frame of `particles` spheres of `species` kinds adds to the file.
@@ -344,6 +382,18 @@ impl GsdWriter {
         self.file.seek(SeekFrom::Start(at)).map_err(&err)?;
         self.file.write_all(bytes).map_err(&err)
     }
+}
+
+/// The name list: the names, each ended by a 0, one more 0, padded to 64-byte blocks.
+fn name_list() -> Vec<u8> {
+    let mut names = Vec::new();
+    for n in NAMES {
+        names.extend_from_slice(n.as_bytes());
+        names.push(0);
+    }
+    names.push(0);
+    names.resize(names.len().div_ceil(64) * 64, 0);
+    names
 }
 
 /// Bytes per species name: the longest number plus a terminating 0.

@@ -24,6 +24,7 @@ mod error;
 mod gas;
 mod geometry;
 pub mod gsd;
+mod gsd_tail;
 mod interactions;
 mod parse;
 mod simulation;

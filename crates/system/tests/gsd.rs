@@ -276,3 +276,88 @@ fn free_space_box_holds_every_sphere_about_a_fixed_centre() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A run killed after its checkpoint and resumed: the file comes back to the bytes it
+/// held at the checkpoint (before the index first grows), whatever was added after it,
+/// and goes on from there; across index growth the frames read back in order.
+#[test]
+fn a_resumed_file_is_cut_back_to_its_checkpoint() {
+    let dir = std::env::temp_dir().join(format!("emdstar-gsd-resume-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run.gsd");
+    let b = SimBox {
+        lo: [-2.0, 1.0, -5.0],
+        size: [10.0, 4.0, 12.0],
+        periodic: [true, true, true],
+    };
+    let centre = [3.0, 3.0, 1.0];
+    // (frames written, time of the checkpoint, frames before it, bytes of the frame
+    // after the last to leave unfinished): 300 frames outgrow the first index twice.
+    for (written, t_ckpt, kept, unfinished) in [
+        (4, 1.5, 2, 0),
+        (4, 1.5, 2, 500),
+        (4, -1.0, 0, 100),
+        (300, 100.5, 101, 0),
+        (300, 2.9, 3, 333),
+    ] {
+        let mut w = GsdWriter::create(&path).unwrap();
+        let mut at_checkpoint = std::fs::read(&path).unwrap();
+        for f in 0..written {
+            let t = f as f64;
+            w.write_frame(t, &particles(10, t), 2, Some(&b)).unwrap();
+            if f + 1 == kept {
+                at_checkpoint = std::fs::read(&path).unwrap();
+            }
+        }
+        // An unfinished frame: its data (part of it), no index entries.
+        w.write_frame(written as f64, &particles(10, 1e3), 2, Some(&b))
+            .unwrap();
+        drop(w);
+        let full = std::fs::read(&path).unwrap();
+        let before = full.len() - GsdWriter::frame_bytes(10, 2) as usize + 12 * 32;
+        let mut bytes = full[..before].to_vec();
+        bytes.extend(vec![7u8; unfinished]);
+        // Take the unfinished frame's index entries out again.
+        let (index_at, entries) = (u64_at(&bytes, 8) as usize, 12 * written);
+        bytes[index_at + 32 * entries..index_at + 32 * (entries + 12)].fill(0);
+        std::fs::write(&path, &bytes).unwrap();
+
+        let (mut w, cut) = GsdWriter::resume(&path, t_ckpt, 10, 2).unwrap();
+        assert_eq!(
+            (cut.records, cut.partial_bytes),
+            ((written - kept) as u64, unfinished as u64),
+            "{written} frames, checkpoint at {t_ckpt}"
+        );
+        if written < 80 {
+            assert!(std::fs::read(&path).unwrap() == at_checkpoint, "{t_ckpt}");
+        }
+        w.write_frame(500.0, &particles(10, 500.0), 2, Some(&b))
+            .unwrap();
+        let file = read(&path);
+        assert_eq!(file.frames.len(), kept + 1, "{t_ckpt}");
+        for (f, frame) in file.frames.iter().enumerate() {
+            let t = if f == kept { 500.0 } else { f as f64 };
+            check_frame(frame, &particles(10, t), t, centre);
+            assert_eq!(u64_at(&frame["configuration/step"].bytes, 0), f as u64);
+        }
+    }
+    // Not a trajectory of this run: refused with what to do.
+    let err = GsdWriter::resume(&path, 1.0, 11, 2)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("11 of 2") && err.contains("--trajectory"),
+        "{err}"
+    );
+    std::fs::write(&path, vec![1u8; 4000]).unwrap();
+    let err = GsdWriter::resume(&path, 1.0, 10, 2)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.contains("not a GSD trajectory written by emdstar"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
