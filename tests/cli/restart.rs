@@ -206,24 +206,14 @@ fn a_killed_run_resumed_from_its_checkpoint_leaves_the_files_of_one_run() {
             .filter_map(|l| l.split_whitespace().next()?.parse::<f64>().ok())
             .fold(0.0, f64::max);
         let t_end = format!("{}", t_last + 0.0125);
-        let resumed = stdout_in(
-            &dir,
-            &[
-                "run",
-                cfg,
-                "--engine",
-                engine,
-                "--quiet",
-                "--trajectory",
-                &traj,
-                "--log",
-                &log,
-                "--resume",
-                &ckpt,
-                "--t-end",
-                &t_end,
-            ],
-        );
+        // The same run, its files and the extra arguments.
+        let run = |traj: &str, log: &str, extra: &[&str]| {
+            let mut args = vec!["run", cfg, "--engine", engine, "--quiet"];
+            args.extend(["--trajectory", traj, "--log", log, "--t-end", &t_end]);
+            args.extend_from_slice(extra);
+            stdout_in(&dir, &args)
+        };
+        let resumed = run(&traj, &log, &["--resume", &ckpt]);
         let resumed: serde_json::Value = serde_json::from_str(&resumed).unwrap();
         let t_ckpt = resumed["resumed_from"].as_f64().unwrap();
         let cut = &resumed["cut_at_resume"];
@@ -241,22 +231,7 @@ fn a_killed_run_resumed_from_its_checkpoint_leaves_the_files_of_one_run() {
             "{name}: log lines after t = {t_ckpt}"
         );
         let one = |ext: &str| format!("{name}-one.{ext}");
-        stdout_in(
-            &dir,
-            &[
-                "run",
-                cfg,
-                "--engine",
-                engine,
-                "--quiet",
-                "--trajectory",
-                &one(format),
-                "--log",
-                &one("log"),
-                "--t-end",
-                &t_end,
-            ],
-        );
+        run(&one(format), &one("log"), &[]);
         for (killed, through) in [(&traj, one(format)), (&log, one("log"))] {
             let a = std::fs::read(dir.join(killed)).unwrap();
             let b = std::fs::read(dir.join(&through)).unwrap();
