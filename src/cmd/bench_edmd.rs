@@ -338,7 +338,7 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
                     )
                 })?;
                 line += &format!(
-                    " hard spheres (η = {}) {rate:.3e} collisions/s{};",
+                    " hard spheres (η = {}) {rate:.3e} collisions/s{}",
                     a.hs_eta,
                     cpu_rate(&v)
                 );
@@ -355,8 +355,9 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
                 emdstar_gas(cells, per_particle, mor_source()?, build)
             })?;
             if !a.json {
+                let sep = if a.emdstar_only { "" } else { ";" };
                 println!(
-                    "{line} eMD* gas (η = {EMDSTAR_ETA}) {star:.3e} collisions/s{}",
+                    "{line}{sep} eMD* gas (η = {EMDSTAR_ETA}) {star:.3e} collisions/s{}",
                     cpu_rate(&w)
                 );
             }
