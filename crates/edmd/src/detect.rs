@@ -69,7 +69,9 @@ pub fn on_collision_course(r: [f64; 3], v: [f64; 3], sigma: f64) -> bool {
 /// Sec. 2.2); the bound is widened by a relative 10⁻⁹, far beyond the round-off of both
 /// sides, so that a pair passed over would never have been kept: a scan that keeps
 /// collisions earlier than now + `within` finds bitwise the same ones with or without
-/// this test.
+/// this test. It pays where many candidates are on course (the neighbour lists of a
+/// dense gas); in a dilute gas its extra arithmetic on every candidate costs more than
+/// the roots it saves, and the cells and epochs use [`on_collision_course`].
 #[inline(always)]
 pub fn on_collision_course_within(r: [f64; 3], v: [f64; 3], sigma: f64, within: f64) -> bool {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];

@@ -56,7 +56,7 @@ impl Crossings {
                     if let Some((probe, slot)) = &probe {
                         blocked |= s.blocks_rotation(probe, *slot, ju, r, pj, sigma);
                     }
-                    if crate::detect::on_collision_course_within(r, v, sigma, best - now) {
+                    if crate::detect::on_collision_course(r, v, sigma) {
                         let dt = crate::detect::sphere_sphere(r, v, sigma);
                         if now + dt < best {
                             best = now + dt;

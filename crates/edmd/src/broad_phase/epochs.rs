@@ -14,7 +14,7 @@
 
 use super::BroadPhase;
 use crate::cells::{CellShape, NONE};
-use crate::detect::{on_collision_course_within, sphere_sphere};
+use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
 use crate::state::{Slot, State, min_image_in, morton_order, prefetch, same_encoding};
 use crate::sweep::{Filing, Spans, SweepGrid};
@@ -313,7 +313,7 @@ impl BroadPhase for Epochs {
             if let Some((probe, slot)) = &probe {
                 blocked |= state.blocks_rotation(probe, *slot, j, r, pj, sigma);
             }
-            if !on_collision_course_within(r, v, sigma, best.0.min(horizon) - now) {
+            if !on_collision_course(r, v, sigma) {
                 continue;
             }
             let dt = sphere_sphere(r, v, sigma);
@@ -370,7 +370,7 @@ impl BroadPhase for Epochs {
 }
 
 /// Tests the rebuild's candidate pairs for a collision before both horizons and keeps
-/// each particle's earliest (Bannerman et al. 2014, Algorithm 1: [`on_collision_course_within`]
+/// each particle's earliest (Bannerman et al. 2014, Algorithm 1: [`on_collision_course`]
 /// for the many pairs that miss, then [`sphere_sphere`]); `period` is 0 along closed
 /// axes.
 fn test_pairs(
@@ -388,10 +388,7 @@ fn test_pairs(
         let v = sub(a.vel, b.vel);
         let sigma = a.radius + b.radius;
         // The rare pair on course, then whether it shares an eMD* transient.
-        let within = a.horizon.min(b.horizon) - t0;
-        if !on_collision_course_within(r, v, sigma, within)
-            || partner[i] == j as u32 && partner[j] == i as u32
-        {
+        if !on_collision_course(r, v, sigma) || partner[i] == j as u32 && partner[j] == i as u32 {
             continue;
         }
         let t = t0 + sphere_sphere(r, v, sigma);
