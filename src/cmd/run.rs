@@ -11,7 +11,7 @@ use emdstar_dem::DEFAULT_DT_FRACTION;
 use emdstar_engines::{AnyEngine, EngineOptions};
 use emdstar_system::gsd::GsdWriter;
 use emdstar_system::{Checkpoint, Config, Cut, ThermoLog, XyzWriter};
-use serde_json::json;
+use serde_json::{Map, Value, json};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -124,8 +124,10 @@ fn output_path(
         .unwrap_or_else(|| format!("{stem}.{extension}").into())
 }
 
-/// Tells what resuming cut off the end of `path` (`record` names one record).
-fn report_cut(path: &Path, record: &str, cut: Cut) {
+/// Tells on stderr what resuming cut off the end of `path` (`record` names one record),
+/// and notes it in `cuts` under `key` for the summary.
+fn report_cut(cuts: &mut Map<String, Value>, key: &str, path: &Path, record: &str, cut: Cut) {
+    cuts.insert(key.into(), json!(cut));
     if cut.records > 0 {
         eprintln!(
             "{}: cut {} {record}{} written after the checkpoint (the run went on after it)",
@@ -208,7 +210,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     let step = engine.sim().time_step();
     let fresh = resumed_at.is_none();
     // What resuming cut off the files' ends (written after the checkpoint).
-    let mut cuts = serde_json::Map::new();
+    let mut cuts = Map::new();
     let traj_path = output_path(&args.trajectory, &output.trajectory, &args.config, "xyz");
     let trajectory = if traj_path == Path::new("none") {
         None
@@ -240,8 +242,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
             (false, true) => Trajectory::Xyz(XyzWriter::create(&traj_path)?),
             (false, false) => {
                 let (writer, cut) = XyzWriter::resume(&traj_path, t_now, n)?;
-                report_cut(&traj_path, "frame", cut);
-                cuts.insert("trajectory".into(), json!(cut));
+                report_cut(&mut cuts, "trajectory", &traj_path, "frame", cut);
                 Trajectory::Xyz(writer)
             }
             (true, true) => Trajectory::Gsd {
@@ -250,8 +251,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
             },
             (true, false) => {
                 let (writer, cut) = GsdWriter::resume(&traj_path, t_now, n, species)?;
-                report_cut(&traj_path, "frame", cut);
-                cuts.insert("trajectory".into(), json!(cut));
+                report_cut(&mut cuts, "trajectory", &traj_path, "frame", cut);
                 Trajectory::Gsd { writer, species }
             }
         };
@@ -263,8 +263,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         ThermoLog::create(&log_path)?
     } else {
         let (log, cut) = ThermoLog::resume(&log_path, t_now)?;
-        report_cut(&log_path, "line", cut);
-        cuts.insert("log".into(), json!(cut));
+        report_cut(&mut cuts, "log", &log_path, "line", cut);
         log
     };
     let restart_every = output

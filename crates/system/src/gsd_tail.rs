@@ -12,7 +12,7 @@ pub(crate) struct Kept {
     /// The index entries of the frames kept, in file order.
     pub entries: Vec<[u8; 32]>,
     pub frames: u64,
-    /// Where the next data chunk goes: after the kept frames and the index.
+    /// Where the next data chunk goes: after the kept frames' data and the index.
     pub end: u64,
     /// The first frame's box centre (fixed for free-space boxes).
     pub first_centre: Option<[f64; 3]>,
@@ -91,18 +91,19 @@ pub(crate) fn keep_until(
     let n_id = crate::gsd::name_id("particles/N");
     let types_id = crate::gsd::name_id("particles/types");
     let centre_id = crate::gsd::name_id("log/box_centre");
+    let index_end = index_location + index_bytes;
     let mut kept = Kept {
         index_location,
         index_capacity,
         entries: Vec::new(),
         frames: 0,
-        end: index_location + index_bytes,
+        end: index_end,
         first_centre: None,
         cut_frames: 0,
         partial_bytes: 0,
     };
-    // The data end of the kept frames, and of every whole frame.
-    let (mut kept_end, mut whole_end) = (0, 0);
+    // Where the data of every whole frame ends (the kept ones set `kept.end`).
+    let mut whole_end = 0;
     for (frame, group) in entries.chunks(per_frame).enumerate() {
         let whole = group.len() == per_frame
             && group.iter().enumerate().all(|(k, e)| {
@@ -136,10 +137,8 @@ pub(crate) fn keep_until(
         }
         kept.entries.extend_from_slice(group);
         kept.frames += 1;
-        kept_end = end;
+        kept.end = index_end.max(end);
     }
-    let index_end = kept.end;
-    kept.end = index_end.max(kept_end);
     kept.partial_bytes = len.saturating_sub(index_end.max(whole_end));
     Ok(kept)
 }

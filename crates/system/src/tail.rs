@@ -60,26 +60,25 @@ pub(crate) fn cut_after(path: &Path, t: f64, records: &impl Records) -> io::Resu
         Err(e) if e.kind() == ErrorKind::NotFound => return Ok(Cut::default()),
         other => other?,
     };
+    // Step back to the last whole record at or before `t`, which is kept; read forward
+    // from its end (from the start of the file if there is none).
     let mut start = file.metadata()?.len();
-    // Step back to the last whole record at or before `t` (to the start of the file if
-    // there is none).
-    loop {
+    let from = loop {
         let Some(s) = records.previous_start(&mut file, start)? else {
-            start = 0;
-            break;
+            break 0;
         };
         start = s;
         file.seek(SeekFrom::Start(s))?;
-        if let Some(Record::Whole { time, .. }) = records.read(&mut BufReader::new(&mut file))?
+        if let Some(Record::Whole { len, time }) = records.read(&mut BufReader::new(&mut file))?
             && time <= t
         {
-            break;
+            break s + len;
         }
-    }
-    // Read forward from there: keep whole records up to `t`, cut what follows.
-    file.seek(SeekFrom::Start(start))?;
+    };
+    // Keep whole records up to `t`, cut what follows.
+    file.seek(SeekFrom::Start(from))?;
     let mut reader = BufReader::with_capacity(1 << 20, &mut file);
-    let (mut kept, mut at, mut cut) = (start, start, Cut::default());
+    let (mut kept, mut at, mut cut) = (from, from, Cut::default());
     while let Some(record) = records.read(&mut reader)? {
         match record {
             Record::Whole { len, time } => {
