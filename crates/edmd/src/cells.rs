@@ -149,8 +149,9 @@ impl LinkedCells {
         Self::from_shape(CellShape::new(lo, size, periodic, min_width), n)
     }
 
-    /// The grid of `shape` for `n` particles, all outside any cell.
-    fn from_shape(shape: CellShape, n: usize) -> Self {
+    /// The grid of `shape` for `n` particles, all outside any cell (`shape`'s cells
+    /// as they are, not widened for a sparse gas).
+    pub(crate) fn from_shape(shape: CellShape, n: usize) -> Self {
         let (dims, periodic) = (shape.dims, shape.periodic);
         let stride = [1, dims[0] as isize, (dims[0] * dims[1]) as isize];
         let offset = |d: [isize; 3]| d[0] * stride[0] + d[1] * stride[1] + d[2] * stride[2];

@@ -3,7 +3,7 @@
 //! members in a short array (index and centre side by side) rather than a linked
 //! list: a rebuild reads the 27 cells around a centre as nine runs of memory.
 
-use crate::cells::{LinkedCells, NONE};
+use crate::cells::{CellShape, LinkedCells, NONE};
 
 /// A filed centre.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
@@ -35,7 +35,11 @@ impl CentreCells {
     pub fn new(region: &emdstar_system::SimBox, width: f64, n: usize) -> Self {
         let limit = (2 * n).max(27) as f64;
         let width = emdstar_system::bounded_cell_width(region.size, width, limit);
-        let grid = LinkedCells::new(region.lo, region.size, region.periodic, width, 0);
+        // Cells of `width` exactly: the grid holds no particles itself, and widening
+        // its cells for a sparse gas of none (as `LinkedCells::new` would) would put
+        // several times the centres needed into every rebuild's scan.
+        let shape = CellShape::new(region.lo, region.size, region.periodic, width);
+        let grid = LinkedCells::from_shape(shape, 0);
         let cells: usize = grid.shape.dims.iter().product();
         let cap = 2 * n.div_ceil(cells.max(1)) + 4;
         Self {
@@ -179,5 +183,28 @@ impl CentreCells {
         crate::state::permute(&mut self.place, order, &mut scratch);
         let mut c = Vec::new();
         crate::state::permute(&mut self.coords, order, &mut c);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cells_are_as_narrow_as_the_list_range_allows() {
+        // 32 000 spheres at η = 0.45 fill a cube 33.4 diameters wide: 22 cells of the
+        // range 1.5 per axis, not the 16 of a grid widened as if it held no particles.
+        let region = emdstar_system::SimBox {
+            lo: [0.0; 3],
+            size: [33.4; 3],
+            periodic: [true; 3],
+        };
+        let cells = CentreCells::new(&region, 1.5, 32_000);
+        assert_eq!(cells.grid.shape.dims, [22; 3]);
+        let wide = CentreCells::new(&region, 1.5, 10);
+        assert!(
+            wide.grid.shape.dims.iter().all(|&d| d < 22),
+            "a sparse gas widens them"
+        );
     }
 }
