@@ -43,9 +43,9 @@ impl BroadPhaseKind {
     pub const AUTO_EPOCHS_BELOW: f64 = 0.02;
     /// [`BroadPhaseKind::Auto`] takes neighbour lists from this packing fraction on
     /// (hard spheres and eMD). Measured on elastic hard spheres, N = 32 000, collisions
-    /// per CPU second, best of four interleaved runs on a shared machine: cells 5.9e5
-    /// and lists 4.3e5 at η = 0.3, 5.9e5 and 5.2e5 at η = 0.35, 5.2e5 and 5.9e5 at
-    /// η = 0.4 (docs/performance.md).
+    /// per CPU second, best of three interleaved runs on a shared machine: cells 6.1e5
+    /// and lists 4.9e5 at η = 0.3, 6.1e5 and 5.7e5 at 0.34, 6.0e5 and 5.9e5 at 0.37;
+    /// lists 7.1e5 at 0.4 (docs/performance.md).
     pub const AUTO_NEIGHBOURS_FROM: f64 = 0.38;
 }
 
