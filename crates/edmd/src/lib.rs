@@ -28,8 +28,8 @@
 //!   before the epoch ends, and a particle that changes course files its new box; a
 //!   particle that meets nobody costs no event at all. With neighbour lists (the
 //!   default for hard spheres and eMD from η = 0.38, without gravity), each particle
-//!   lists the particles whose shell centres lie within 1.5 contact distances of its
-//!   own, and leaving its shell (a quarter of a contact distance) rebuilds its list.
+//!   lists the particles whose shell centres lie within 1.6 contact distances of its
+//!   own, and leaving its shell (0.3 contact distances) rebuilds its list.
 //!   All give the same collisions;
 //! - detection is Bannerman's Algorithm 1 (pairs) and 2 (walls under gravity): an
 //!   overlapping, approaching pair collides at once (a stabilising collision);
