@@ -58,8 +58,8 @@ pub fn on_collision_course(r: [f64; 3], v: [f64; 3], sigma: f64) -> bool {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
     let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
-    // b < 0 and b² − v²·(r² − σ²) > 0.
-    b.max(v2 * (r2 - sigma * sigma) - b * b) < 0.0
+    // b < 0 and b² − v²·(r² − σ²) > 0, both tested (`&`, not `&&`: no branch between).
+    (b < 0.0) & (v2 * (r2 - sigma * sigma) - b * b < 0.0)
 }
 
 /// [`on_collision_course`], unless the collision provably comes more than `within`
@@ -78,11 +78,10 @@ pub fn on_collision_course_within(r: [f64; 3], v: [f64; 3], sigma: f64, within: 
     let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let gap = r2 - sigma * sigma;
-    // −2b·within, widened (NaN for b = 0 and within = ∞, which `max` passes over; such a
-    // pair fails b < 0 anyway).
+    // −2b·within, widened (NaN for b = 0 and within = ∞; such a pair fails b < 0).
     let reach = -2.0 * b * (within * (1.0 + 1e-9));
-    // b < 0, b² − v²·(r² − σ²) > 0 and r² − σ² < −2b·within.
-    b.max(v2 * gap - b * b).max(gap - reach) < 0.0
+    // b < 0, b² − v²·(r² − σ²) > 0 and r² − σ² < −2b·within, all three tested.
+    (b < 0.0) & (v2 * gap - b * b < 0.0) & (gap - reach < 0.0)
 }
 
 /// Sphere–wall collision time under a constant acceleration, Bannerman 2014,
