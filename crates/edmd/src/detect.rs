@@ -74,12 +74,25 @@ pub fn on_collision_course(r: [f64; 3], v: [f64; 3], sigma: f64) -> bool {
 /// the roots it saves, and the cells and epochs use [`on_collision_course`].
 #[inline(always)]
 pub fn on_collision_course_within(r: [f64; 3], v: [f64; 3], sigma: f64, within: f64) -> bool {
+    on_collision_course_before(r, v, sigma, widen(within))
+}
+
+/// `within` widened as [`on_collision_course_within`] widens it.
+#[inline(always)]
+pub fn widen(within: f64) -> f64 {
+    within * (1.0 + 1e-9)
+}
+
+/// [`on_collision_course_within`] with the horizon already widened by [`widen`] (a
+/// scan widens its best so far once, not at every candidate).
+#[inline(always)]
+pub fn on_collision_course_before(r: [f64; 3], v: [f64; 3], sigma: f64, widened: f64) -> bool {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
     let r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
     let v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
     let gap = r2 - sigma * sigma;
     // −2b·within, widened (NaN for b = 0 and within = ∞; such a pair fails b < 0).
-    let reach = -2.0 * b * (within * (1.0 + 1e-9));
+    let reach = -2.0 * b * widened;
     // b < 0, b² − v²·(r² − σ²) > 0 and r² − σ² < −2b·within, all three tested.
     (b < 0.0) & (v2 * gap - b * b < 0.0) & (gap - reach < 0.0)
 }

@@ -287,6 +287,7 @@ fn earliest_in<Q: EventQueue>(
     for &e in entries {
         prefetch(slots.wrapping_add((e >> IMAGE_BITS) as usize));
     }
+    let mut horizon = crate::detect::widen(best - now);
     for &e in entries {
         let j = (e >> IMAGE_BITS) as usize;
         // No gravity here: straight flights. Written per component, which the compiler
@@ -301,10 +302,11 @@ fn earliest_in<Q: EventQueue>(
         ];
         let v = [vi[0] - kj.vel[0], vi[1] - kj.vel[1], vi[2] - kj.vel[2]];
         let sigma = ri + kj.radius;
-        if crate::detect::on_collision_course_within(r, v, sigma, best - now) {
+        if crate::detect::on_collision_course_before(r, v, sigma, horizon) {
             let dt = crate::detect::sphere_sphere(r, v, sigma);
             if now + dt < best {
                 best = now + dt;
+                horizon = crate::detect::widen(best - now);
                 best_j = j as u32;
                 best_now = dt == 0.0;
                 // Keeping the prediction reads the partner's collision counter.
