@@ -12,7 +12,7 @@ use crate::options::{HybridError, Mode};
 use crate::phi::{any_dense, region};
 use emdstar_contact::vec3::{norm, sub};
 use emdstar_edmd::cells::{LinkedCells, NONE, auto_cell_width};
-use emdstar_edmd::detect::sphere_sphere;
+use emdstar_edmd::detect::{on_collision_course, sphere_sphere};
 
 impl Hybrid {
     /// The width of the event cells, as the eMD* engine chooses it: at least the
@@ -112,10 +112,14 @@ impl Hybrid {
                     if let Some((probe, slot)) = &probe {
                         blocked |= probe.blocks(*slot, ju, r, xj, sigma, min_image);
                     }
-                    let dt = sphere_sphere(r, sub(vi, vj), sigma);
-                    if now + dt < best {
-                        best = now + dt;
-                        best_j = j;
+                    // Most candidates miss: one well-predicted test first.
+                    let v = sub(vi, vj);
+                    if on_collision_course(r, v, sigma) {
+                        let dt = sphere_sphere(r, v, sigma);
+                        if now + dt < best {
+                            best = now + dt;
+                            best_j = j;
+                        }
                     }
                 }
                 j = grid.next(j);

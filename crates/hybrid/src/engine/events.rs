@@ -9,7 +9,7 @@ use crate::options::{HybridError, Mode};
 use emdstar_contact::vec3::{dot, norm, sub};
 use emdstar_edmd::EventQueue;
 use emdstar_edmd::collision::{self, NONE};
-use emdstar_edmd::detect::{sphere_sphere, sphere_wall};
+use emdstar_edmd::detect::{on_collision_course, sphere_sphere, sphere_wall};
 
 impl Hybrid {
     /// Position and velocity of ED particle `j` at time `t` ≥ its stamp (parabolic
@@ -141,7 +141,12 @@ impl Hybrid {
             }
             let (xj, vj) = self.state_at(j, now);
             let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
-            let dt = sphere_sphere(r, sub(vi, vj), ri + p.radius[j]);
+            let (v, sigma) = (sub(vi, vj), ri + p.radius[j]);
+            // Most candidates miss: one well-predicted test before the exact time.
+            if !on_collision_course(r, v, sigma) {
+                continue;
+            }
+            let dt = sphere_sphere(r, v, sigma);
             if now + dt < best {
                 best = now + dt;
                 best_j = j as u32;
