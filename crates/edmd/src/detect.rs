@@ -73,28 +73,17 @@ fn larger(a: f64, b: f64) -> f64 {
 }
 
 /// [`on_collision_course`], unless the collision provably comes more than `within`
-/// (≥ 0, or +∞) from now: then the pair is passed over without [`sphere_sphere`]'s square
-/// root and division. The first root satisfies Δt ≥ (r² − σ²)/(−2 r·v), because
-/// √((r·v)² − v²(r² − σ²)) ≤ −r·v (the same bound as Smallenburg, EPJE 45, 22 (2022),
-/// Sec. 2.2); the bound is widened by a relative 10⁻⁹, far beyond the round-off of both
-/// sides, so that a pair passed over would never have been kept: a scan that keeps
-/// collisions earlier than now + `within` finds bitwise the same ones with or without
-/// this test. It pays where many candidates are on course (the neighbour lists of a
-/// dense gas); in a dilute gas its extra arithmetic on every candidate costs more than
-/// the roots it saves, and the cells and epochs use [`on_collision_course`].
-#[inline(always)]
-pub fn on_collision_course_within(r: [f64; 3], v: [f64; 3], sigma: f64, within: f64) -> bool {
-    on_collision_course_before(r, v, sigma, widen(within))
-}
-
-/// `within` widened as [`on_collision_course_within`] widens it.
-#[inline(always)]
-pub fn widen(within: f64) -> f64 {
-    within * (1.0 + 1e-9)
-}
-
-/// [`on_collision_course_within`] with the horizon already widened by [`widen`] (a
-/// scan widens its best so far once, not at every candidate).
+/// (≥ 0, or +∞) from now, given here as `widened` = [`widen`]`(within)`: then the pair is
+/// passed over without [`sphere_sphere`]'s square root and division. The first root
+/// satisfies Δt ≥ (r² − σ²)/(−2 r·v), because √((r·v)² − v²(r² − σ²)) ≤ −r·v (the same
+/// bound as Smallenburg, EPJE 45, 22 (2022), Sec. 2.2); the bound is widened by a
+/// relative 10⁻⁹, far beyond the round-off of both sides, so that a pair passed over
+/// would never have been kept: a scan that keeps collisions earlier than now + `within`
+/// finds bitwise the same ones with or without this test. (A scan widens its best so
+/// far once per improvement, not at every candidate.) It pays where many candidates
+/// are on course (the neighbour lists of a dense gas); in a dilute gas its extra
+/// arithmetic on every candidate costs more than the roots it saves, and the cells and
+/// epochs use [`on_collision_course`].
 #[inline(always)]
 pub fn on_collision_course_before(r: [f64; 3], v: [f64; 3], sigma: f64, widened: f64) -> bool {
     let b = r[0] * v[0] + r[1] * v[1] + r[2] * v[2];
@@ -108,6 +97,12 @@ pub fn on_collision_course_before(r: [f64; 3], v: [f64; 3], sigma: f64, widened:
     // although it mispredicts more, it beat one comparison of the maximum in seven of
     // eight rounds in turns at η = 0.45.
     (b < 0.0) & (v2 * gap - b * b < 0.0) & (gap - reach < 0.0)
+}
+
+/// The horizon `within` widened for [`on_collision_course_before`].
+#[inline(always)]
+pub fn widen(within: f64) -> f64 {
+    within * (1.0 + 1e-9)
 }
 
 /// Sphere–wall collision time under a constant acceleration, Bannerman 2014,
@@ -270,7 +265,8 @@ mod tests {
                 continue;
             }
             let kept = now + dt < best;
-            if on_collision_course(r, v, sigma) && !on_collision_course_within(r, v, sigma, within)
+            if on_collision_course(r, v, sigma)
+                && !on_collision_course_before(r, v, sigma, widen(within))
             {
                 passed_over += 1;
                 assert!(!kept, "r {r:?} v {v:?} σ {sigma} within {within}: Δt {dt}");

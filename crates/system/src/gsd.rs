@@ -32,7 +32,7 @@ use std::path::Path;
 
 pub(crate) const MAGIC: u64 = 0x65DF_65DF_65DF_65DF;
 pub(crate) const HEADER_BYTES: u64 = 256;
-const ENTRY_BYTES: u64 = 32;
+pub(crate) const ENTRY_BYTES: u64 = 32;
 /// Index entries allocated at first (9 chunks per frame: about 110 frames).
 const FIRST_INDEX_ENTRIES: u64 = 1024;
 

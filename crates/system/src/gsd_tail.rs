@@ -77,12 +77,12 @@ pub(crate) fn keep_until(
     }
     let (index_location, index_capacity) = (u64_at(&header, 8), u64_at(&header, 16));
     let index_bytes = index_capacity
-        .checked_mul(32)
+        .checked_mul(crate::gsd::ENTRY_BYTES)
         .filter(|&b| index_location.checked_add(b).is_some_and(|e| e <= len))
         .ok_or_else(|| invalid("the GSD index lies beyond the end of the file".into()))?;
     let index = read_at(file, index_location, index_bytes)?;
     let entries: Vec<[u8; 32]> = index
-        .chunks_exact(32)
+        .chunks_exact(crate::gsd::ENTRY_BYTES as usize)
         .map(|e| e.try_into().expect("32 bytes"))
         .take_while(|e: &[u8; 32]| u64_at(e, 16) != 0)
         .collect();
