@@ -265,6 +265,12 @@ impl EventQueue for CalendarQueue {
         self.node[id].key
     }
 
+    /// The rest of the current bucket's first heap levels: the next earliest is among
+    /// them unless the bucket runs out.
+    fn upcoming(&self) -> &[(f64, u32)] {
+        &self.heap[self.heap.len().min(1)..self.heap.len().min(3)]
+    }
+
     fn check(&self, len: usize) -> Result<(), String> {
         let bad = |why: String| Err(format!("calendar queue: {why}"));
         if self.node.len() != len || self.heads.len() < 3 {

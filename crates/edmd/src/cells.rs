@@ -126,7 +126,7 @@ impl<const N: usize> CellSet<N> {
 
     /// (cell, shift) pairs.
     #[inline]
-    pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + '_ {
+    pub fn iter(&self) -> impl Iterator<Item = (u32, [f64; 3])> + Clone + '_ {
         self.cells[..self.len]
             .iter()
             .copied()
@@ -270,6 +270,20 @@ impl LinkedCells {
         }
     }
 
+    /// Asks for the records of `i` that moving it to another cell reads.
+    #[inline(always)]
+    pub(crate) fn prefetch(&self, i: usize) {
+        crate::state::prefetch(self.coords.as_ptr().wrapping_add(i));
+        self.prefetch_next(i);
+        crate::state::prefetch(self.prev.as_ptr().wrapping_add(i));
+    }
+
+    /// Asks for the link from `i` to the next particle of its cell.
+    #[inline(always)]
+    pub(crate) fn prefetch_next(&self, i: usize) {
+        crate::state::prefetch(self.next.as_ptr().wrapping_add(i));
+    }
+
     /// First particle of a cell (follow with [`LinkedCells::next`]).
     #[inline]
     pub fn first(&self, cell: u32) -> u32 {
@@ -344,7 +358,7 @@ impl LinkedCells {
     /// The 27 neighbour cells of the interior cell with index `base` (see
     /// [`LinkedCells::interior`]).
     #[inline]
-    pub fn interior_neighbours(&self, base: usize) -> impl Iterator<Item = u32> + '_ {
+    pub fn interior_neighbours(&self, base: usize) -> impl Iterator<Item = u32> + Clone + '_ {
         self.offsets
             .iter()
             .map(move |&o| (base as isize + o) as u32)
@@ -358,7 +372,7 @@ impl LinkedCells {
         base: usize,
         axis: usize,
         dir: i64,
-    ) -> impl Iterator<Item = u32> + '_ {
+    ) -> impl Iterator<Item = u32> + Clone + '_ {
         let face = 2 * axis + usize::from(dir > 0);
         self.layers[face]
             .iter()

@@ -54,6 +54,18 @@ fn mean_free_time_matches_the_reference() {
     assert!((mft / 0.13031 - 1.0).abs() < 0.01, "mean free time {mft}");
 }
 
+/// A gas whose particle records outgrow a core's cache (16 384 particles, where the
+/// engine asks for memory ahead of use): cell crossings find the collisions that
+/// epochs find by another route, in the same order.
+#[test]
+fn a_large_gas_on_cells_agrees_with_epochs() {
+    let setup = fcc(16, 0.1, 1.0, 1.0, 1.0, 13);
+    assert_eq!(setup.0.len(), 16_384);
+    let (cells, _) = first_collisions(&setup, BroadPhaseKind::Crossings, 20_000);
+    let (epochs, _) = first_collisions(&setup, BroadPhaseKind::Epochs, 20_000);
+    assert_same_collisions(&cells, &epochs);
+}
+
 #[test]
 fn cells_agree_with_one_big_cell() {
     // A dilute gas where a 4×4×4 grid and a single cell must give the same events.

@@ -33,9 +33,21 @@ impl Crossings {
         &self,
         s: &State<Q>,
         i: usize,
-        cells: impl Iterator<Item = (u32, [f64; 3])>,
+        cells: impl Iterator<Item = (u32, [f64; 3])> + Clone,
         mut best: f64,
     ) -> ((f64, u32, bool), bool) {
+        // First ask for every cell's first particle, without a branch: in a large gas
+        // the cells' heads and the particles' records are misses, and a branch on an
+        // empty cell (most cells at η ≤ 0.1) taken before its head arrives would
+        // serialise them.
+        if s.is_large() {
+            let last = s.len() - 1;
+            for (cell, _) in cells.clone() {
+                let j = (self.grid.first(cell) as usize).min(last);
+                s.prefetch_motion(j);
+                self.grid.prefetch_next(j);
+            }
+        }
         let now = s.time;
         let (pi, vi) = (s.slot[i].kin.pos, s.slot[i].kin.vel);
         let ri = s.slot[i].kin.radius;
@@ -198,6 +210,12 @@ impl BroadPhase for Crossings {
 
     fn resorts_between_events(&self) -> bool {
         true
+    }
+
+    /// A crossing of `i` reads its cell and unlinks it from its list.
+    #[inline(always)]
+    fn prefetch(&self, i: usize) {
+        self.grid.prefetch(i);
     }
 
     fn resort<Q: EventQueue>(&mut self, s: &mut State<Q>) {

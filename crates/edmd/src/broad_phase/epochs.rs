@@ -16,7 +16,7 @@ use super::BroadPhase;
 use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
-use crate::state::{Slot, State, min_image_in, morton_order, prefetch, same_encoding};
+use crate::state::{State, min_image_in, morton_order, same_encoding};
 use crate::sweep::{Filing, Spans, SweepGrid};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
@@ -290,13 +290,11 @@ impl BroadPhase for Epochs {
         // the tests below wait for memory about once (in a large gas each is a miss).
         let mut candidates = std::mem::take(&mut self.candidates);
         candidates.clear();
-        let slots = s.slot.as_ptr();
+        let state = &*s;
         self.grid.scan_and_file(i, &spans, |j| {
             candidates.push(j as u32);
             // Both lines: the tests read its motion and its event record.
-            let slot = slots.wrapping_add(j);
-            prefetch(slot);
-            prefetch((slot as *const u8).wrapping_add(std::mem::offset_of!(Slot, ev)));
+            state.prefetch_record(j);
         });
         let mut best = (s.slot[i].ev.coll_time, NONE);
         let probe = s.probe_slot(i);

@@ -95,6 +95,11 @@ pub trait BroadPhase: Sized {
     /// phase does so at its own events).
     fn resorts_between_events(&self) -> bool;
 
+    /// Asks for what an event of `i` will read of this broad phase's own records
+    /// (a hint for a large gas: see [`State::prefetch_upcoming`]).
+    #[inline(always)]
+    fn prefetch(&self, _i: usize) {}
+
     /// Renumbers the particles in space (Morton order of their cells); see
     /// [`State::permute`].
     fn resort<Q: EventQueue>(&mut self, state: &mut State<Q>);

@@ -283,9 +283,8 @@ fn earliest_in<Q: EventQueue>(
     let ri = s.slot[i].kin.radius;
     let mut best_j = NONE;
     let mut best_now = false;
-    let slots = s.slot.as_ptr();
     for &e in entries {
-        prefetch(slots.wrapping_add((e >> IMAGE_BITS) as usize));
+        s.prefetch_motion((e >> IMAGE_BITS) as usize);
     }
     let mut horizon = crate::detect::widen(best - now);
     for &e in entries {

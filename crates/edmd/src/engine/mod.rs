@@ -182,6 +182,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         s.time = t;
         s.stats.events += 1;
         s.since_resort += 1;
+        s.prefetch_upcoming(|id| self.broad.prefetch(id));
         if i >= s.len() {
             self.broad.own_event(s);
             return Ok(Event::Epoch);
