@@ -66,6 +66,19 @@ fn a_large_gas_on_cells_agrees_with_epochs() {
     assert_same_collisions(&cells, &epochs);
 }
 
+/// The same size dense (η = 0.45), where neighbour lists ask for the lists of the
+/// particles whose events come next: they find the collisions of cell crossings.
+#[test]
+fn a_large_dense_gas_on_lists_agrees_with_cells() {
+    let density = 0.45 * 6.0 / std::f64::consts::PI;
+    let setup = fcc(16, density, 1.0, 1.0, 1.0, 17);
+    assert_eq!(setup.0.len(), 16_384);
+    let (cells, _) = first_collisions(&setup, BroadPhaseKind::Crossings, 20_000);
+    let (lists, stats) = first_collisions(&setup, BroadPhaseKind::Neighbours, 20_000);
+    assert_same_collisions(&cells, &lists);
+    assert!(stats.crossings > 100, "shells reached: {}", stats.crossings);
+}
+
 #[test]
 fn cells_agree_with_one_big_cell() {
     // A dilute gas where a 4×4×4 grid and a single cell must give the same events.
