@@ -13,10 +13,11 @@
 //!   the time of prediction is the only image in reach.
 
 use super::BroadPhase;
+use super::epoch_pairs::test_pairs;
 use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
-use crate::state::{State, min_image_in, morton_order, same_encoding};
+use crate::state::{State, morton_order, same_encoding};
 use crate::sweep::{Filing, Spans, SweepGrid};
 use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::SimBox;
@@ -25,11 +26,11 @@ use emdstar_system::SimBox;
 /// test reads, in one cache line.
 #[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(64))]
-struct Motion {
-    pos: [f64; 3],
-    radius: f64,
-    vel: [f64; 3],
-    horizon: f64,
+pub(super) struct Motion {
+    pub pos: [f64; 3],
+    pub radius: f64,
+    pub vel: [f64; 3],
+    pub horizon: f64,
 }
 
 /// The epoch broad phase's grid and state.
@@ -364,40 +365,6 @@ impl BroadPhase for Epochs {
         s.permute(&order);
         s.refile();
         s.stats.resorts += 1;
-    }
-}
-
-/// Tests the rebuild's candidate pairs for a collision before both horizons and keeps
-/// each particle's earliest (Bannerman et al. 2014, Algorithm 1: [`on_collision_course`]
-/// for the many pairs that miss, then [`sphere_sphere`]); `period` is 0 along closed
-/// axes.
-fn test_pairs(
-    pairs: &[[u32; 2]],
-    motion: &[Motion],
-    partner: &[u32],
-    best: &mut [(f64, u32)],
-    t0: f64,
-    period: [f64; 3],
-) {
-    for &[i, j] in pairs {
-        let (i, j) = (i as usize, j as usize);
-        let (a, b) = (&motion[i], &motion[j]);
-        let r = min_image_in(sub(a.pos, b.pos), period);
-        let v = sub(a.vel, b.vel);
-        let sigma = a.radius + b.radius;
-        // The rare pair on course, then whether it shares an eMD* transient.
-        if !on_collision_course(r, v, sigma) || partner[i] == j as u32 && partner[j] == i as u32 {
-            continue;
-        }
-        let t = t0 + sphere_sphere(r, v, sigma);
-        if t < a.horizon.min(b.horizon) {
-            if t < best[i].0 {
-                best[i] = (t, j as u32);
-            }
-            if t < best[j].0 {
-                best[j] = (t, i as u32);
-            }
-        }
     }
 }
 

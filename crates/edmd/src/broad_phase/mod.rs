@@ -8,6 +8,7 @@
 
 mod centre_cells;
 mod crossings;
+mod epoch_pairs;
 mod epochs;
 mod neighbours;
 
