@@ -13,7 +13,7 @@
 //!   the time of prediction is the only image in reach.
 
 use super::BroadPhase;
-use super::epoch_pairs::test_pairs;
+use super::epoch_pairs::PairTests;
 use crate::cells::{CellShape, NONE};
 use crate::detect::{on_collision_course, sphere_sphere};
 use crate::queue::EventQueue;
@@ -180,14 +180,14 @@ impl Epochs {
         let mut pairs = std::mem::take(&mut self.pairs);
         let listed = self.grid.filed_pairs(&mut pairs);
         let period = s.period;
-        test_pairs(
-            listed,
-            &self.motion,
-            &self.partner,
-            &mut self.best,
+        PairTests {
+            motion: &self.motion,
+            partner: &self.partner,
+            best: &mut self.best,
             t0,
             period,
-        );
+        }
+        .run(listed);
         self.pairs = pairs;
         // Only particles with a pair collision or an early horizon touch the queue.
         for i in 0..n {
