@@ -41,6 +41,8 @@ impl Crossings {
         // empty cell (most cells at η ≤ 0.1) taken before its head arrives would
         // serialise them.
         if s.is_large() {
+            // An empty cell's head (NONE) asks for the last particle instead of a wild
+            // address, whose translation would cost a page walk.
             let last = s.len() - 1;
             for (cell, _) in cells.clone() {
                 let j = (self.grid.first(cell) as usize).min(last);
