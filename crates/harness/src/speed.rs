@@ -25,7 +25,7 @@ pub const GOAL_GAS: (f64, f64) = (1e-3, 1e9);
 /// bar of the check.
 pub const CLAIM_RATIO: f64 = 1e2;
 /// The project's own goal on [`GOAL_GAS`], reported beside the check for information.
-pub const GOAL_RATIO: f64 = 1e3;
+pub const GOAL_RATIO: f64 = 2e3;
 
 /// One gas, both engines.
 #[derive(Debug, Clone, Serialize)]
@@ -202,7 +202,7 @@ pub fn plot(points: &[SpeedPoint], path: &Path) -> std::result::Result<(), Strin
         Style::Points(7),
     ));
     p.series.push(Series::new(
-        "the project's goal 10³ (for information)",
+        "the project's goal 2·10³ (for information)",
         vec![(goal_eta, goal_ratio)],
         PALETTE[7],
         Style::Points(7),

@@ -95,7 +95,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         "5a",
         format!(
             "speed: wall-time ratio MD / eMD* at η = 0.001, Y = 1 GPa (the paper: orders of \
-             magnitude; the project's goal 10³, for information: {goal_met})"
+             magnitude; the project's goal 2·10³, for information: {goal_met})"
         ),
         goal,
         CLAIM_RATIO,
