@@ -109,6 +109,61 @@ fn gas_impacts(table: &Table, n: usize, seed: u64) -> Result<Vec<Case>> {
     Ok(out)
 }
 
+/// Pairs of the box for the pair tables' case.
+const OWN_TABLE_PAIRS: usize = 8;
+
+/// The pairs' own tables of the bench, their impacts and what building them took.
+struct OwnTables<'t> {
+    tables: Vec<emdstar_table::PairTable<'t>>,
+    /// (table, impact) pairs, cycling over the tables.
+    impacts: Vec<(usize, Impact)>,
+    /// Mean build time, µs, and mean bytes of a table.
+    build_us: f64,
+    bytes: f64,
+}
+
+/// The pairs of the first [`OWN_TABLE_PAIRS`] box impacts, each with its own table,
+/// and `n` impacts cycling over them (speed and eccentricity log-uniform over the box,
+/// as `box_impacts` draws them) that their tables answer.
+fn own_tables<'t>(table: &'t Table, boxed: &[Case], n: usize, seed: u64) -> Result<OwnTables<'t>> {
+    let mut owns = Vec::new();
+    let start = now();
+    for (law, pair, _) in boxed.iter().take(OWN_TABLE_PAIRS) {
+        owns.push(table.pair_table(law, pair)?);
+    }
+    let build_us = (now() - start) * 1e6 / owns.len() as f64;
+    let bytes = owns.iter().map(|o| o.bytes()).sum::<usize>() as f64 / owns.len() as f64;
+    let info = table.info();
+    let range = |name: &str| {
+        let k = info.box_names.iter().position(|x| x == name);
+        k.map(|k| info.box_ranges[k])
+            .ok_or_else(|| anyhow!("the table's box lacks the parameter {name}"))
+    };
+    let (speed, eccentricity) = (range("speed")?, range("eccentricity")?);
+    let mut rng = Uniform(seed);
+    let mut out = Vec::with_capacity(n);
+    for _ in 0..100 * n + 1000 {
+        if out.len() == n {
+            break;
+        }
+        let k = out.len() % owns.len();
+        let impact =
+            Impact::from_speed_eccentricity(rng.log_uniform(speed), rng.log_uniform(eccentricity))?;
+        if owns[k].lookup(&impact).is_ok() {
+            out.push((k, impact));
+        }
+    }
+    if out.len() < n {
+        bail!("the pairs' own tables answer too few impacts of the box");
+    }
+    Ok(OwnTables {
+        tables: owns,
+        impacts: out,
+        build_us,
+        bytes,
+    })
+}
+
 /// Seconds of this thread's CPU time (wall time where the platform has no such clock).
 fn now() -> f64 {
     static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
@@ -163,6 +218,8 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             .iter()
             .map(|(l, p, i)| Ok(scale(l, p, i)?.params))
             .collect::<Result<_, emdstar_contact::ContactError>>()?;
+        let own = own_tables(&table, &boxed, n, args.table_seed)?;
+        let own_gas = table.pair_table(&gas[0].0, &gas[0].1)?;
         let exact_n = n.min(512);
         let laps = (200_000 / n).max(1);
         let lookup = |cases: &[Case], laps: usize| {
@@ -172,7 +229,7 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             })
         };
         let model = table.model();
-        let mut rounds: [Vec<f64>; 5] = Default::default();
+        let mut rounds: [Vec<f64>; 7] = Default::default();
         for _ in 0..args.table_rounds {
             rounds[0].push(lookup(&boxed, laps));
             rounds[1].push(lookup(&gas, laps));
@@ -184,6 +241,13 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             rounds[4].push(time_per_call(exact_n, 1, |i| {
                 black_box(emdstar_mor::solve(model, black_box(&scaled[i])).ok());
             }));
+            rounds[5].push(time_per_call(n, laps, |i| {
+                let (k, impact) = &own.impacts[i];
+                black_box(own.tables[*k].lookup(black_box(impact)).ok());
+            }));
+            rounds[6].push(time_per_call(n, laps, |i| {
+                black_box(own_gas.lookup(black_box(&gas[i].2)).ok());
+            }));
         }
         let [
             (box_ns, box_spread),
@@ -191,6 +255,8 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             (one_ns, one_spread),
             (pair_ns, pair_spread),
             (exact_ns, exact_spread),
+            (own_ns, own_spread),
+            (own_gas_ns, own_gas_spread),
         ] = rounds.each_ref().map(|r| best(r));
         let line = json!({
             "model": model.name(),
@@ -202,9 +268,15 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             "lookup_pair_handle_ns": pair_ns,
             "exact_ns": exact_ns,
             "exact_over_lookup": exact_ns / box_ns,
+            "lookup_pair_table_ns": own_ns,
+            "lookup_pair_table_gas_ns": own_gas_ns,
+            "exact_over_pair_table": exact_ns / own_ns,
+            "pair_table_build_us": own.build_us,
+            "pair_table_bytes": own.bytes,
             "spread": {
                 "lookup": box_spread, "gas": gas_spread, "one_impact": one_spread,
                 "pair_handle": pair_spread, "exact": exact_spread,
+                "pair_table": own_spread, "pair_table_gas": own_gas_spread,
             },
             "impacts": n,
             "rounds": args.table_rounds,
@@ -223,11 +295,22 @@ pub fn run(args: &BenchTableArgs, json: bool) -> Result<()> {
             ("lookup, gas-like impacts", gas_ns, gas_spread),
             ("lookup, one impact (cache-hot)", one_ns, one_spread),
             ("lookup through pair handles (box)", pair_ns, pair_spread),
+            ("pair tables, 8 pairs of the box", own_ns, own_spread),
+            ("pair table, gas-like impacts", own_gas_ns, own_gas_spread),
             ("exact solve, same box impacts", exact_ns, exact_spread),
         ] {
             println!("  {what:<36} {ns:>10.1} ns  (±{:.0}%)", 100.0 * spread);
         }
-        println!("  exact solve / lookup: {:.1}", exact_ns / box_ns);
+        println!(
+            "  exact solve / lookup: {:.1} (from physical parameters), {:.1} (pair tables)",
+            exact_ns / box_ns,
+            exact_ns / own_ns
+        );
+        println!(
+            "  a pair table: built in {:.0} µs, {:.0} KiB",
+            own.build_us,
+            own.bytes / 1024.0
+        );
         println!("{line}");
     }
     Ok(())

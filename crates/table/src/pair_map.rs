@@ -101,6 +101,18 @@ impl PairMap {
         bounds: &RectBounds,
         impact: &Impact,
     ) -> Result<(RectCoords, f64), TableError> {
+        self.coords_and_u(bounds, impact)
+            .map(|(x, time, _)| (x, time))
+    }
+
+    /// [`PairMap::coords`] and u = ln |v|², the coordinate of the pair's line through
+    /// the rectangle ([`PairMap::line`]).
+    #[inline]
+    pub(crate) fn coords_and_u(
+        &self,
+        bounds: &RectBounds,
+        impact: &Impact,
+    ) -> Result<(RectCoords, f64, f64), TableError> {
         let (v_n, v_t) = (impact.normal_speed, impact.tangential_speed);
         if !(v_n > 0.0 && v_t >= 0.0 && v_n.is_finite() && v_t.is_finite()) {
             return Err(TableError::Input(format!(
@@ -110,7 +122,7 @@ impl PairMap {
         }
         let ln_v2 = ln(v_n * v_n + v_t * v_t);
         let a = ln(v_t / v_n) - bounds.g.min;
-        Ok(match self.kind {
+        let (x, time) = match self.kind {
             PairKind::Linear { b0, c, time } => (
                 RectCoords {
                     a,
@@ -127,6 +139,18 @@ impl PairMap {
                 },
                 exp(t0 - 0.2 * ln(v_n)),
             ),
-        })
+        };
+        Ok((x, time, ln_v2))
+    }
+
+    /// The pair's impacts lie on a line through the rectangle: b and c are affine in
+    /// u = ln |v|² (and a = ln(v_t/v_n) − g_min is free). Returns [offset, slope] of b
+    /// and of c: b = b₀ − ½u (linear) or b₀ − 0.4u (Hertz); c is the pair's constant
+    /// (linear) or c₀ + ½u (Hertz), Eqs. (48), (56), (59).
+    pub(crate) fn line(&self, bounds: &RectBounds) -> [[f64; 2]; 2] {
+        match self.kind {
+            PairKind::Linear { b0, c, .. } => [[b0 - bounds.m.min, -0.5], [c, 0.0]],
+            PairKind::Hertz { b0, c0, .. } => [[b0 - bounds.m.min, -0.4], [c0 - bounds.c.min, 0.5]],
+        }
     }
 }

@@ -8,6 +8,7 @@
 //! contiguous block.
 
 use crate::error::TableError;
+use crate::patch_set::{LEAF_AXIS, Node, PatchSet};
 use crate::poly::{NQ, Terms};
 
 /// Marks a leaf in [`PieceParts::tree`].
@@ -31,117 +32,13 @@ pub struct PieceParts {
     pub cheb: Vec<[f64; NQ]>,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Node {
-    split: f64,
-    /// 0, 1, 2: the split axis; 3: a leaf.
-    axis: u8,
-    /// First child, or the patch of a leaf.
-    next: u32,
-}
-
-const LEAF_AXIS: u8 = 3;
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Patch {
-    centre: [f64; 3],
-    inv_half: [f64; 3],
-}
-
 /// A validated piece, ready for lookups.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Piece {
     parts: PieceParts,
-    lo: [f64; 3],
-    hi: [f64; 3],
-    /// Cells of the start grid per axis and their number per unit length.
-    grid: [usize; 3],
-    grid_scale: [f64; 3],
-    /// Per start-grid cell, the deepest node whose box holds the whole cell: a lookup
-    /// starts there, one load instead of the top levels of its tree.
-    start: Vec<u32>,
-    nodes: Vec<Node>,
-    patches: Vec<Patch>,
     /// Patch boxes [lo, hi] per axis.
     boxes: Vec<[[f64; 2]; 3]>,
-    terms: Terms,
-    /// Monomial coefficients of total degree ≤ 1, float64, `[patch][low term]`, and
-    /// the axis of each low term (None: the constant).
-    low: Vec<[f64; NQ]>,
-    low_axes: Vec<Option<usize>>,
-    /// Monomial coefficients of total degree ≥ 2 (zero in the low slots), float32:
-    /// small next to the linear part, they halve the bytes a lookup reads.
-    high: Vec<[f32; NQ]>,
-}
-
-/// Start-grid cells per top cell along an axis at most (2^5), and start-grid cells in
-/// all at most.
-const GRID_REFINE: usize = 5;
-const GRID_MAX: usize = 1 << 15;
-
-/// The start grid of a piece: each top cell cut into 2^r equal parts along its axes
-/// (r as large as [`GRID_MAX`] and the tree's size allow), and for each part the deepest node whose box
-/// holds it. Splits within a tiny margin of a part's faces stop the descent, so a
-/// lookup that rounding puts into the neighbouring part still compares against them.
-fn start_grid(
-    cells: &[usize; 3],
-    roots: &[u32],
-    nodes: &[Node],
-    lo: [f64; 3],
-    hi: [f64; 3],
-    active: [bool; 3],
-) -> ([usize; 3], Vec<u32>) {
-    let dims = active.iter().filter(|a| **a).count().max(1);
-    let top: usize = cells.iter().product();
-    // No finer than about eight grid cells per patch: beyond, it only costs memory.
-    let limit = GRID_MAX.min(8 * nodes.len().max(1));
-    let mut r = 0;
-    while r < GRID_REFINE && top << (dims * (r + 1)) <= limit {
-        r += 1;
-    }
-    let grid: [usize; 3] = std::array::from_fn(|k| if active[k] { cells[k] << r } else { 1 });
-    let width: [f64; 3] = std::array::from_fn(|k| (hi[k] - lo[k]) / grid[k] as f64);
-    let mut start = Vec::with_capacity(grid.iter().product());
-    for i in 0..grid[0] {
-        for j in 0..grid[1] {
-            for k in 0..grid[2] {
-                let idx = [i, j, k];
-                // (Along a missing axis the index is 0 and stays 0.)
-                let root = roots[((i >> r) * cells[1] + (j >> r)) * cells[2] + (k >> r)];
-                let mut n = root as usize;
-                loop {
-                    let node = nodes[n];
-                    if node.axis == LEAF_AXIS {
-                        break;
-                    }
-                    let a = node.axis as usize;
-                    let (cell_lo, cell_hi) = (
-                        lo[a] + width[a] * idx[a] as f64,
-                        lo[a] + width[a] * (idx[a] + 1) as f64,
-                    );
-                    let margin = 1e-9 * width[a];
-                    if node.split >= cell_hi + margin {
-                        n = node.next as usize;
-                    } else if node.split <= cell_lo - margin {
-                        n = node.next as usize + 1;
-                    } else {
-                        break;
-                    }
-                }
-                start.push(n as u32);
-            }
-        }
-    }
-    (grid, start)
-}
-
-/// [`Terms::eval`] compiled with 256-bit AVX registers: the four quantities of a
-/// term are one load and one multiply-add pair. Separate multiplies and adds (no FMA)
-/// keep the results bitwise equal to the portable path.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-unsafe fn eval_avx(terms: &Terms, block: &[[f32; NQ]], t: [f64; 3]) -> [f64; NQ] {
-    terms.eval(block, t)
+    set: PatchSet,
 }
 
 impl Piece {
@@ -295,118 +192,20 @@ impl Piece {
             }
             mono.extend(terms.chebyshev_to_monomial(c));
         }
-        let low_terms: Vec<usize> = (0..nt).filter(|&k| terms.is_low(k)).collect();
-        let low_axes = low_terms
-            .iter()
-            .map(|&k| terms.powers[k].iter().position(|&e| e == 1))
-            .collect();
-        let mut low = Vec::with_capacity(np * low_terms.len());
-        let mut high = Vec::with_capacity(np * nt);
-        for block in mono.chunks_exact(nt) {
-            low.extend(low_terms.iter().map(|&k| block[k]));
-            high.extend(block.iter().enumerate().map(|(k, c)| {
-                if terms.is_low(k) {
-                    [0.0; NQ]
-                } else {
-                    c.map(|x| x as f32)
-                }
-            }));
-        }
-        let patches = boxes
-            .iter()
-            .map(|b| Patch {
-                centre: std::array::from_fn(|k| 0.5 * (b[k][0] + b[k][1])),
-                inv_half: std::array::from_fn(|k| {
-                    if active[k] {
-                        2.0 / (b[k][1] - b[k][0])
-                    } else {
-                        0.0
-                    }
-                }),
-            })
-            .collect();
-        let (grid, start) = start_grid(&parts.cells, &roots, &nodes, lo, hi, active);
-        let grid_scale = std::array::from_fn(|k| {
-            if active[k] {
-                grid[k] as f64 / (hi[k] - lo[k])
-            } else {
-                0.0
-            }
-        });
-        Ok(Self {
-            parts,
-            lo,
-            hi,
-            grid,
-            grid_scale,
-            start,
-            nodes,
-            patches,
-            boxes,
-            terms,
-            low,
-            low_axes,
-            high,
-        })
+        let set = PatchSet::new(parts.cells, &roots, nodes, &boxes, &mono, (lo, hi), terms);
+        Ok(Self { parts, boxes, set })
     }
 
     /// The four quantities at `x`, which must lie in the piece's box (NaN where the
     /// piece is not tabulated).
     #[inline(always)]
     pub fn eval(&self, x: [f64; 3]) -> [f64; NQ] {
-        let (patch, t) = self.locate(x);
-        let nt = self.terms.len();
-        // (Asking for the block's cache lines ahead, a prefetch of each, made random
-        // lookups 3-8 % slower: the hardware's own prefetcher follows the evaluation.)
-        let block = &self.high[patch * nt..(patch + 1) * nt];
-        let nl = self.low_axes.len();
-        let mut q = self.linear_part(&self.low[patch * nl..(patch + 1) * nl], t);
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the CPU supports AVX (checked just above).
-            let h = unsafe { eval_avx(&self.terms, block, t) };
-            for i in 0..NQ {
-                q[i] += h[i];
-            }
-            return q;
-        }
-        let h = self.terms.eval(block, t);
-        for i in 0..NQ {
-            q[i] += h[i];
-        }
-        q
+        self.set.eval(x)
     }
 
-    /// The terms of degree ≤ 1 at t.
-    #[inline(always)]
-    fn linear_part(&self, low: &[[f64; NQ]], t: [f64; 3]) -> [f64; NQ] {
-        let mut q = [0.0; NQ];
-        for (c, axis) in low.iter().zip(&self.low_axes) {
-            let w = axis.map_or(1.0, |a| t[a]);
-            for i in 0..NQ {
-                q[i] += c[i] * w;
-            }
-        }
-        q
-    }
-
-    /// The patch holding `x` and the local coordinates there.
-    #[inline(always)]
-    fn locate(&self, x: [f64; 3]) -> (usize, [f64; 3]) {
-        let g = self.grid;
-        let idx: [usize; 3] = std::array::from_fn(|k| {
-            // x ≥ lo up to rounding; `as` saturates, so a hair below lo gives cell 0.
-            (((x[k] - self.lo[k]) * self.grid_scale[k]) as usize).min(g[k] - 1)
-        });
-        let mut n = self.start[(idx[0] * g[1] + idx[1]) * g[2] + idx[2]] as usize;
-        let mut node = self.nodes[n];
-        while node.axis != LEAF_AXIS {
-            n = node.next as usize + (x[node.axis as usize] >= node.split) as usize;
-            node = self.nodes[n];
-        }
-        let p = &self.patches[node.next as usize];
-        let t = std::array::from_fn(|k| (x[k] - p.centre[k]) * p.inv_half[k]);
-        (node.next as usize, t)
+    /// The evaluator.
+    pub(crate) fn set(&self) -> &PatchSet {
+        &self.set
     }
 
     /// What the file stores.
@@ -426,11 +225,11 @@ impl Piece {
 
     /// The piece's range per axis.
     pub fn range(&self) -> [[f64; 2]; 3] {
-        std::array::from_fn(|k| [self.lo[k], self.hi[k]])
+        self.set.range()
     }
 
     /// The polynomial terms of every patch.
     pub fn terms(&self) -> &Terms {
-        &self.terms
+        self.set.terms()
     }
 }
