@@ -10,10 +10,11 @@
 //!   With AVX2 (detected at run time) the four lanes run in one vector register, with
 //!   the same operations in the same order, so that each lane has the bits of the
 //!   scalar [`exp`] on every machine (a random lookup is about a tenth faster).
-//! - [`ln`]: x = 2^e·m with m ∈ [1/√2, √2), ln m = 2 atanh(s) with s = (m − 1)/(m + 1),
-//!   |s| ≤ 0.1716, summed to s²³ (truncation below 1e-17 relative), plus e·ln 2 in two
-//!   parts. The error is a few units in the last place of the result (tested below
-//!   against the library logarithm: relative error below 4e-16, near x = 1 included).
+//! - [`ln`]: x = 2^e·m, a table of 128 logarithms ln c near m (computed at compile time
+//!   by a slower series, [`ln_series`]) and the series of ln(1 + r), r = (m − c)/c,
+//!   |r| < 2⁻⁷, to r⁸. The error is a few units in the last place of the result
+//!   (tested below against the library logarithm: relative error below 4e-16, near
+//!   x = 1 included).
 
 /// ln 2 split in a high part with trailing zero bits (n·LN2_HI is exact) and the rest.
 const LN2_HI: f64 = f64::from_bits(0x3FE6_2E42_FEE0_0000);
@@ -23,7 +24,7 @@ const ROUND: f64 = 6_755_399_441_055_744.0;
 
 /// Σ_{j<4} c[k + j]·t^j by Estrin's scheme (t2 = t²).
 #[inline(always)]
-fn quad(c: &[f64], k: usize, t: f64, t2: f64) -> f64 {
+const fn quad(c: &[f64], k: usize, t: f64, t2: f64) -> f64 {
     (c[k] + t * c[k + 1]) + t2 * (c[k + 2] + t * c[k + 3])
 }
 
@@ -115,7 +116,55 @@ pub fn exp(x: f64) -> f64 {
 /// 2^54, to lift subnormal arguments of [`ln`] into the normal range.
 const TWO54: f64 = 18_014_398_509_481_984.0;
 
+/// Mantissa bits that index [`LN_TABLE`], and the first index whose m is halved (its
+/// exponent raised): m ≥ 1 + 53/128 = 1.4140625 ≈ √2, so that the reduced argument is
+/// near 1 and ln stays accurate relative to itself on both sides of x = 1.
+const LN_BITS: u32 = 7;
+const LN_FOLD: u64 = 53;
+
+/// Per index i (the top [`LN_BITS`] bits of the mantissa m ∈ [1, 2)): [1/c, ln(c/2^f)]
+/// with c = 1 + (i + f)/128 the end of i's interval nearer to 1 after the fold f (0 or
+/// 1): the left end below the fold, the right one above, so that c/2^f = 1 exactly for
+/// the intervals either side of 1. Computed at compile time by [`ln_series`].
+const LN_TABLE: [[f64; 2]; 1 << LN_BITS] = ln_table();
+
+const fn ln_table() -> [[f64; 2]; 1 << LN_BITS] {
+    let mut t = [[0.0; 2]; 1 << LN_BITS];
+    let mut i = 0;
+    while i < t.len() {
+        let fold = (i as u64 >= LN_FOLD) as u64;
+        let c = ln_anchor(i as u64, fold);
+        let reduced = if fold == 1 { c * 0.5 } else { c };
+        t[i] = [1.0 / c, ln_series(reduced)];
+        i += 1;
+    }
+    t
+}
+
+/// 1 + (i + fold)/128, exactly (2 for the last index above the fold).
+#[inline(always)]
+const fn ln_anchor(i: u64, fold: u64) -> f64 {
+    f64::from_bits(0x3FF0_0000_0000_0000 + ((i + fold) << (52 - LN_BITS)))
+}
+
+/// −1/(k + 2) · (−1)^k for k ≤ 6: ln(1 + r) = r + r²·Σ_k c_k r^k.
+const LOG1P_TAIL: [f64; 7] = [
+    -1.0 / 2.0,
+    1.0 / 3.0,
+    -1.0 / 4.0,
+    1.0 / 5.0,
+    -1.0 / 6.0,
+    1.0 / 7.0,
+    -1.0 / 8.0,
+];
+
 /// ln x; −∞ for ±0, NaN for x < 0 or NaN, +∞ for +∞.
+///
+/// x = 2^e·m, m ∈ [1, 2); a table ([`LN_TABLE`]) indexed by m's top seven bits gives
+/// c near m with ln c, and ln m = ln c + ln(1 + r) with r = (m − c)/c, |r| < 2⁻⁷, by
+/// its Taylor series to r⁸ (truncation below 2e-18 relative). m − c is exact; the
+/// rest is a few roundings: a few units in the last place, near x = 1 included (there
+/// c = 1 and ln x = ln(1 + r) with r = x − 1 exactly).
 #[inline(always)]
 pub fn ln(x: f64) -> f64 {
     if !(x > 0.0 && x < f64::INFINITY) {
@@ -133,9 +182,26 @@ pub fn ln(x: f64) -> f64 {
         (x, 0.0)
     };
     let bits = x.to_bits();
+    let i = (bits >> (52 - LN_BITS)) & ((1 << LN_BITS) - 1);
+    let fold = (i >= LN_FOLD) as u64;
+    let m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | 0x3FF0_0000_0000_0000);
+    let e = ((bits >> 52) as i64 - 1023 + fold as i64) as f64 + e0;
+    let [inv_c, ln_c] = LN_TABLE[i as usize];
+    let r = (m - ln_anchor(i, fold)) * inv_c;
+    let (r2, r4) = (r * r, (r * r) * (r * r));
+    let c = LOG1P_TAIL;
+    let q = (c[0] + r * c[1]) + r2 * (c[2] + r * c[3]) + r4 * ((c[4] + r * c[5]) + r2 * c[6]);
+    e * LN2_HI + (ln_c + (r + (e * LN2_LO + r2 * q)))
+}
+
+/// ln x for the table of [`ln`], at compile time: x = 2^e·m with m ∈ [1/√2, √2),
+/// ln m = 2 atanh(s) with s = (m − 1)/(m + 1), |s| ≤ 0.1716, summed to s²³ (truncation
+/// below 1e-17 relative), plus e·ln 2 in two parts. For normal x > 0.
+const fn ln_series(x: f64) -> f64 {
+    let bits = x.to_bits();
     // m ∈ [1, 2) from the mantissa; above √2 halve it (exactly) and raise the exponent.
     let mut m = f64::from_bits((bits & 0x000F_FFFF_FFFF_FFFF) | 0x3FF0_0000_0000_0000);
-    let mut e = ((bits >> 52) as i64 - 1023) as f64 + e0;
+    let mut e = ((bits >> 52) as i64 - 1023) as f64;
     if m > std::f64::consts::SQRT_2 {
         m *= 0.5;
         e += 1.0;
@@ -144,10 +210,10 @@ pub fn ln(x: f64) -> f64 {
     let s = f / (m + 1.0);
     let z = s * s;
     // p = Σ_{k=0}^{10} z^k/(2k + 3) by Estrin's scheme, as in `exp`.
-    let c = INV_ODD;
+    let c = &INV_ODD;
     let (z2, z4) = (z * z, (z * z) * (z * z));
-    let p = (quad(&c, 0, z, z2) + z4 * quad(&c, 4, z, z2))
-        + (z4 * z4) * ((c[8] + z * c[9]) + z2 * c[10]);
+    let p =
+        (quad(c, 0, z, z2) + z4 * quad(c, 4, z, z2)) + (z4 * z4) * ((c[8] + z * c[9]) + z2 * c[10]);
     // ln m = 2s(1 + z/3 + z²/5 + …) = 2s + 2s·z·p; the small terms are summed first.
     let tail = 2.0 * s * (z * p);
     e * LN2_HI + (2.0 * s + (e * LN2_LO + tail))
@@ -211,6 +277,22 @@ mod tests {
         assert_eq!(ln(0.0), f64::NEG_INFINITY);
         assert_eq!(ln(f64::INFINITY), f64::INFINITY);
         assert!(ln(-1.0).is_nan() && ln(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn the_table_of_ln_holds_accurate_logarithms() {
+        for (i, [inv_c, ln_c]) in LN_TABLE.iter().enumerate() {
+            let fold = (i as u64 >= LN_FOLD) as u64;
+            let c = ln_anchor(i as u64, fold);
+            assert_eq!(*inv_c, 1.0 / c);
+            let want = (c / (1 << fold) as f64).ln();
+            assert!(
+                (ln_c - want).abs() <= 4e-16 * want.abs(),
+                "{i}: {ln_c} against {want}"
+            );
+        }
+        assert_eq!(LN_TABLE[0][1], 0.0);
+        assert_eq!(LN_TABLE[LN_TABLE.len() - 1][1], 0.0);
     }
 
     /// Arguments over the whole range, the special values and the limits of `exp`.

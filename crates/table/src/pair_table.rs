@@ -19,7 +19,7 @@
 
 use crate::error::TableError;
 use crate::pair_map::PairMap;
-use crate::patch_set::{LEAF_AXIS, Node, PatchSet, patch_frame};
+use crate::patch_set::{LEAF_AXIS, Node, PatchSet, StartGrid, Tree, patch_frame};
 use crate::piece::Piece;
 use crate::poly::{NQ, Terms};
 use crate::table::{PhysicalLookup, Table, mor_from_logs};
@@ -178,14 +178,18 @@ fn restrict(table: &Table, map: &PairMap) -> Option<PatchSet> {
     r.fill(0, all, range, u);
     let lo = [range[0][0], u[0], 0.0];
     let hi = [range[0][1], u[1], 0.0];
+    let tree = Tree {
+        cells: [1, 1, 1],
+        roots: &[0],
+        nodes: r.nodes,
+    };
     Some(PatchSet::new(
-        [1, 1, 1],
-        &[0],
-        r.nodes,
+        tree,
         &r.boxes,
         &r.mono,
         (lo, hi),
         r.terms,
+        StartGrid::SLICE,
     ))
 }
 

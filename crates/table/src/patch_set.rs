@@ -22,6 +22,14 @@ pub(crate) struct Node {
 
 pub(crate) const LEAF_AXIS: u8 = 3;
 
+/// A checked tree: the root of each top cell (`cells` per axis, C order) and the nodes,
+/// children after their parent.
+pub(crate) struct Tree<'a> {
+    pub cells: [usize; 3],
+    pub roots: &'a [u32],
+    pub nodes: Vec<Node>,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Patch {
     centre: [f64; 3],
@@ -66,29 +74,48 @@ pub(crate) struct PatchSet {
     high: Vec<[f32; NQ]>,
 }
 
-/// Start-grid cells per top cell along an axis at most (2^5), and start-grid cells in
-/// all at most.
-const GRID_REFINE: usize = 5;
+/// How fine a start grid may be: its cells per top cell along an axis at most
+/// (2^`refine`), and per tree node at most (`per_node`; all told at most
+/// [`GRID_MAX`]). A stored piece takes [`StartGrid::PIECE`]: about eight per patch,
+/// beyond which the grid only costs memory. A pair's own table, small and read for
+/// every lookup of the pair, takes [`StartGrid::SLICE`]: 64 per node, so that most
+/// lookups start at their leaf or one split above it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct StartGrid {
+    refine: usize,
+    per_node: usize,
+}
+
+impl StartGrid {
+    pub(crate) const PIECE: Self = Self {
+        refine: 5,
+        per_node: 8,
+    };
+    pub(crate) const SLICE: Self = Self {
+        refine: 7,
+        per_node: 64,
+    };
+}
+
 const GRID_MAX: usize = 1 << 15;
 
 /// The start grid of a piece: each top cell cut into 2^r equal parts along its axes
-/// (r as large as [`GRID_MAX`] and the tree's size allow), and for each part the deepest node whose box
+/// (r as large as `fineness` allows), and for each part the deepest node whose box
 /// holds it. Splits within a tiny margin of a part's faces stop the descent, so a
 /// lookup that rounding puts into the neighbouring part still compares against them.
 fn start_grid(
-    cells: &[usize; 3],
-    roots: &[u32],
-    nodes: &[Node],
+    tree: &Tree,
     lo: [f64; 3],
     hi: [f64; 3],
     active: [bool; 3],
+    fineness: StartGrid,
 ) -> ([usize; 3], Vec<u32>) {
+    let (cells, roots, nodes) = (&tree.cells, tree.roots, &tree.nodes);
     let dims = active.iter().filter(|a| **a).count().max(1);
     let top: usize = cells.iter().product();
-    // No finer than about eight grid cells per patch: beyond, it only costs memory.
-    let limit = GRID_MAX.min(8 * nodes.len().max(1));
+    let limit = GRID_MAX.min(fineness.per_node * nodes.len().max(1));
     let mut r = 0;
-    while r < GRID_REFINE && top << (dims * (r + 1)) <= limit {
+    while r < fineness.refine && top << (dims * (r + 1)) <= limit {
         r += 1;
     }
     let grid: [usize; 3] = std::array::from_fn(|k| if active[k] { cells[k] << r } else { 1 });
@@ -137,18 +164,16 @@ unsafe fn eval_avx(terms: &Terms, block: &[[f32; NQ]], t: [f64; 3]) -> [f64; NQ]
 }
 
 impl PatchSet {
-    /// A patch set over `span` = (lo, hi) (lo = hi along an axis the polynomials lack) from a
-    /// checked tree: the `roots` of the top cells `cells` (C order), the nodes (children
-    /// after their parent), each patch's box and its monomial coefficients
-    /// `[patch][term]` in the order of `terms`.
+    /// A patch set over `span` = (lo, hi) (lo = hi along an axis the polynomials lack)
+    /// from its tree, each patch's box and its monomial coefficients
+    /// `[patch][term]` in the order of `terms`; its start grid as fine as `fineness`.
     pub(crate) fn new(
-        cells: [usize; 3],
-        roots: &[u32],
-        nodes: Vec<Node>,
+        tree: Tree,
         boxes: &[[[f64; 2]; 3]],
         mono: &[[f64; NQ]],
         (lo, hi): ([f64; 3], [f64; 3]),
         terms: Terms,
+        fineness: StartGrid,
     ) -> Self {
         let active: [bool; 3] = std::array::from_fn(|k| hi[k] > lo[k]);
         let nt = terms.len();
@@ -176,7 +201,8 @@ impl PatchSet {
                 Patch { centre, inv_half }
             })
             .collect();
-        let (grid, start) = start_grid(&cells, roots, &nodes, lo, hi, active);
+        let (grid, start) = start_grid(&tree, lo, hi, active, fineness);
+        let nodes = tree.nodes;
         let grid_scale = std::array::from_fn(|k| {
             if active[k] {
                 grid[k] as f64 / (hi[k] - lo[k])

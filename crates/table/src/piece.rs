@@ -8,7 +8,7 @@
 //! contiguous block.
 
 use crate::error::TableError;
-use crate::patch_set::{LEAF_AXIS, Node, PatchSet};
+use crate::patch_set::{LEAF_AXIS, Node, PatchSet, StartGrid, Tree};
 use crate::poly::{NQ, Terms};
 
 /// Marks a leaf in [`PieceParts::tree`].
@@ -192,7 +192,12 @@ impl Piece {
             }
             mono.extend(terms.chebyshev_to_monomial(c));
         }
-        let set = PatchSet::new(parts.cells, &roots, nodes, &boxes, &mono, (lo, hi), terms);
+        let tree = Tree {
+            cells: parts.cells,
+            roots: &roots,
+            nodes,
+        };
+        let set = PatchSet::new(tree, &boxes, &mono, (lo, hi), terms, StartGrid::PIECE);
         Ok(Self { parts, boxes, set })
     }
 
