@@ -114,7 +114,7 @@ const OWN_TABLE_PAIRS: usize = 8;
 
 /// The pairs' own tables of the bench, their impacts and what building them took.
 struct OwnTables<'t> {
-    tables: Vec<emdstar_table::PairTable<'t>>,
+    tables: Vec<emdstar_table::PairTable<&'t Table>>,
     /// (table, impact) pairs, cycling over the tables.
     impacts: Vec<(usize, Impact)>,
     /// Mean build time, µs, and mean bytes of a table.

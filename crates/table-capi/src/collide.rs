@@ -99,7 +99,7 @@ pub unsafe extern "C" fn emdstar_pair_collide(
             velocity: v3(b.velocity),
             mass: m,
         });
-        let o = resolve(&bodies, p.map.pair().l, &mor.mor(), mor.time_scale);
+        let o = resolve(&bodies, p.own.map().pair().l, &mor.mor(), mor.time_scale);
         // SAFETY: by the caller's contract.
         unsafe { put(out, collision(&o, mor)) }
     })
@@ -148,9 +148,9 @@ pub unsafe extern "C" fn emdstar_pair_collide_wall(
         let body = Body {
             position: v3(b.position),
             velocity: v3(b.velocity),
-            mass: p.map.pair().m_eff,
+            mass: p.own.map().pair().m_eff,
         };
-        let o = resolve_wall(&body, &n, p.map.pair().l, &mor.mor(), mor.time_scale);
+        let o = resolve_wall(&body, &n, p.own.map().pair().l, &mor.mor(), mor.time_scale);
         // SAFETY: by the caller's contract.
         unsafe { put(out, collision(&o, mor)) }
     })

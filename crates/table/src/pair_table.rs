@@ -24,6 +24,7 @@ use crate::piece::Piece;
 use crate::poly::{NQ, Terms};
 use crate::table::{PhysicalLookup, Table, mor_from_logs};
 use emdstar_contact::{Impact, PairLaw, PairProperties};
+use std::ops::Deref;
 
 /// A lookup handle for one pair and law that holds the table's restriction to the
 /// pair's impacts (see the module documentation): built once (about a millisecond),
@@ -32,23 +33,25 @@ use emdstar_contact::{Impact, PairLaw, PairProperties};
 /// logarithm by 1e-7, within the table's accuracy); where the table's own extensions
 /// apply, or the impact is out of the box, it answers exactly as [`Table::lookup`].
 ///
-/// Immutable once built, `Send + Sync`: share it between threads.
+/// `T` holds the table: a `&Table` ([`Table::pair_table`]), or an owner such as
+/// `Arc<Table>` or [`SharedTable`](crate::SharedTable) ([`PairTable::new`]).
+/// Immutable once built, `Send + Sync` with its holder: share it between threads.
 #[derive(Debug, Clone)]
-pub struct PairTable<'t> {
-    table: &'t Table,
+pub struct PairTable<T: Deref<Target = Table>> {
+    table: T,
     map: PairMap,
     /// The restriction over (a, u); None where the pair's line misses the main piece or
     /// the table stores b through a knee map (then b is not affine in u).
     slice: Option<PatchSet>,
 }
 
-impl<'t> PairTable<'t> {
+impl<T: Deref<Target = Table>> PairTable<T> {
     /// Checks the law and the pair and restricts `table` to them.
-    pub fn new(table: &'t Table, law: &PairLaw, pair: &PairProperties) -> Result<Self, TableError> {
+    pub fn new(table: T, law: &PairLaw, pair: &PairProperties) -> Result<Self, TableError> {
         table.expect_model(law.model())?;
         let map = PairMap::new(law, pair)?;
         let slice = if table.b_map.knee == 0.0 {
-            restrict(table, &map)
+            restrict(&table, &map)
         } else {
             None
         };
@@ -56,8 +59,8 @@ impl<'t> PairTable<'t> {
     }
 
     /// The table this handle looks up.
-    pub fn table(&self) -> &'t Table {
-        self.table
+    pub fn table(&self) -> &Table {
+        &self.table
     }
 
     /// The pair's constants.

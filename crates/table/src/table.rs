@@ -308,7 +308,7 @@ impl Table {
         &self,
         law: &PairLaw,
         pair: &PairProperties,
-    ) -> Result<crate::PairTable<'_>, TableError> {
+    ) -> Result<crate::PairTable<&Table>, TableError> {
         crate::PairTable::new(self, law, pair)
     }
 
