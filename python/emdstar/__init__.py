@@ -22,6 +22,9 @@ second sphere of another size (``radius2=0`` means a flat wall). Every argument 
 number or an array; arrays broadcast like numpy's. Results are dicts of numpy arrays of
 the broadcast shape.
 
+For many impacts of one pair, ``t.pair(young=..., radius=..., ...)`` restricts the table
+to that pair once; its ``lookup(speed=..., eccentricity=...)`` is about twice as fast.
+
 Tables are immutable and may be shared between threads.
 """
 
@@ -31,7 +34,7 @@ import numpy as np
 
 from . import _core
 
-__all__ = ["Table", "mor", "mor_scaled", "collide", "run", "LAW_KEYS"]
+__all__ = ["Table", "PairTable", "mor", "mor_scaled", "collide", "run", "LAW_KEYS"]
 
 #: The law parameters of each model, in order.
 LAW_KEYS = {
@@ -130,8 +133,60 @@ class Table:
         cols = self._t.lookup(law, list(geometry), bool(exact_fallback))
         return _result(shape, cols, exact_fallback)
 
+    def pair(self, *, radius2=None, density2=None, **params) -> "PairTable":
+        """This table restricted to the impacts of one pair: the law's parameters and
+        ``radius``, ``density`` (``radius2``, ``density2``) as numbers, no ``speed`` or
+        ``eccentricity``. Built once (about a millisecond), its lookups take about half
+        the time of ``Table.lookup`` and agree with it to rounding (well within the
+        table's accuracy)."""
+        want = LAW_KEYS[self.model] + ("radius", "density")
+        missing = [k for k in want if k not in params]
+        extra = [k for k in params if k not in want]
+        if missing or extra:
+            raise TypeError(
+                f"a {self.model} pair takes the keywords {', '.join(want)} (and radius2, "
+                f"density2) as numbers; missing: {missing or 'none'}, unknown: {extra or 'none'}"
+            )
+        radius2 = params["radius"] if radius2 is None else radius2
+        density2 = params["density"] if density2 is None else density2
+        law = [float(params[k]) for k in LAW_KEYS[self.model]]
+        geometry = [float(params["radius"]), float(params["density"]), float(radius2), float(density2)]
+        return PairTable(self._t.pair(law, geometry))
+
     def __repr__(self):
         return f"emdstar.Table(model={self.model!r}, tolerance={self.tolerance:g})"
+
+
+class PairTable:
+    """A table restricted to one pair's impacts (``Table.pair``); immutable, shareable
+    between threads."""
+
+    def __init__(self, core):
+        self._p = core
+
+    @property
+    def patches(self) -> int:
+        """Two-dimensional patches of the restriction (0: lookups go through the full
+        table, e.g. for a pair without dissipation)."""
+        return self._p.patches
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes the restriction holds."""
+        return self._p.nbytes
+
+    def lookup(self, *, speed, eccentricity, exact_fallback: bool = False):
+        """MoR arrays of the pair's impacts (``speed``, ``eccentricity``: numbers or
+        arrays, broadcast); the same columns and errors as ``Table.lookup``."""
+        v, e = np.broadcast_arrays(np.asarray(speed, dtype=np.float64),
+                                   np.asarray(eccentricity, dtype=np.float64))
+        shape = v.shape
+        cols = self._p.lookup(np.ascontiguousarray(v.ravel()), np.ascontiguousarray(e.ravel()),
+                              bool(exact_fallback))
+        return _result(shape, cols, exact_fallback)
+
+    def __repr__(self):
+        return f"emdstar.PairTable(patches={self.patches})"
 
 
 def mor(*, model: str, radius2=None, density2=None, **params):

@@ -7,7 +7,7 @@ use emdstar_contact::{
     Vec3, ViscoelasticHertz, scale,
 };
 use emdstar_mor::rule::{Body, resolve};
-use emdstar_table::{PairMap, Table, TableError};
+use emdstar_table::{PairMap, PairTable, Table, TableError};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -114,23 +114,92 @@ impl PyTable {
         for i in 0..inputs.n {
             let (law, pair, impact) = inputs.case(model, i)?;
             let map = PairMap::new(&law, &pair).map_err(table_error)?;
-            match self.table.lookup_pair(&map, &impact) {
-                Ok(hit) => out.push(&hit.mor, hit.time, 0.0),
-                Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_))
-                    if exact_fallback =>
-                {
-                    let s = scale(&law, &pair, &impact).map_err(value_error)?;
-                    let m = emdstar_mor::solve(model, &s.params)
-                        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-                    out.push(&m, s.time, 1.0);
-                }
-                Err(e) => {
-                    return Err(PyValueError::new_err(format!("impact {i}: {e}")));
-                }
-            }
+            let hit = self.table.lookup_pair(&map, &impact);
+            out.push_lookup(i, hit, exact_fallback, model, &map, &impact)?;
         }
         Ok(out.into_arrays(py))
     }
+
+    /// This table restricted to one pair (`law`: the law's parameters; `geometry`:
+    /// radius, density, radius2, density2, scalars; radius2 = 0: a flat wall).
+    fn pair(&self, law: Vec<f64>, geometry: [f64; 4]) -> PyResult<PyPairTable> {
+        let (law, pair) = law_and_pair(self.table.model(), &law, geometry)?;
+        Ok(PyPairTable {
+            own: PairTable::new(self.table.clone(), &law, &pair).map_err(table_error)?,
+        })
+    }
+}
+
+/// A table restricted to the impacts of one pair (`emdstar_table::PairTable`):
+/// immutable, safe to share between threads.
+#[pyclass(frozen, name = "PairTable", module = "emdstar._core")]
+struct PyPairTable {
+    own: PairTable<TableRef>,
+}
+
+#[pymethods]
+impl PyPairTable {
+    /// MoR arrays of the pair's impacts (equal-length speed and eccentricity arrays),
+    /// in the columns of `Table.lookup`.
+    fn lookup<'py>(
+        &self,
+        py: Python<'py>,
+        speed: PyReadonlyArray1<'py, f64>,
+        eccentricity: PyReadonlyArray1<'py, f64>,
+        exact_fallback: bool,
+    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+        let (v, e) = (speed.as_slice()?, eccentricity.as_slice()?);
+        if v.len() != e.len() {
+            return Err(PyValueError::new_err("the input arrays differ in length"));
+        }
+        let model = self.own.table().model();
+        let mut out = Outputs::new(v.len());
+        for (i, (&v, &e)) in v.iter().zip(e).enumerate() {
+            let impact = Impact::from_speed_eccentricity(v, e).map_err(value_error)?;
+            let hit = self.own.lookup(&impact);
+            out.push_lookup(i, hit, exact_fallback, model, self.own.map(), &impact)?;
+        }
+        Ok(out.into_arrays(py))
+    }
+
+    /// Number of two-dimensional patches of the restriction (0: every lookup goes
+    /// through the full table).
+    #[getter]
+    fn patches(&self) -> usize {
+        self.own.patch_count()
+    }
+
+    /// Bytes the restriction holds.
+    #[getter]
+    fn nbytes(&self) -> usize {
+        self.own.bytes()
+    }
+}
+
+/// A law of `model` from its parameters and the pair of spheres (radius, density,
+/// radius2, density2; radius2 = 0: a flat wall).
+fn law_and_pair(
+    model: Model,
+    law: &[f64],
+    [r1, rho1, r2, rho2]: [f64; 4],
+) -> PyResult<(PairLaw, PairProperties)> {
+    let law = match (model, law.len()) {
+        (Model::Linear, 2) => {
+            ForceLaw::Linear(LinearDashpot::new(law[0], law[1]).map_err(value_error)?)
+        }
+        (Model::Hertz, 3) => {
+            ForceLaw::Hertz(ViscoelasticHertz::new(law[0], law[1], law[2]).map_err(value_error)?)
+        }
+        _ => return Err(PyValueError::new_err("wrong number of law parameters")),
+    };
+    let a = Sphere::from_density(r1, rho1).map_err(value_error)?;
+    let pair = if r2 == 0.0 {
+        PairProperties::sphere_wall(&a)
+    } else {
+        PairProperties::spheres(&a, &Sphere::from_density(r2, rho2).map_err(value_error)?)
+    };
+    let law = PairLaw::same_material(&law, pair.r_eff).map_err(value_error)?;
+    Ok((law, pair))
 }
 
 /// Equal-length input columns.
@@ -174,23 +243,8 @@ impl<'a> Inputs<'a> {
     /// Law, pair and impact of case `i` (radius2 = 0: a flat wall).
     fn case(&self, model: Model, i: usize) -> PyResult<(PairLaw, PairProperties, Impact)> {
         let [r1, rho1, r2, rho2, v, e] = self.cols.map(|c| c[i]);
-        let law = match (model, self.law.len()) {
-            (Model::Linear, 2) => ForceLaw::Linear(
-                LinearDashpot::new(self.law[0][i], self.law[1][i]).map_err(value_error)?,
-            ),
-            (Model::Hertz, 3) => ForceLaw::Hertz(
-                ViscoelasticHertz::new(self.law[0][i], self.law[1][i], self.law[2][i])
-                    .map_err(value_error)?,
-            ),
-            _ => return Err(PyValueError::new_err("wrong number of law parameters")),
-        };
-        let a = Sphere::from_density(r1, rho1).map_err(value_error)?;
-        let pair = if r2 == 0.0 {
-            PairProperties::sphere_wall(&a)
-        } else {
-            PairProperties::spheres(&a, &Sphere::from_density(r2, rho2).map_err(value_error)?)
-        };
-        let law = PairLaw::same_material(&law, pair.r_eff).map_err(value_error)?;
+        let law: Vec<f64> = self.law.iter().map(|c| c[i]).collect();
+        let (law, pair) = law_and_pair(model, &law, [r1, rho1, r2, rho2])?;
         let impact = Impact::from_speed_eccentricity(v, e).map_err(value_error)?;
         Ok((law, pair, impact))
     }
@@ -220,6 +274,30 @@ impl Outputs {
         ]) {
             c.push(x);
         }
+    }
+
+    /// Pushes impact `i`'s table answer, or with `exact_fallback` its exact solve where
+    /// the table does not answer; other errors name the impact.
+    fn push_lookup(
+        &mut self,
+        i: usize,
+        hit: Result<emdstar_table::PhysicalLookup, TableError>,
+        exact_fallback: bool,
+        model: Model,
+        map: &PairMap,
+        impact: &Impact,
+    ) -> PyResult<()> {
+        match hit {
+            Ok(hit) => self.push(&hit.mor, hit.time, 0.0),
+            Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) if exact_fallback => {
+                let s = scale(map.law(), map.pair(), impact).map_err(value_error)?;
+                let m = emdstar_mor::solve(model, &s.params)
+                    .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+                self.push(&m, s.time, 1.0);
+            }
+            Err(e) => return Err(PyValueError::new_err(format!("impact {i}: {e}"))),
+        }
+        Ok(())
     }
 
     fn into_arrays(self, py: Python<'_>) -> Vec<Bound<'_, PyArray1<f64>>> {
@@ -360,6 +438,7 @@ fn resolve_collisions<'py>(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     emdstar_hugepages::configure_from_env();
     m.add_class::<PyTable>()?;
+    m.add_class::<PyPairTable>()?;
     m.add_function(wrap_pyfunction!(exact, m)?)?;
     m.add_function(wrap_pyfunction!(exact_scaled, m)?)?;
     m.add_function(wrap_pyfunction!(resolve_collisions, m)?)?;

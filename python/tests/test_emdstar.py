@@ -26,6 +26,30 @@ def test_table_lookups_match_exact_solves():
         np.testing.assert_allclose(got["time_scale"], want["time_scale"], rtol=1e-12)
 
 
+def test_pair_tables_match_exact_solves_and_the_full_table():
+    for model, law in (("linear", LINEAR), ("hertz", HERTZ)):
+        t = emdstar.Table.default(model)
+        p = t.pair(**law)
+        assert p.patches > 0 and p.nbytes > 0
+        speed = np.geomspace(0.05, 5.0, 7)[:, None]
+        ecc = np.array([0.05, 0.3, 0.6, 0.9])
+        got = p.lookup(speed=speed, eccentricity=ecc)
+        want = emdstar.mor(model=model, speed=speed, eccentricity=ecc, **law)
+        full = t.lookup(speed=speed, eccentricity=ecc, **law)
+        assert got["eps_t"].shape == (7, 4)
+        for k in ("one_minus_eps_r", "eps_rdot", "eps_phi", "eps_t"):
+            assert np.abs(got[k] / want[k] - 1.0).max() < 2e-6, (model, k)
+            assert np.abs(np.log(got[k] / full[k])).max() < 1e-7, (model, k)
+        np.testing.assert_array_equal(got["time_scale"], full["time_scale"])
+    t = emdstar.Table.default("linear")
+    p = t.pair(**LINEAR)
+    with pytest.raises(ValueError, match="outside the table's box"):
+        p.lookup(speed=1e-5, eccentricity=0.1)
+    assert p.lookup(speed=1e-5, eccentricity=0.1, exact_fallback=True)["source"] == "exact"
+    with pytest.raises(TypeError, match="missing"):
+        t.pair(stiffness=1e5, radius=0.005, density=2500.0)
+
+
 def test_linear_central_impact_is_the_analytic_one():
     # Schwager & Poschel 2007: under-damped dashpot, the collision ends where the force
     # vanishes; eps_n = exp(-beta tau) with tau = (pi - atan(2 beta w / (w^2 - beta^2))) / w.
