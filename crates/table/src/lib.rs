@@ -29,8 +29,9 @@
 //! let s = Sphere::from_density(0.01, 1140.0)?;
 //! let pair = PairProperties::spheres(&s, &s);
 //! let law = PairLaw::same_material(&ForceLaw::Linear(LinearDashpot::new(2e4, 0.05)?), pair.r_eff)?;
-//! // Built once per pair and law; each lookup then costs only the impact's own work.
-//! let lookup = table.pair(&law, &pair)?;
+//! // Built once per pair and law (about a millisecond): the table restricted to the
+//! // pair's impacts, two-dimensional; each lookup then costs only the impact's own work.
+//! let lookup = table.pair_table(&law, &pair)?;
 //! let hit = lookup.lookup(&Impact::from_speed_eccentricity(1.0, 0.3)?)?;
 //! println!("eps_n = {}, tau = {} s", -hit.mor.eps_rdot, hit.mor.eps_t * hit.time);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
