@@ -114,7 +114,8 @@ impl PairMap {
         impact: &Impact,
     ) -> Result<(RectCoords, f64, f64), TableError> {
         let (v_n, v_t) = (impact.normal_speed, impact.tangential_speed);
-        if !(v_n > 0.0 && v_t >= 0.0 && v_n.is_finite() && v_t.is_finite()) {
+        // One branch (NaN fails every comparison).
+        if !((v_n > 0.0) & (v_t >= 0.0) & (v_n < f64::INFINITY) & (v_t < f64::INFINITY)) {
             return Err(TableError::Input(format!(
                 "the impact needs a finite normal speed > 0 and tangential speed >= 0, got \
                  {v_n} and {v_t}"
