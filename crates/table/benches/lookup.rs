@@ -119,6 +119,16 @@ fn bench(c: &mut Criterion<CpuTime>) {
                 })
             });
         }
+        // One pair's impacts (the gas) through its own table, built beforehand.
+        let cases = gas(&table, 1024, false);
+        let own = table.pair_table(&cases[0].0, &cases[0].1).unwrap();
+        let mut g = 0;
+        c.bench_function(&format!("{model}/table_lookup_pair_table_gas"), |b| {
+            b.iter(|| {
+                g = (g + 1) % cases.len();
+                black_box(own.lookup(black_box(&cases[g].2)).unwrap())
+            })
+        });
         let cases = impacts(&table, 1024, false);
         let scaled: Vec<ScaledParams> = cases
             .iter()
