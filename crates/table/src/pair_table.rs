@@ -128,6 +128,12 @@ enum Part {
     Node(usize),
 }
 
+/// Deepest restriction tree built (levels of top-cell blocks and splits): the shipped
+/// tables need about 20, a file's tree may be as deep as it has nodes. Deeper trees are
+/// not restricted (their pairs look up through the full table), so that building one
+/// never exhausts a thread's stack.
+const MAX_DEPTH: usize = 128;
+
 /// Builds the restriction of the main piece to the plane of the pair's impacts.
 struct Restriction<'a> {
     piece: &'a Piece,
@@ -137,6 +143,8 @@ struct Restriction<'a> {
     nodes: Vec<Node>,
     boxes: Vec<[[f64; 2]; 3]>,
     mono: Vec<[f64; NQ]>,
+    /// Set when a branch went deeper than [`MAX_DEPTH`].
+    too_deep: bool,
 }
 
 /// The table's main piece restricted to the plane of the pair of `map` (None where the
@@ -175,10 +183,14 @@ fn restrict(table: &Table, map: &PairMap) -> Option<PatchSet> {
         }],
         boxes: Vec::new(),
         mono: Vec::new(),
+        too_deep: false,
     };
     let cells = piece.parts().cells;
     let all = Part::Cells(std::array::from_fn(|k| [0, cells[k]]));
-    r.fill(0, all, range, u);
+    r.fill(0, all, range, u, 0);
+    if r.too_deep {
+        return None;
+    }
     let lo = [range[0][0], u[0], 0.0];
     let hi = [range[0][1], u[1], 0.0];
     let tree = Tree {
@@ -198,15 +210,19 @@ fn restrict(table: &Table, map: &PairMap) -> Option<PatchSet> {
 
 impl Restriction<'_> {
     /// Fills node `at` with the restriction of `part` (whose box is `bx`) to the
-    /// stretch `u` of the line inside it.
-    fn fill(&mut self, at: usize, part: Part, bx: [[f64; 2]; 3], u: [f64; 2]) {
+    /// stretch `u` of the line inside it; `depth` levels below the top.
+    fn fill(&mut self, at: usize, part: Part, bx: [[f64; 2]; 3], u: [f64; 2], depth: usize) {
+        if depth > MAX_DEPTH || self.too_deep {
+            self.too_deep = true;
+            return;
+        }
         match part {
             Part::Cells(block) => {
                 let Some(k) = (0..3).find(|&k| block[k][1] - block[k][0] > 1) else {
                     let cells = self.piece.parts().cells;
                     let cell = (block[0][0] * cells[1] + block[1][0]) * cells[2] + block[2][0];
                     let root = self.piece.parts().roots[cell];
-                    return self.fill(at, Part::Node(root), bx, u);
+                    return self.fill(at, Part::Node(root), bx, u, depth);
                 };
                 let mid = (block[k][0] + block[k][1]) / 2;
                 let [lo, hi] = self.piece.range()[k];
@@ -214,7 +230,8 @@ impl Restriction<'_> {
                 let (mut below, mut above) = (block, block);
                 below[k][1] = mid;
                 above[k][0] = mid;
-                self.split(at, k, split, Part::Cells(below), Part::Cells(above), bx, u);
+                let parts = (Part::Cells(below), Part::Cells(above));
+                self.split(at, k, split, parts, bx, u, depth + 1);
             }
             Part::Node(n) => {
                 let [axis, next] = self.piece.parts().tree[n];
@@ -223,37 +240,43 @@ impl Restriction<'_> {
                     return self.leaf(at, next, u);
                 }
                 let split = self.piece.parts().split[n];
-                let (below, above) = (Part::Node(next), Part::Node(next + 1));
-                self.split(at, axis as usize, split, below, above, bx, u);
+                let parts = (Part::Node(next), Part::Node(next + 1));
+                self.split(at, axis as usize, split, parts, bx, u, depth + 1);
             }
         }
     }
 
-    /// Fills node `at` with a split of axis `k` at `split` into `below` and `above`.
+    /// Fills node `at` with a split of axis `k` at `split` into `(below, above)`.
     #[allow(clippy::too_many_arguments)]
     fn split(
         &mut self,
         at: usize,
         k: usize,
         split: f64,
-        below: Part,
-        above: Part,
+        (below, above): (Part, Part),
         bx: [[f64; 2]; 3],
         u: [f64; 2],
+        depth: usize,
     ) {
         let (mut bx_below, mut bx_above) = (bx, bx);
         bx_below[k][1] = split;
         bx_above[k][0] = split;
         if k == 0 {
-            return self.fork(at, 0, split, (below, bx_below, u), (above, bx_above, u));
+            return self.fork(
+                at,
+                [0, depth],
+                split,
+                (below, bx_below, u),
+                (above, bx_above, u),
+            );
         }
         let line = self.line[k - 1];
         if line.slope == 0.0 {
             // The same test as a lookup's descent (x ≥ split: above).
             return if line.offset >= split {
-                self.fill(at, above, bx_above, u)
+                self.fill(at, above, bx_above, u, depth)
             } else {
-                self.fill(at, below, bx_below, u)
+                self.fill(at, below, bx_below, u, depth)
             };
         }
         let us = line.solve(split);
@@ -263,19 +286,21 @@ impl Restriction<'_> {
             ((above, bx_above), (below, bx_below))
         };
         if us <= u[0] {
-            self.fill(at, hi, bx_hi, u)
+            self.fill(at, hi, bx_hi, u, depth)
         } else if us >= u[1] {
-            self.fill(at, lo, bx_lo, u)
+            self.fill(at, lo, bx_lo, u, depth)
         } else {
-            self.fork(at, 1, us, (lo, bx_lo, [u[0], us]), (hi, bx_hi, [us, u[1]]));
+            let (lo, hi) = ((lo, bx_lo, [u[0], us]), (hi, bx_hi, [us, u[1]]));
+            self.fork(at, [1, depth], us, lo, hi);
         }
     }
 
-    /// Node `at` splits axis `axis` (0: a, 1: u) at `split` into two new children.
+    /// Node `at` splits axis `axis` (0: a, 1: u) at `split` into two new children, at
+    /// `depth`.
     fn fork(
         &mut self,
         at: usize,
-        axis: u8,
+        [axis, depth]: [usize; 2],
         split: f64,
         below: (Part, [[f64; 2]; 3], [f64; 2]),
         above: (Part, [[f64; 2]; 3], [f64; 2]),
@@ -285,11 +310,11 @@ impl Restriction<'_> {
         self.nodes.extend([leaf, leaf]);
         self.nodes[at] = Node {
             split,
-            axis,
+            axis: axis as u8,
             next: first as u32,
         };
-        self.fill(first, below.0, below.1, below.2);
-        self.fill(first + 1, above.0, above.1, above.2);
+        self.fill(first, below.0, below.1, below.2, depth);
+        self.fill(first + 1, above.0, above.1, above.2, depth);
     }
 
     /// Node `at` is the restriction of patch `patch` to the stretch `u` of the line.

@@ -147,6 +147,106 @@ fn lookups_evaluate_the_patch_polynomial_of_their_leaf() {
     assert_eq!(t.pieces()[0].patch_count(), 3);
 }
 
+/// The reference value of the hand-made main piece at (a, b, c): its three patches.
+fn main_piece_sum(x: &RectCoords) -> [f64; NQ] {
+    let r = bounds().axes();
+    let (a_mid, c_mid) = (0.5 * (r[0].min + r[0].max), 0.5 * (r[2].min + r[2].max));
+    let tb = local(x.b, r[1].min, r[1].max);
+    if x.a < a_mid {
+        let t = [
+            local(x.a, r[0].min, a_mid),
+            tb,
+            local(x.c, r[2].min, r[2].max),
+        ];
+        chebyshev_sum(0, 0, t)
+    } else if x.c < c_mid {
+        let t = [local(x.a, a_mid, r[0].max), tb, local(x.c, r[2].min, c_mid)];
+        chebyshev_sum(0, 1, t)
+    } else {
+        let t = [local(x.a, a_mid, r[0].max), tb, local(x.c, c_mid, r[2].max)];
+        chebyshev_sum(0, 2, t)
+    }
+}
+
+#[test]
+fn pair_tables_evaluate_the_patch_polynomials_on_the_pair_s_plane() {
+    use emdstar_contact::{ForceLaw, Impact, LinearDashpot, PairLaw, PairProperties, Sphere};
+    let t = table();
+    let r = bounds().axes();
+    let mut compared = 0;
+    for (k, gamma) in [(5e4, 0.05), (1e3, 0.3), (2e5, 2.0)] {
+        let s = Sphere::from_density(0.05, 1140.0).unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        let law = ForceLaw::Linear(LinearDashpot::new(k, gamma).unwrap());
+        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        let own = t.pair_table(&law, &pair).unwrap();
+        let map = emdstar_table::PairMap::new(&law, &pair).unwrap();
+        for v in [0.002, 0.03, 0.4, 3.0, 20.0] {
+            for e in [0.05, 0.3, 0.7, 0.95] {
+                let impact = Impact::from_speed_eccentricity(v, e).unwrap();
+                let (x, _) = map.coords(t.bounds(), &impact).unwrap();
+                let inside = x.a >= r[0].min && x.a <= r[0].max && x.c >= r[2].min;
+                if !(inside && x.c <= r[2].max && x.b >= r[1].min && x.b <= r[1].max) {
+                    continue;
+                }
+                assert!(own.patch_count() > 0);
+                let got = emdstar_table::mor_to_logs(&own.lookup(&impact).unwrap().mor);
+                let want = main_piece_sum(&x);
+                for q in 0..NQ {
+                    assert!(
+                        (got[q] - want[q]).abs() < 1e-8,
+                        "{x:?} q{q}: {got:?} {want:?}"
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    assert!(
+        compared >= 10,
+        "only {compared} impacts fell into the main piece"
+    );
+}
+
+#[test]
+fn a_tree_too_deep_to_restrict_leaves_pairs_to_the_full_table() {
+    use emdstar_contact::{ForceLaw, Impact, LinearDashpot, PairLaw, PairProperties, Sphere};
+    // A chain of splits along a, 20 000 deep: each node's lower child a patch.
+    let mut p = parts();
+    let r = bounds().axes();
+    let depth = 20_000;
+    let (mut tree, mut split) = (Vec::new(), Vec::new());
+    for j in 0..depth {
+        // Node 2j's children: 2j + 1 (its patch) and 2j + 2 (the next split).
+        let n = tree.len() as i64;
+        tree.extend([[0, n + 1], [LEAF, j as i64]]);
+        let s = r[0].min + (r[0].max - r[0].min) * (j + 1) as f64 / (depth + 1) as f64;
+        split.extend([s, 0.0]);
+    }
+    tree.push([LEAF, depth as i64]);
+    split.push(0.0);
+    let nt = terms(0).len();
+    p.main = PieceParts {
+        cells: [1, 1, 1],
+        roots: vec![0],
+        tree,
+        split,
+        cheb: (0..(depth + 1) * nt)
+            .map(|i| std::array::from_fn(|q| coef(i / nt, i % nt, q)))
+            .collect(),
+    };
+    let t = Table::from_parts(p).unwrap();
+    let s = Sphere::from_density(0.05, 1140.0).unwrap();
+    let pair = PairProperties::spheres(&s, &s);
+    let law = ForceLaw::Linear(LinearDashpot::new(5e4, 0.05).unwrap());
+    let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+    let own = t.pair_table(&law, &pair).unwrap();
+    assert_eq!(own.patch_count(), 0);
+    let impact = Impact::from_speed_eccentricity(0.4, 0.3).unwrap();
+    let full = t.lookup(&law, &pair, &impact);
+    assert_eq!(format!("{:?}", own.lookup(&impact)), format!("{full:?}"));
+}
+
 #[test]
 fn the_limits_are_exact_and_the_extensions_interpolate() {
     let t = table();
