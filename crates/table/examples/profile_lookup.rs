@@ -6,8 +6,9 @@
 //! ```
 //!
 //! MODE `table` (`Table::lookup` from physical parameters), `pair` (pair handles),
-//! `rect` (precomputed rectangular coordinates) or `none` (only the setup: subtract its
-//! count). 4096 impacts of the table's box, cycled. A fifth argument R times R rounds
+//! `own` (the pair table of the first impact's pair, for those of the impacts it
+//! answers), `rect` (precomputed rectangular coordinates) or `none` (only the setup:
+//! subtract its count). 4096 impacts of the table's box, cycled. A fifth argument R times R rounds
 //! instead (best of R, thread CPU time; MODE `one` repeats one impact).
 use emdstar_contact::scale;
 use emdstar_table::Table;
@@ -25,6 +26,12 @@ fn main() {
     let handles: Vec<_> = cases
         .iter()
         .map(|(l, p, i)| (table.pair(l, p).unwrap(), *i))
+        .collect();
+    let own = table.pair_table(&cases[0].0, &cases[0].1).unwrap();
+    let own_impacts: Vec<_> = cases
+        .iter()
+        .map(|c| c.2)
+        .filter(|i| own.lookup(i).is_ok())
         .collect();
     let rects: Vec<_> = cases
         .iter()
@@ -44,6 +51,10 @@ fn main() {
             "pair" => {
                 let (h, im) = &handles[i];
                 black_box(h.lookup(black_box(im))).unwrap().mor.eps_t
+            }
+            "own" => {
+                let im = &own_impacts[i % own_impacts.len()];
+                black_box(own.lookup(black_box(im))).unwrap().mor.eps_t
             }
             "rect" => {
                 black_box(table.lookup_rect(black_box(&rects[i])))
