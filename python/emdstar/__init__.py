@@ -46,18 +46,23 @@ _GEOMETRY = ("radius", "density", "speed", "eccentricity")
 _COLUMNS = ("one_minus_eps_r", "eps_r", "eps_rdot", "eps_phi", "eps_t", "time_scale", "source")
 
 
+def _check_keywords(what, want, params):
+    """Raises TypeError naming the missing and unknown keywords."""
+    missing = [k for k in want if k not in params]
+    extra = [k for k in params if k not in want]
+    if missing or extra:
+        raise TypeError(
+            f"{what} takes the keywords {', '.join(want)} (and radius2, density2); "
+            f"missing: {missing or 'none'}, unknown: {extra or 'none'}"
+        )
+
+
 def _columns(model, params, radius2, density2):
     """Checks the keywords and broadcasts every input to one shape."""
     if model not in LAW_KEYS:
         raise ValueError(f"unknown model {model!r}: expected 'linear' or 'hertz'")
     want = LAW_KEYS[model] + _GEOMETRY
-    missing = [k for k in want if k not in params]
-    extra = [k for k in params if k not in want]
-    if missing or extra:
-        raise TypeError(
-            f"the {model} model takes the keywords {', '.join(want)} "
-            f"(and radius2, density2); missing: {missing or 'none'}, unknown: {extra or 'none'}"
-        )
+    _check_keywords(f"the {model} model", want, params)
     radius2 = params["radius"] if radius2 is None else radius2
     density2 = params["density"] if density2 is None else density2
     arrays = [np.asarray(params[k], dtype=np.float64) for k in want]
@@ -140,13 +145,7 @@ class Table:
         the time of ``Table.lookup`` and agree with it to rounding (well within the
         table's accuracy)."""
         want = LAW_KEYS[self.model] + ("radius", "density")
-        missing = [k for k in want if k not in params]
-        extra = [k for k in params if k not in want]
-        if missing or extra:
-            raise TypeError(
-                f"a {self.model} pair takes the keywords {', '.join(want)} (and radius2, "
-                f"density2) as numbers; missing: {missing or 'none'}, unknown: {extra or 'none'}"
-            )
+        _check_keywords(f"a {self.model} pair (numbers)", want, params)
         radius2 = params["radius"] if radius2 is None else radius2
         density2 = params["density"] if density2 is None else density2
         law = [float(params[k]) for k in LAW_KEYS[self.model]]

@@ -1,6 +1,6 @@
 //! Lookups from physical parameters (the paper's direct forms of a, b and c) against
-//! the scaled route (scaling, then the rectangular map of emdstar-contact), on the
-//! shipped tables.
+//! the scaled route (scaling, then the rectangular map of emdstar-contact), and pair
+//! tables against the exact solver and the full table, on the shipped tables.
 
 use emdstar_contact::{
     ForceLaw, Impact, LinearDashpot, Model, PairLaw, PairProperties, Sphere, ViscoelasticHertz,
@@ -128,4 +128,147 @@ fn the_fallback_solves_out_of_box_impacts_and_counts_them() {
     assert_eq!(exact.time, sc.time);
     assert_eq!(counted.fallbacks(), 1);
     assert!(hit.mor.eps_rdot < 0.0);
+}
+
+/// A pair's own table (the restriction of a shipped table to one pair's impacts)
+/// against the exact solver, against the full table, and at its edges.
+mod pair_tables {
+    use super::*;
+    use emdstar_table::mor_to_logs;
+
+    /// A seeded generator (SplitMix64): log-uniform draws over a range.
+    struct Draw(u64);
+
+    impl Draw {
+        fn log_uniform(&mut self, r: [f64; 2]) -> f64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            let u = ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64;
+            (r[0].ln() + (r[1].ln() - r[0].ln()) * u).exp()
+        }
+    }
+
+    /// The value of the table's box parameter `name`, drawn log-uniformly.
+    fn draw(t: &Table, d: &mut Draw, name: &str) -> f64 {
+        let info = t.info();
+        let k = info.box_names.iter().position(|n| n == name).unwrap();
+        d.log_uniform(info.box_ranges[k])
+    }
+
+    /// A pair of equal spheres of the table's box, drawn at random.
+    fn random_pair(t: &Table, d: &mut Draw) -> (PairLaw, PairProperties) {
+        let law = match t.model() {
+            Model::Linear => ForceLaw::Linear(
+                LinearDashpot::new(draw(t, d, "stiffness"), draw(t, d, "damping")).unwrap(),
+            ),
+            Model::Hertz => ForceLaw::Hertz(
+                ViscoelasticHertz::new(
+                    draw(t, d, "young"),
+                    draw(t, d, "poisson"),
+                    draw(t, d, "dissipation"),
+                )
+                .unwrap(),
+            ),
+        };
+        let s = Sphere::from_density(draw(t, d, "radius"), draw(t, d, "density")).unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        (PairLaw::same_material(&law, pair.r_eff).unwrap(), pair)
+    }
+
+    fn random_impact(t: &Table, d: &mut Draw) -> Impact {
+        Impact::from_speed_eccentricity(draw(t, d, "speed"), draw(t, d, "eccentricity")).unwrap()
+    }
+
+    #[test]
+    fn pair_tables_agree_with_the_exact_solver_and_the_full_table() {
+        for model in [Model::Linear, Model::Hertz] {
+            let t = table(model);
+            let mut d = Draw(7);
+            let (mut answered, mut sliced) = (0, 0);
+            for _ in 0..12 {
+                let (law, pair) = random_pair(&t, &mut d);
+                let own = t.pair_table(&law, &pair).unwrap();
+                sliced += usize::from(own.patch_count() > 0);
+                for _ in 0..60 {
+                    let impact = random_impact(&t, &mut d);
+                    match (own.lookup(&impact), t.lookup(&law, &pair, &impact)) {
+                        (Ok(hit), Ok(full)) => {
+                            answered += 1;
+                            assert_eq!((hit.time, hit.length), (full.time, full.length));
+                            // Against the full table: the restriction is exact up to rounding.
+                            let (a, b) = (mor_to_logs(&hit.mor), mor_to_logs(&full.mor));
+                            for q in 0..4 {
+                                assert!(
+                                    (a[q] - b[q]).abs() < 1e-7,
+                                    "{model} {impact:?}: {a:?} {b:?}"
+                                );
+                            }
+                            // Against the exact solve: the table's accuracy, 1e-6 relative.
+                            let s = scale(&law, &pair, &impact).unwrap();
+                            let exact = emdstar_mor::solve(model, &s.params).unwrap();
+                            let e = mor_to_logs(&exact);
+                            for q in 0..4 {
+                                let rel = (a[q] - e[q]).abs();
+                                assert!(rel < 1e-6, "{model} {impact:?} component {q}: {rel:e}");
+                            }
+                        }
+                        (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+                        (a, b) => panic!("{model} {impact:?}: {a:?} against {b:?}"),
+                    }
+                }
+            }
+            assert!(
+                sliced >= 8,
+                "{model}: only {sliced} of 12 pairs were restricted"
+            );
+            assert!(answered > 500, "{model}: only {answered} impacts answered");
+        }
+    }
+
+    #[test]
+    fn a_pair_off_the_main_piece_looks_up_through_the_full_table() {
+        // No dissipation: c = −∞, the nearly elastic extension for every impact.
+        let t = table(Model::Linear);
+        let s = Sphere::from_density(0.01, 2500.0).unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        let law = ForceLaw::Linear(LinearDashpot::new(1e5, 0.0).unwrap());
+        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        let own = t.pair_table(&law, &pair).unwrap();
+        assert_eq!(own.patch_count(), 0);
+        for v in [0.1, 1.0] {
+            let impact = Impact::from_speed_eccentricity(v, 0.5).unwrap();
+            let full = t.lookup(&law, &pair, &impact).unwrap();
+            assert_eq!(own.lookup(&impact).unwrap(), full);
+            assert_eq!(full.mor.eps_r, 1.0);
+        }
+    }
+
+    #[test]
+    fn pair_tables_refuse_what_the_full_table_refuses() {
+        let t = table(Model::Hertz);
+        let s = Sphere::from_density(0.05, 1140.0).unwrap();
+        let pair = PairProperties::spheres(&s, &s);
+        let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-4).unwrap());
+        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        let own = t.pair_table(&law, &pair).unwrap();
+        assert!(own.patch_count() > 0);
+        // Faster than the box allows: out of the box, named as the full table names it.
+        let fast = Impact::from_speed_eccentricity(1e4, 0.5).unwrap();
+        let (a, b) = (own.lookup(&fast), t.lookup(&law, &pair, &fast));
+        assert!(matches!(a, Err(TableError::OutOfBox { .. })), "{a:?}");
+        assert_eq!(a.unwrap_err().to_string(), b.unwrap_err().to_string());
+        let bad = Impact {
+            normal_speed: f64::NAN,
+            tangential_speed: 0.0,
+        };
+        assert!(matches!(own.lookup(&bad), Err(TableError::Input(_))));
+        // A table of the other model is refused when the handle is built.
+        let linear = table(Model::Linear);
+        assert!(matches!(
+            linear.pair_table(&law, &pair),
+            Err(TableError::WrongModel { .. })
+        ));
+    }
 }
