@@ -2,8 +2,10 @@
 
 use crate::error::TableError;
 use crate::pair_map::PairMap;
+use crate::pair_table::PairTable;
 use crate::table::{PhysicalLookup, Table};
 use emdstar_contact::{Impact, Model, Mor, ScaledParams};
+use std::ops::Deref;
 
 /// Where a [`WithFallback`] answer came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,7 +58,29 @@ where
         map: &PairMap,
         impact: &Impact,
     ) -> Result<(PhysicalLookup, Source), TableError> {
-        match self.table.lookup_pair(map, impact) {
+        let hit = self.table.lookup_pair(map, impact);
+        self.or_solve(hit, map, impact)
+    }
+
+    /// [`WithFallback::lookup_pair`] through a pair table (of this fallback's table:
+    /// the exact solves use its model).
+    pub fn lookup_pair_table<T: Deref<Target = Table>>(
+        &self,
+        own: &PairTable<T>,
+        impact: &Impact,
+    ) -> Result<(PhysicalLookup, Source), TableError> {
+        self.table.expect_model(own.table().model)?;
+        self.or_solve(own.lookup(impact), own.map(), impact)
+    }
+
+    /// A table's answer, or the counted exact solve where the table does not answer.
+    fn or_solve(
+        &self,
+        hit: Result<PhysicalLookup, TableError>,
+        map: &PairMap,
+        impact: &Impact,
+    ) -> Result<(PhysicalLookup, Source), TableError> {
+        match hit {
             Ok(hit) => Ok((hit, Source::Table)),
             Err(TableError::OutOfBox { .. } | TableError::NotTabulated(_)) => {
                 self.fallbacks

@@ -128,6 +128,23 @@ fn the_fallback_solves_out_of_box_impacts_and_counts_them() {
     assert_eq!(exact.time, sc.time);
     assert_eq!(counted.fallbacks(), 1);
     assert!(hit.mor.eps_rdot < 0.0);
+    // The same through the pair's own table: the same exact solve, counted again.
+    let own = t.pair_table(&law, &pair).unwrap();
+    let (hit, source) = counted.lookup_pair_table(&own, &inside).unwrap();
+    assert_eq!(source, emdstar_table::Source::Table);
+    assert_eq!(hit, own.lookup(&inside).unwrap());
+    let (again, source) = counted.lookup_pair_table(&own, &slow).unwrap();
+    assert_eq!((source, again), (emdstar_table::Source::ExactSolve, exact));
+    assert_eq!(counted.fallbacks(), 2);
+    // A pair table of another model's table is refused.
+    let hertz = table(Model::Hertz);
+    let law_h = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-5).unwrap());
+    let law_h = PairLaw::same_material(&law_h, pair.r_eff).unwrap();
+    let own_h = hertz.pair_table(&law_h, &pair).unwrap();
+    assert!(matches!(
+        counted.lookup_pair_table(&own_h, &inside),
+        Err(TableError::WrongModel { .. })
+    ));
 }
 
 /// A pair's own table (the restriction of a shipped table to one pair's impacts)
