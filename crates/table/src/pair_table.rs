@@ -20,7 +20,7 @@
 use crate::error::TableError;
 use crate::pair_map::PairMap;
 use crate::patch_set::{LEAF_AXIS, Node, PatchSet, StartGrid, Tree, patch_frame};
-use crate::piece::Piece;
+use crate::piece::{Piece, top_cell_edge};
 use crate::poly::{NQ, Terms};
 use crate::table::{PhysicalLookup, Table, mor_from_logs};
 use emdstar_contact::{Impact, PairLaw, PairProperties};
@@ -83,16 +83,8 @@ impl<T: Deref<Target = Table>> PairTable<T> {
     #[inline]
     pub fn lookup(&self, impact: &Impact) -> Result<PhysicalLookup, TableError> {
         let (x, time, u) = self.map.coords_and_u(&self.table.bounds, impact)?;
-        let [ra, rb, rc] = self.table.rect;
-        // The main piece's domain, tested as `Table::logs_at` tests it.
-        let main = x.a >= ra.min
-            && x.a <= ra.max
-            && x.b >= rb.min
-            && x.b <= rb.max
-            && x.c >= rc.min
-            && x.c <= rc.max;
         let mor = match &self.slice {
-            Some(slice) if main => mor_from_logs(slice.eval([x.a, u, 0.0])),
+            Some(slice) if self.table.in_main_piece(&x) => mor_from_logs(slice.eval([x.a, u, 0.0])),
             _ => self.table.lookup_rect(&x)?,
         };
         Ok(PhysicalLookup {
@@ -226,7 +218,7 @@ impl Restriction<'_> {
                 };
                 let mid = (block[k][0] + block[k][1]) / 2;
                 let [lo, hi] = self.piece.range()[k];
-                let split = lo + (hi - lo) / self.piece.parts().cells[k] as f64 * mid as f64;
+                let split = top_cell_edge(lo, hi, self.piece.parts().cells[k], mid);
                 let (mut below, mut above) = (block, block);
                 below[k][1] = mid;
                 above[k][0] = mid;

@@ -3,9 +3,8 @@
 //! leaves (patches) carry a polynomial of bounded total degree in the patch's
 //! coordinates t ∈ [−1, 1]³.
 //!
-//! A lookup is O(1) to the top cell, a few steps down its tree (each one compare and
-//! one load from a small array), and one polynomial: the patch's coefficients are one
-//! contiguous block.
+//! A `Piece` checks what a file holds and evaluates through a
+//! [`PatchSet`](crate::patch_set::PatchSet), which says how a lookup finds its patch.
 
 use crate::error::TableError;
 use crate::patch_set::{LEAF_AXIS, Node, PatchSet, StartGrid, Tree};
@@ -30,6 +29,15 @@ pub struct PieceParts {
     /// tabulated (only where the piece allows it). Rounded to multiples of the table's
     /// quantum (as the file stores them).
     pub cheb: Vec<[f64; NQ]>,
+}
+
+/// Edge `idx` (0..=cells) of `cells` equal top cells over [lo, hi]: the last is hi.
+pub(crate) fn top_cell_edge(lo: f64, hi: f64, cells: usize, idx: usize) -> f64 {
+    if idx == cells {
+        hi
+    } else {
+        lo + (hi - lo) / cells as f64 * idx as f64
+    }
 }
 
 /// A validated piece, ready for lookups.
@@ -107,7 +115,6 @@ impl Piece {
         // children lie after their parent (so walks end), splits fall inside their box.
         let mut seen = vec![false; nn];
         let mut boxes: Vec<Option<[[f64; 2]; 3]>> = vec![None; np];
-        let width: [f64; 3] = std::array::from_fn(|k| (hi[k] - lo[k]) / parts.cells[k] as f64);
         let mut roots = Vec::with_capacity(ncells);
         for (cell, &root) in parts.roots.iter().enumerate() {
             let idx = [
@@ -116,13 +123,8 @@ impl Piece {
                 cell % parts.cells[2],
             ];
             let cell_box: [[f64; 2]; 3] = std::array::from_fn(|k| {
-                let a = lo[k] + width[k] * idx[k] as f64;
-                let b = if idx[k] + 1 == parts.cells[k] {
-                    hi[k]
-                } else {
-                    lo[k] + width[k] * (idx[k] + 1) as f64
-                };
-                [a, b]
+                let edge = |i| top_cell_edge(lo[k], hi[k], parts.cells[k], i);
+                [edge(idx[k]), edge(idx[k] + 1)]
             });
             if root >= nn {
                 return Err(bad(format!("root {root} of cell {cell} does not exist")));

@@ -362,6 +362,9 @@ impl Table {
     /// The four stored (log) quantities at rectangular coordinates.
     #[inline]
     pub fn logs_at(&self, x: &RectCoords) -> Result<[f64; NQ], TableError> {
+        if self.in_main_piece(x) {
+            return Ok(self.main.eval([x.a, self.b_map.w(x.b), x.c]));
+        }
         let [ra, rb, rc] = self.rect;
         let out = |axis, value: f64, r: Range| TableError::OutOfBox {
             axis,
@@ -378,12 +381,17 @@ impl Table {
         if x.c.is_nan() || x.c > rc.max {
             return Err(out("c", x.c, rc));
         }
-        let central = x.a < ra.min;
-        let elastic = x.c < rc.min;
-        if !(central || elastic) {
-            return Ok(self.main.eval([x.a, self.b_map.w(x.b), x.c]));
-        }
-        self.extension(x, central, elastic)
+        // Inside the box's upper ends but not the main piece: an extension.
+        self.extension(x, x.a < ra.min, x.c < rc.min)
+    }
+
+    /// Whether the main piece holds `x` (no extension, not out of the box; false for
+    /// NaN).
+    #[inline(always)]
+    pub(crate) fn in_main_piece(&self, x: &RectCoords) -> bool {
+        let [ra, rb, rc] = self.rect;
+        let within = |v: f64, r: Range| v >= r.min && v <= r.max;
+        within(x.a, ra) && within(x.b, rb) && within(x.c, rc)
     }
 
     /// The near-central and nearly elastic extensions (see [`Table`]).
