@@ -243,8 +243,15 @@ impl<'a> Inputs<'a> {
     /// Law, pair and impact of case `i` (radius2 = 0: a flat wall).
     fn case(&self, model: Model, i: usize) -> PyResult<(PairLaw, PairProperties, Impact)> {
         let [r1, rho1, r2, rho2, v, e] = self.cols.map(|c| c[i]);
-        let law: Vec<f64> = self.law.iter().map(|c| c[i]).collect();
-        let (law, pair) = law_and_pair(model, &law, [r1, rho1, r2, rho2])?;
+        // At most three law parameters, gathered without an allocation per impact.
+        let mut buffer = [0.0; 3];
+        let Some(law) = buffer.get_mut(..self.law.len()) else {
+            return Err(PyValueError::new_err("wrong number of law parameters"));
+        };
+        for (p, column) in law.iter_mut().zip(&self.law) {
+            *p = column[i];
+        }
+        let (law, pair) = law_and_pair(model, law, [r1, rho1, r2, rho2])?;
         let impact = Impact::from_speed_eccentricity(v, e).map_err(value_error)?;
         Ok((law, pair, impact))
     }
