@@ -1,5 +1,6 @@
 //! `emdstar bench edmd`: collisions per second of the event-driven engine.
 
+use super::engine::progress_bar;
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
@@ -10,6 +11,7 @@ use emdstar_edmd::{
 };
 use emdstar_engines::BroadPhaseChoice;
 use emdstar_system::{Domain, Particles, fcc_gas};
+use indicatif::ProgressBar;
 use serde_json::{Value, json};
 use std::time::Instant;
 
@@ -217,12 +219,20 @@ fn emdstar_gas(
     build.time(setup, physics, count / 4, count)
 }
 
-/// The best (highest rate) of `rounds` runs, with every round's rate under "rounds".
-fn best_of(rounds: usize, mut run: impl FnMut() -> Result<(f64, Value)>) -> Result<(f64, Value)> {
+/// The best (highest rate) of `rounds` runs, with every round's rate under "rounds";
+/// `bar` counts the runs and names the case.
+fn best_of(
+    rounds: usize,
+    bar: &ProgressBar,
+    case: String,
+    mut run: impl FnMut() -> Result<(f64, Value)>,
+) -> Result<(f64, Value)> {
+    bar.set_message(case);
     let mut best: Option<(f64, Value)> = None;
     let mut rates = vec![];
     for _ in 0..rounds {
         let (rate, v) = run()?;
+        bar.inc(1);
         rates.push(rate);
         if best.as_ref().is_none_or(|b| rate > b.0) {
             best = Some((rate, v));
@@ -231,6 +241,18 @@ fn best_of(rounds: usize, mut run: impl FnMut() -> Result<(f64, Value)>) -> Resu
     let (rate, mut v) = best.expect("at least one round");
     v["rounds"] = json!(rates);
     Ok((rate, v))
+}
+
+/// How many timed runs `a` asks for.
+fn runs_planned(a: &BenchEdmdArgs) -> u64 {
+    let (hs, star) = (!a.emdstar_only as usize, !a.hard_spheres_only as usize);
+    let cases = hs + star + hs * star + usize::from(a.scaling) * SCALING_CELLS.len() * (hs + star);
+    (cases * a.rounds) as u64
+}
+
+/// Prints a line of the report without tearing the progress bar.
+fn say(bar: &ProgressBar, line: String) {
+    bar.suspend(|| println!("{line}"));
 }
 
 fn cpu_rate(v: &Value) -> String {
@@ -258,19 +280,30 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.resort_every.is_some_and(|r| r.is_nan() || r < 0.0) {
         bail!("--resort-every must be ≥ 0 events per particle");
     }
+    // On stderr, drawn only on a terminal; it moves between runs, never within one.
+    let bar = progress_bar(
+        false,
+        runs_planned(a),
+        "{prefix} {bar:30} {pos}/{len} runs {elapsed} {msg}",
+    );
+    bar.set_prefix("bench edmd");
     let (hs_rate, hs) = if a.emdstar_only {
         (f64::NAN, Value::Null)
     } else {
-        best_of(a.rounds, || {
+        let case = format!("hard spheres, N = {}", 4 * a.hs_cells.pow(3));
+        best_of(a.rounds, &bar, case, || {
             hard_spheres(a.hs_cells, a.hs_eta, a.per_particle, build)
         })?
     };
     if !a.json && !a.emdstar_only {
-        println!(
-            "elastic hard spheres, N = {}, η = {}: {hs_rate:.3e} collisions/s{}",
-            hs["particles"],
-            a.hs_eta,
-            cpu_rate(&hs)
+        say(
+            &bar,
+            format!(
+                "elastic hard spheres, N = {}, η = {}: {hs_rate:.3e} collisions/s{}",
+                hs["particles"],
+                a.hs_eta,
+                cpu_rate(&hs)
+            ),
         );
     }
     let mut out = json!({ "hard_spheres": hs });
@@ -284,7 +317,8 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         })
     };
     if !a.hard_spheres_only {
-        let (rate, v) = best_of(a.rounds, || {
+        let case = format!("eMD* gas, N = {}", 4 * EMDSTAR_CELLS.pow(3));
+        let (rate, v) = best_of(a.rounds, &bar, case, || {
             emdstar_gas(EMDSTAR_CELLS, a.per_particle, mor_source()?, build)
         })?;
         // The same gas as hard spheres (same N, η and FCC start; units do not matter):
@@ -292,29 +326,39 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         let (same_rate, same) = if a.emdstar_only {
             (f64::NAN, Value::Null)
         } else {
-            best_of(a.rounds, || {
+            let case = "hard spheres, the eMD* gas".to_string();
+            best_of(a.rounds, &bar, case, || {
                 hard_spheres(EMDSTAR_CELLS, EMDSTAR_ETA, a.per_particle, build)
             })?
         };
         if !a.json {
-            println!(
-                "eMD* Hertz gas, N = {}, η = {EMDSTAR_ETA}, Y = 1 GPa ({} MoR): {rate:.3e} collisions/s{}",
-                v["particles"],
-                format!("{:?}", a.mor).to_lowercase(),
-                cpu_rate(&v),
+            say(
+                &bar,
+                format!(
+                    "eMD* Hertz gas, N = {}, η = {EMDSTAR_ETA}, Y = 1 GPa ({} MoR): {rate:.3e} collisions/s{}",
+                    v["particles"],
+                    format!("{:?}", a.mor).to_lowercase(),
+                    cpu_rate(&v),
+                ),
             );
             if !a.emdstar_only {
-                println!(
-                    "  hard spheres, same gas (N = {}, η = {EMDSTAR_ETA}): {same_rate:.3e} collisions/s{}",
-                    same["particles"],
-                    cpu_rate(&same)
+                say(
+                    &bar,
+                    format!(
+                        "  hard spheres, same gas (N = {}, η = {EMDSTAR_ETA}): {same_rate:.3e} collisions/s{}",
+                        same["particles"],
+                        cpu_rate(&same)
+                    ),
                 );
-                println!(
-                    "  eMD* is {:.2}× slower than hard spheres in the same gas, {:.2}× slower \
-                     than hard spheres at η = {}",
-                    same_rate / rate,
-                    hs_rate / rate,
-                    a.hs_eta
+                say(
+                    &bar,
+                    format!(
+                        "  eMD* is {:.2}× slower than hard spheres in the same gas, {:.2}× slower \
+                         than hard spheres at η = {}",
+                        same_rate / rate,
+                        hs_rate / rate,
+                        a.hs_eta
+                    ),
                 );
             }
         }
@@ -329,7 +373,8 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         for cells in SCALING_CELLS {
             let mut line = format!("  N = {:>8}:", 4 * cells.pow(3));
             if !a.emdstar_only {
-                let (rate, v) = best_of(a.rounds, || {
+                let case = format!("scaling: hard spheres, N = {}", 4 * cells.pow(3));
+                let (rate, v) = best_of(a.rounds, &bar, case, || {
                     hard_spheres(
                         cells,
                         a.hs_eta,
@@ -346,19 +391,23 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
             }
             if a.hard_spheres_only {
                 if !a.json {
-                    println!("{line}");
+                    say(&bar, line);
                 }
                 continue;
             }
-            let (star, w) = best_of(a.rounds, || {
+            let case = format!("scaling: eMD* gas, N = {}", 4 * cells.pow(3));
+            let (star, w) = best_of(a.rounds, &bar, case, || {
                 let per_particle = scaling_per_particle(a.per_particle, cells);
                 emdstar_gas(cells, per_particle, mor_source()?, build)
             })?;
             if !a.json {
                 let sep = if a.emdstar_only { "" } else { ";" };
-                println!(
-                    "{line}{sep} eMD* gas (η = {EMDSTAR_ETA}) {star:.3e} collisions/s{}",
-                    cpu_rate(&w)
+                say(
+                    &bar,
+                    format!(
+                        "{line}{sep} eMD* gas (η = {EMDSTAR_ETA}) {star:.3e} collisions/s{}",
+                        cpu_rate(&w)
+                    ),
                 );
             }
             emdstar_rows.push(w);
@@ -366,12 +415,13 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         if let Some(path) = &a.plot {
             scaling_plot(path, a.hs_eta, &rows, &emdstar_rows)?;
             if !a.json {
-                println!("wrote {}", path.display());
+                say(&bar, format!("wrote {}", path.display()));
             }
         }
         out["scaling"] = json!(rows);
         out["scaling_emdstar"] = json!(emdstar_rows);
     }
+    bar.finish_and_clear();
     if a.json {
         println!("{out}");
     }

@@ -1,4 +1,4 @@
-//! End-to-end tests of the event-driven commands (`emdstar check`).
+//! End-to-end tests of the event-driven commands (`emdstar check`, `emdstar bench edmd`).
 
 use crate::{emdstar_error, emdstar_json};
 
@@ -300,4 +300,36 @@ fn emd_runs_walton_friction_and_md_emdstar_and_the_hybrid_refuse_its_material() 
         star.contains("eMD*") && star.contains("--engine emd"),
         "{star}"
     );
+}
+
+#[test]
+fn bench_edmd_times_the_asked_collisions_and_keeps_every_round() {
+    // 4·4³ = 256 spheres, 2 collisions per particle: 256 pair collisions timed per round;
+    // stdout is the JSON alone (the progress bar draws only on a terminal).
+    let v = emdstar_json(&[
+        "bench",
+        "edmd",
+        "--hard-spheres-only",
+        "--hs-cells",
+        "4",
+        "--per-particle",
+        "2",
+        "--rounds",
+        "2",
+        "--json",
+    ]);
+    let hs = &v["hard_spheres"];
+    assert_eq!(hs["particles"], 256, "{v}");
+    assert_eq!(hs["collisions"], 256, "{v}");
+    let rounds = hs["rounds"].as_array().expect("rounds");
+    assert_eq!(rounds.len(), 2, "{v}");
+    let best = hs["collisions_per_second"].as_f64().unwrap();
+    assert!(rounds.iter().all(|r| r.as_f64().unwrap() <= best), "{v}");
+    assert!(best > 0.0 && best.is_finite(), "{v}");
+}
+
+#[test]
+fn bench_edmd_refuses_zero_rounds() {
+    let err = emdstar_error(&["bench", "edmd", "--rounds", "0"]);
+    assert!(err.contains("--rounds"), "{err}");
 }
