@@ -183,6 +183,9 @@ const EMDSTAR_CELLS: usize = 14;
 const EMDSTAR_ETA: f64 = 0.01;
 /// FCC cells per side of the scaling runs: N = 864 … 1 000 188.
 const SCALING_CELLS: [usize; 5] = [6, 10, 22, 46, 63];
+
+/// The largest --hs-cells: 4·500³ = 5·10⁸ spheres, within the 2²⁹ the epoch grid files.
+const MAX_HS_CELLS: usize = 500;
 /// Collisions each scaling run times at least: a few milliseconds at small N varied by
 /// half from run to run.
 const SCALING_MIN_COLLISIONS: f64 = 2e5;
@@ -266,8 +269,11 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     if a.per_particle.is_nan() || a.per_particle <= 0.0 {
         bail!("--per-particle must be positive");
     }
-    if a.hs_cells == 0 {
-        bail!("--hs-cells must be at least 1");
+    if !(1..=MAX_HS_CELLS).contains(&a.hs_cells) {
+        bail!(
+            "--hs-cells must be 1 to {MAX_HS_CELLS} (N = 4·cells³ up to {} spheres)",
+            4 * MAX_HS_CELLS.pow(3)
+        );
     }
     if a.rounds == 0 {
         bail!("--rounds must be at least 1");
@@ -290,7 +296,10 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
     let (hs_rate, hs) = if a.emdstar_only {
         (f64::NAN, Value::Null)
     } else {
-        let case = format!("hard spheres, N = {}", 4 * a.hs_cells.pow(3));
+        let case = format!(
+            "hard spheres, N = {}",
+            a.hs_cells.saturating_pow(3).saturating_mul(4)
+        );
         best_of(a.rounds, &bar, case, || {
             hard_spheres(a.hs_cells, a.hs_eta, a.per_particle, build)
         })?

@@ -329,7 +329,12 @@ fn bench_edmd_times_the_asked_collisions_and_keeps_every_round() {
 }
 
 #[test]
-fn bench_edmd_refuses_zero_rounds() {
+fn bench_edmd_refuses_zero_rounds_and_impossible_gases() {
     let err = emdstar_error(&["bench", "edmd", "--rounds", "0"]);
     assert!(err.contains("--rounds"), "{err}");
+    // 4·cells³ would overflow: refused before anything is built.
+    for cells in ["0", "100000000000"] {
+        let err = emdstar_error(&["bench", "edmd", "--hs-cells", cells]);
+        assert!(err.contains("--hs-cells must be 1 to"), "{err}");
+    }
 }
