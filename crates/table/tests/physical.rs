@@ -16,6 +16,14 @@ fn table(model: Model) -> Table {
     .unwrap()
 }
 
+/// Two equal spheres of `radius` and `density` under `law`: their pair law and
+/// properties.
+fn equal_spheres(law: &ForceLaw, radius: f64, density: f64) -> (PairLaw, PairProperties) {
+    let s = Sphere::from_density(radius, density).unwrap();
+    let pair = PairProperties::spheres(&s, &s);
+    (PairLaw::same_material(law, pair.r_eff).unwrap(), pair)
+}
+
 #[test]
 fn physical_and_scaled_lookups_agree() {
     for model in [Model::Linear, Model::Hertz] {
@@ -68,13 +76,8 @@ fn physical_and_scaled_lookups_agree() {
 #[test]
 fn bad_physical_input_is_an_error() {
     let t = table(Model::Hertz);
-    let s = Sphere::from_density(0.01, 1000.0).unwrap();
-    let pair = PairProperties::spheres(&s, &s);
-    let law = PairLaw::same_material(
-        &ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-5).unwrap()),
-        pair.r_eff,
-    )
-    .unwrap();
+    let hertz = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-5).unwrap());
+    let (law, pair) = equal_spheres(&hertz, 0.01, 1000.0);
     let receding = Impact {
         normal_speed: -1.0,
         tangential_speed: 0.0,
@@ -98,13 +101,8 @@ fn bad_physical_input_is_an_error() {
 #[test]
 fn the_fallback_solves_out_of_box_impacts_and_counts_them() {
     let t = table(Model::Linear);
-    let s = Sphere::from_density(0.005, 2500.0).unwrap();
-    let pair = PairProperties::spheres(&s, &s);
-    let law = PairLaw::same_material(
-        &ForceLaw::Linear(LinearDashpot::new(1e5, 0.1).unwrap()),
-        pair.r_eff,
-    )
-    .unwrap();
+    let linear = ForceLaw::Linear(LinearDashpot::new(1e5, 0.1).unwrap());
+    let (law, pair) = equal_spheres(&linear, 0.005, 2500.0);
     let map = emdstar_table::PairMap::new(&law, &pair).unwrap();
     let counted = emdstar_table::WithFallback::new(&t, |m, p| {
         emdstar_mor::solve(m, p).map_err(|e| e.to_string())
@@ -189,9 +187,7 @@ mod pair_tables {
                 .unwrap(),
             ),
         };
-        let s = Sphere::from_density(draw(t, d, "radius"), draw(t, d, "density")).unwrap();
-        let pair = PairProperties::spheres(&s, &s);
-        (PairLaw::same_material(&law, pair.r_eff).unwrap(), pair)
+        equal_spheres(&law, draw(t, d, "radius"), draw(t, d, "density"))
     }
 
     fn random_impact(t: &Table, d: &mut Draw) -> Impact {
@@ -248,10 +244,8 @@ mod pair_tables {
     fn a_pair_off_the_main_piece_looks_up_through_the_full_table() {
         // No dissipation: c = −∞, the nearly elastic extension for every impact.
         let t = table(Model::Linear);
-        let s = Sphere::from_density(0.01, 2500.0).unwrap();
-        let pair = PairProperties::spheres(&s, &s);
-        let law = ForceLaw::Linear(LinearDashpot::new(1e5, 0.0).unwrap());
-        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        let elastic = ForceLaw::Linear(LinearDashpot::new(1e5, 0.0).unwrap());
+        let (law, pair) = equal_spheres(&elastic, 0.01, 2500.0);
         let own = t.pair_table(&law, &pair).unwrap();
         assert_eq!(own.patch_count(), 0);
         for v in [0.1, 1.0] {
@@ -265,10 +259,8 @@ mod pair_tables {
     #[test]
     fn pair_tables_refuse_what_the_full_table_refuses() {
         let t = table(Model::Hertz);
-        let s = Sphere::from_density(0.05, 1140.0).unwrap();
-        let pair = PairProperties::spheres(&s, &s);
-        let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-4).unwrap());
-        let law = PairLaw::same_material(&law, pair.r_eff).unwrap();
+        let hertz = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.3, 1e-4).unwrap());
+        let (law, pair) = equal_spheres(&hertz, 0.05, 1140.0);
         let own = t.pair_table(&law, &pair).unwrap();
         assert!(own.patch_count() > 0);
         // Faster than the box allows: out of the box, named as the full table names it.
