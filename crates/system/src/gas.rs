@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// How a generated gas is placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Arrangement {
     /// Simple cubic lattice filling the box.
@@ -19,6 +19,7 @@ pub enum Arrangement {
     /// Face-centred cubic lattice of `count` = 4n³ sites, n unit cells per axis.
     Fcc,
     /// Uniformly random, without overlaps (random sequential addition).
+    #[default]
     Random,
 }
 
@@ -61,12 +62,6 @@ pub struct GasSpeciesConfig {
 pub struct GasKind {
     pub species: Species,
     pub count: usize,
-}
-
-impl Default for Arrangement {
-    fn default() -> Self {
-        Self::Random
-    }
 }
 
 /// The densest packing fraction of equal spheres, π/(3√2) (Kepler; Hales 2005).

@@ -43,8 +43,8 @@ impl Hybrid {
 
     /// The elastic energy of the TD springs (zero without friction).
     pub(crate) fn spring_energy(&self) -> f64 {
-        let (rot, p) = (self.rotation.as_ref(), &self.system.particles);
-        rot.map_or(0.0, |r: &Box<Rotation>| {
+        let p = &self.system.particles;
+        self.rotation.as_deref().map_or(0.0, |r: &Rotation| {
             r.spring_energy(&self.system.interactions, p)
         })
     }
