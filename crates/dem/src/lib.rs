@@ -42,30 +42,24 @@
 //! A half Verlet list with a skin, built from a cell grid, and rebuilt only when the
 //! particles may have moved by more than half the skin: the bound Σ_steps max|v|·dt,
 //! no per-particle displacement bookkeeping. On every rebuild the particles are sorted
-//! by cell, for locality.
+//! by cell, for locality. [`NeighbourList`] lists each pair once, under its higher
+//! index; on demand its upper part lists them under the lower one too (every
+//! neighbour of every particle, for the hybrid engine's bookkeeping).
 //!
-//! [`NeighbourList`] is the one list of the workspace. Its half layout
-//! ([`Layout::Half`]: each pair once, under its higher index) is MD's; its full layout
-//! ([`Layout::Full`]: each pair under both particles, those of higher index first, for
-//! particles in any order) is the hybrid engine's, whose event-driven part needs every
-//! neighbour of a particle. Both come from the same grid, cell stencil and cut-off
-//! test, and encode periodic images the same way ([`NeighbourList::split`]).
+//! # One driver, for all particles or a subset
+//! [`Verlet`] is MD's one driver: the steps above, the list and its rebuilds, over the
+//! particles of a [`Members`] set. [`Md`] is the driver over [`All`] particles, whose
+//! tests compile away. The hybrid engine's time-driven part is the same driver over
+//! its time-driven particles (a mask): pairs with a particle outside are left out (the
+//! hybrid has no mixed contacts), particles join with their forces at their velocities
+//! then ([`Verlet::add_forces_of`], as a run's first step) and leave without contacts
+//! ([`Verlet::release`]). With every particle a member, the hybrid runs the very
+//! arithmetic of MD.
 //!
-//! # Building blocks for other engines
-//! The time-driven part of the hybrid engine integrates a subset of the particles with
-//! this crate's code rather than a copy:
-//! - [`step_subset`]: one velocity-Verlet step of the particles listed, with the
-//!   operations of [`Md::advance`] by one step ([`kick_contacts`], [`kick_drift`], the kernel,
-//!   [`apply_contacts`]), velocities synchronised before and after, with or without
-//!   friction ([`SpinMotion`], [`Rotation`]). A filter on partners leaves out pairs with
-//!   particles that are not integrated (the hybrid's event-driven ones: no mixed
-//!   contacts).
-//! - [`ForceKernel::particle`], the force kernel (walls, then the partners it is given,
-//!   with predictor and touch correction), writing its contacts to any [`ForceSink`],
-//!   applied in order by [`apply_contacts`]. With h = 0 it gives the forces at the
-//!   current velocities, as at t = 0 (the hybrid's particles that switch to
-//!   time-driven).
-//! - [`ForceModel::add_elastic`] and [`elastic_energy`] for the thermo output.
+//! Other building blocks: [`ForceKernel::particle`], the force kernel (walls, then the
+//! partners it is given, with predictor and touch correction), writing its contacts to
+//! any [`ForceSink`], applied in order by [`apply_contacts`]; [`ForceModel::add_elastic`]
+//! and [`elastic_energy`] for the thermo output.
 //!
 //! # Determinism
 //! The force loop runs on rayon over fixed chunks of particles. Each chunk sets its
@@ -76,6 +70,7 @@
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
+mod driver;
 mod engine;
 mod forces;
 mod frictional;
@@ -84,19 +79,17 @@ mod options;
 mod simulation;
 mod verlet;
 
-pub use engine::{Md, check_and_wrap};
+pub use driver::{All, Members, Verlet, check_and_wrap};
+pub use engine::Md;
 pub use forces::{
     Accelerations, ContactKey, ContactRecord, ForceKernel, ForceModel, ForceSink, PairForce,
     Smooth, TangentialSlot, Touch, WALL, apply_contacts, elastic_energy, normal_force,
     touch_correction, unclipped_force,
 };
 pub use frictional::{ContactForce, Frictional, Rotation, Springs};
-pub use neighbour::{Layout, NeighbourList};
+pub use neighbour::NeighbourList;
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
     prepare_system, shortest_contact_time,
 };
-pub use verlet::{
-    ContactScratch, Motion, SpinMotion, StepBounds, kick_contacts, kick_drift, step_subset,
-    subset_contacts,
-};
+pub use verlet::{kick_contacts, kick_drift};

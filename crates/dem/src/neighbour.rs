@@ -1,5 +1,7 @@
-//! Verlet neighbour lists built from a cell grid, with periodic image codes, in the two
-//! layouts the engines need: half (MD) and full with an upper part (the hybrid).
+//! Verlet neighbour lists built from a cell grid, with periodic image codes: every
+//! pair once, under its higher index (MD's half list), and on demand the same pairs
+//! under their lower index (its upper part), which completes it to every neighbour of
+//! every particle (the hybrid engine's bookkeeping).
 
 use crate::options::MdError;
 use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
@@ -9,39 +11,32 @@ pub const INDEX_BITS: u32 = 27;
 /// Mask of the index bits.
 pub const INDEX_MASK: u32 = (1 << INDEX_BITS) - 1;
 
-/// Which pairs a list holds under which particle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
-pub enum Layout {
-    /// Every pair once, under its higher index, so that a single sweep in index order
-    /// meets each pair after both particles. Needs particles sorted by cell.
-    #[default]
-    Half,
-    /// Every pair under both particles, the neighbours of higher index first (the
-    /// upper part, [`NeighbourList::upper`]), for particles in any order.
-    Full,
-}
+/// The image code of the opposite shift: code = Σ_k (s_k + 1)·3^k for s_k ∈ {−1, 0, 1}.
+const MIRROR: u32 = 26;
 
 /// A Verlet list: every pair closer than R_i + R_j + skin, as entries
 /// `j | code << INDEX_BITS` under particle i, where `code` names the periodic image of
-/// j that is close ([`NeighbourList::split`] gives j and the image's shift). Under each
-/// particle the neighbours come in the order of the cells of
+/// j that is close ([`NeighbourList::split`] gives j and the image's shift). Each pair
+/// is listed once, under its higher index (a sweep in index order meets each pair after
+/// both particles), for particles sorted by cell ([`NeighbourList::sort_order`]); under
+/// each particle the neighbours come in the order of the cells of
 /// [`CellGrid::for_each_neighbour`] (full stencil), by index within a cell.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct NeighbourList {
-    layout: Layout,
     /// The entries of particle i are `entries[start[i]..start[i + 1]]`.
     pub(crate) start: Vec<u32>,
-    /// Full layout: the upper part of particle i ends at `upper_end[i]`.
-    upper_end: Vec<u32>,
     pub(crate) entries: Vec<u32>,
-    /// Scratch of a full build: the neighbours of lower index of one particle.
-    #[serde(skip)]
-    lower: Vec<u32>,
     pub(crate) shifts: [[f64; 3]; 27],
-    /// The link cells of the last build, binned with the positions it was given (for
-    /// the half layout: with the sorted order, so cell c holds `start..end` of
-    /// `cell_start`).
+    /// The link cells of the last build, binned with the sorted order (cell c holds
+    /// `cell_start[c]..cell_start[c + 1]`).
     pub grid: CellGrid,
+    /// The upper part, once built ([`NeighbourList::build_upper`]): the neighbours of
+    /// higher index of particle i are `upper_entries[upper_start[i]..upper_start[i +
+    /// 1]]`. Derived from the entries, so not saved.
+    #[serde(skip)]
+    upper_start: Vec<u32>,
+    #[serde(skip)]
+    upper_entries: Vec<u32>,
 }
 
 /// A non-empty cell next to the one being scanned: its particles
@@ -74,11 +69,7 @@ impl NeighbourList {
         let ranges = self.start.len() == n + 1
             && self.start.first() == Some(&0)
             && self.start.last().map(|&e| e as usize) == Some(self.entries.len())
-            && self.start.windows(2).all(|w| w[0] <= w[1])
-            && (self.upper_end.is_empty()
-                || self.upper_end.len() == n
-                    && (0..n)
-                        .all(|i| (self.start[i]..=self.start[i + 1]).contains(&self.upper_end[i])));
+            && self.start.windows(2).all(|w| w[0] <= w[1]);
         let entries = self
             .entries
             .iter()
@@ -88,16 +79,10 @@ impl NeighbourList {
             .ok_or_else(|| "the neighbour list does not cover the config's particles".into())
     }
 
-    /// The layout of the last build.
-    pub fn layout(&self) -> Layout {
-        self.layout
-    }
-
     /// Lays the grid over the box (or the particles' bounding box in free space) with
-    /// cells at least `min_cell` wide and, if `per_cell` > 0, about `per_cell`
-    /// particles each, bins `positions` and sets the image shifts. Errors if a periodic
-    /// axis holds fewer than 3 cells of `min_cell` (a pair could then meet through two
-    /// images).
+    /// cells at least `min_cell` wide and about `per_cell` particles each, bins
+    /// `positions` and sets the image shifts. Errors if a periodic axis holds fewer than
+    /// 3 cells of `min_cell`.
     fn lay_grid(
         &mut self,
         positions: &[[f64; 3]],
@@ -112,12 +97,8 @@ impl NeighbourList {
                 (lo, extent, [false; 3])
             }
         };
-        let cell = if per_cell > 0.0 {
-            let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
-            min_cell.max((per_cell * volume / positions.len().max(1) as f64).cbrt())
-        } else {
-            min_cell
-        };
+        let volume: f64 = extent.iter().map(|e| e.max(min_cell)).product();
+        let cell = min_cell.max((per_cell * volume / positions.len().max(1) as f64).cbrt());
         let mut grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
         if let Some(b) = sim_box {
             let grid_min = CellGrid::new(lo, extent, periodic, min_cell);
@@ -144,13 +125,8 @@ impl NeighbourList {
 
     /// Writes the non-empty cells next to cell `c` (itself included) to `cells`, in the
     /// order of [`CellGrid::for_each_neighbour`], and returns their number.
-    ///
-    /// `HALF` names the build that asks. It changes nothing but gives each build its
-    /// own copy of the stencil walk, which the compiler then inlines into it; a copy
-    /// shared by both builds is not inlined and costs MD's rebuilds about 1 % more
-    /// instructions.
     #[inline]
-    fn near<const HALF: bool>(&self, c: [usize; 3], cells: &mut [Near; 27]) -> usize {
+    fn near(&self, c: [usize; 3], cells: &mut [Near; 27]) -> usize {
         let grid = &self.grid;
         let mut n = 0;
         grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
@@ -173,10 +149,11 @@ impl NeighbourList {
         n
     }
 
-    /// Lays a grid as [`Self::build_full`] does, with cells of about `per_cell`
-    /// particles (never narrower than `min_cell`), and returns the particle order that
-    /// sorts the particles by cell. Permute the particles with it, then call
-    /// [`Self::build_half`].
+    /// Lays a grid over the box (or the particles' bounding box in free space) with
+    /// cells of about `per_cell` particles, never narrower than `min_cell`, and returns
+    /// the particle order that sorts the particles by cell. Permute the particles with
+    /// it, then call [`Self::build_half`]. Errors if a periodic axis holds fewer than 3
+    /// cells of `min_cell` (a pair could then meet through two images).
     pub fn sort_order(
         &mut self,
         positions: &[[f64; 3]],
@@ -196,10 +173,10 @@ impl NeighbourList {
     /// Builds the half layout with cut-off R_i + R_j + `skin` for particles sorted by
     /// [`Self::sort_order`] (`positions` in that order).
     pub fn build_half(&mut self, positions: &[[f64; 3]], radius: &[f64], skin: f64) {
-        self.layout = Layout::Half;
         self.start.clear();
         self.entries.clear();
-        self.upper_end.clear();
+        self.upper_start.clear();
+        self.upper_entries.clear();
         self.start.push(0);
         let dims = self.grid.dims;
         for c_index in 0..self.grid.len() {
@@ -218,7 +195,7 @@ impl NeighbourList {
             // The full stencil, keeping j < i: a half stencil would list some pairs
             // that meet through a periodic wrap under their lower index.
             let mut cells = [Near::default(); 27];
-            let n_cells = self.near::<true>(c, &mut cells);
+            let n_cells = self.near(c, &mut cells);
             for i in a..b {
                 let (xi, ri) = (positions[i], radius[i] + skin);
                 for near in &cells[..n_cells] {
@@ -234,81 +211,59 @@ impl NeighbourList {
         }
     }
 
-    /// Bins `positions` (already wrapped into the box, in any order) into cells at
-    /// least `min_cell` wide and builds the full layout with cut-off R_i + R_j +
-    /// `skin`. Errors as [`Self::sort_order`].
-    pub fn build_full(
-        &mut self,
-        positions: &[[f64; 3]],
-        radius: &[f64],
-        sim_box: Option<&SimBox>,
-        min_cell: f64,
-        skin: f64,
-    ) -> Result<(), MdError> {
-        self.lay_grid(positions, sim_box, min_cell, 0.0)?;
-        self.layout = Layout::Full;
-        self.start.clear();
-        self.entries.clear();
-        self.upper_end.clear();
-        self.start.push(0);
-        // In particle order: dilute grids have far more cells than particles.
-        let mut last_cell = usize::MAX;
-        let (mut cells, mut n_cells) = ([Near::default(); 27], 0);
-        for (i, &xi) in positions.iter().enumerate() {
-            let c = self.grid.coords(xi);
-            let index = self.grid.index(c);
-            if index != last_cell {
-                n_cells = self.near::<false>(c, &mut cells);
-                last_cell = index;
-            }
-            let ri = radius[i] + skin;
-            self.lower.clear();
-            for near in &cells[..n_cells] {
-                for &j in &self.grid.cell_items[near.first..near.end] {
-                    let j = j as usize;
-                    if j != i && within(xi, positions[j], near.shift, ri + radius[j]) {
-                        let entry = j as u32 | near.code;
-                        if j > i {
-                            self.entries.push(entry);
-                        } else {
-                            self.lower.push(entry);
-                        }
-                    }
-                }
-            }
-            self.upper_end.push(self.entries.len() as u32);
-            self.entries.extend_from_slice(&self.lower);
-            self.start.push(self.entries.len() as u32);
+    /// Builds the upper part from the half list (in O(pairs), no distance is
+    /// computed): under each particle its neighbours of higher index, each pair's image
+    /// code turned to the opposite shift.
+    pub fn build_upper(&mut self) {
+        let n = self.start.len().saturating_sub(1);
+        self.upper_start.clear();
+        self.upper_start.resize(n + 1, 0);
+        for &e in &self.entries {
+            self.upper_start[(e & INDEX_MASK) as usize + 1] += 1;
         }
-        Ok(())
+        for i in 0..n {
+            self.upper_start[i + 1] += self.upper_start[i];
+        }
+        self.upper_entries.clear();
+        self.upper_entries.resize(self.entries.len(), 0);
+        let mut fill: Vec<u32> = self.upper_start[..n].to_vec();
+        for i in 0..n {
+            for &e in &self.entries[self.start[i] as usize..self.start[i + 1] as usize] {
+                let j = (e & INDEX_MASK) as usize;
+                let code = MIRROR - (e >> INDEX_BITS);
+                self.upper_entries[fill[j] as usize] = i as u32 | code << INDEX_BITS;
+                fill[j] += 1;
+            }
+        }
     }
 
-    /// The entries of particle i: its neighbours of lower index (half layout) or all
-    /// its neighbours, those of higher index first (full layout).
+    /// Whether the upper part is built for the current list.
+    pub fn has_upper(&self) -> bool {
+        self.upper_start.len() == self.start.len()
+    }
+
+    /// The entries of particle i: its neighbours of lower index (each pair once).
     #[inline]
     pub fn of(&self, i: usize) -> &[u32] {
         &self.entries[self.start[i] as usize..self.start[i + 1] as usize]
     }
 
-    /// The entries of particle i with a higher index (none in the half layout).
+    /// The neighbours of higher index of particle i (empty until
+    /// [`Self::build_upper`]).
     #[inline]
     pub fn upper(&self, i: usize) -> &[u32] {
-        let a = self.start[i] as usize;
-        let b = match self.layout {
-            Layout::Half => a,
-            Layout::Full => self.upper_end[i] as usize,
-        };
-        &self.entries[a..b]
+        match self.upper_start.get(i + 1) {
+            Some(&end) => &self.upper_entries[self.upper_start[i] as usize..end as usize],
+            None => &[],
+        }
     }
 
-    /// The entries of particle i such that every pair is listed under one of its two
-    /// particles only: [`Self::of`] in the half layout, [`Self::upper`] in the full.
+    /// Every neighbour of particle i, those of lower index first (the upper part must
+    /// be built).
     #[inline]
-    pub fn once(&self, i: usize) -> &[u32] {
-        match self.layout {
-            Layout::Half => self.of(i),
-            Layout::Full => self.upper(i),
-        }
+    pub fn neighbours(&self, i: usize) -> impl Iterator<Item = u32> + '_ {
+        debug_assert!(self.has_upper(), "the upper part is not built");
+        self.of(i).iter().chain(self.upper(i)).copied()
     }
 
     /// Splits an entry into the neighbour and its image shift.
@@ -360,8 +315,26 @@ mod tests {
             .collect()
     }
 
+    /// The list of `x` (wrapped into `b`) as MD builds it (with cells of about
+    /// `per_cell` particles), with its upper part, and the order it sorted them in.
+    fn sorted_list(
+        x: &[[f64; 3]],
+        r: &[f64],
+        b: &SimBox,
+        (min_cell, per_cell): (f64, f64),
+        skin: f64,
+    ) -> (NeighbourList, Vec<u32>) {
+        let mut list = NeighbourList::default();
+        let order = list.sort_order(x, Some(b), min_cell, per_cell).unwrap();
+        let xs: Vec<[f64; 3]> = order.iter().map(|&k| x[k as usize]).collect();
+        let rs: Vec<f64> = order.iter().map(|&k| r[k as usize]).collect();
+        list.build_half(&xs, &rs, skin);
+        list.build_upper();
+        (list, order)
+    }
+
     #[test]
-    fn both_layouts_hold_exactly_the_close_pairs_of_a_brute_force_search() {
+    fn the_list_and_its_upper_part_hold_exactly_the_close_pairs_of_a_brute_force_search() {
         for periodic in [[true; 3], [false; 3], [true, false, true]] {
             let b = SimBox {
                 lo: [0.0; 3],
@@ -376,65 +349,43 @@ mod tests {
             want.sort_unstable();
             assert!(want.len() > 100, "{}", want.len());
 
-            let mut full = NeighbourList::default();
-            full.build_full(&x, &r, Some(&b), min_cell, skin).unwrap();
-            let mut got = Vec::new();
-            for i in 0..x.len() {
-                for &e in full.upper(i) {
-                    let (j, _) = full.split(e);
-                    assert!(j > i);
-                    assert!(full.of(j).iter().any(|&f| full.split(f).0 == i));
-                    got.push((i, j));
-                }
-                assert_eq!(full.once(i), full.upper(i));
-                assert!(
-                    full.of(i)[full.upper(i).len()..]
-                        .iter()
-                        .all(|&e| full.split(e).0 < i)
-                );
-            }
-            got.sort_unstable();
-            assert_eq!(got, want, "full, periodic {periodic:?}");
-
-            let mut half = NeighbourList::default();
-            let order = half.sort_order(&x, Some(&b), min_cell, 2.0).unwrap();
+            let (list, order) = sorted_list(&x, &r, &b, (min_cell, 2.0), skin);
             let xs: Vec<[f64; 3]> = order.iter().map(|&k| x[k as usize]).collect();
-            let rs: Vec<f64> = order.iter().map(|&k| r[k as usize]).collect();
-            half.build_half(&xs, &rs, skin);
-            let mut got = Vec::new();
+            let (mut lower, mut upper) = (Vec::new(), Vec::new());
             for i in 0..xs.len() {
-                assert!(half.upper(i).is_empty());
-                for &e in half.once(i) {
-                    let (j, _) = half.split(e);
-                    assert!(j < i);
+                for (e, below) in list.neighbours(i).map(|e| (e, list.of(i).contains(&e))) {
+                    let (j, s) = list.split(e);
+                    // The image named is the close one, seen from either side.
+                    assert!(within(xs[i], xs[j], s, r[order[i] as usize] + r[order[j] as usize] + skin));
+                    assert_eq!(below, j < i, "{i} {j}");
                     let (a, b) = (order[i] as usize, order[j] as usize);
-                    got.push((a.min(b), a.max(b)));
+                    if below { &mut lower } else { &mut upper }.push((a.min(b), a.max(b)));
                 }
             }
-            got.sort_unstable();
-            assert_eq!(got, want, "half, periodic {periodic:?}");
+            lower.sort_unstable();
+            upper.sort_unstable();
+            assert_eq!(lower, want, "each pair under its higher index, periodic {periodic:?}");
+            assert_eq!(upper, want, "each pair under its lower index, periodic {periodic:?}");
         }
     }
 
     #[test]
-    fn the_full_list_holds_every_close_pair_twice_across_periodic_faces() {
+    fn the_upper_part_names_the_image_across_a_periodic_face_from_the_other_side() {
         let b = SimBox {
             lo: [0.0; 3],
             size: [3.0, 3.0, 3.0],
             periodic: [true; 3],
         };
         let x = [[0.05, 1.5, 1.5], [2.95, 1.5, 1.5], [1.5, 1.5, 1.5]];
-        let mut list = NeighbourList::default();
-        list.build_full(&x, &[0.1; 3], Some(&b), 1.0, 0.05).unwrap();
-        assert_eq!(list.of(0).len(), 1);
-        assert_eq!(list.of(1).len(), 1);
-        assert!(list.of(2).is_empty());
-        let (j, s) = list.split(list.of(0)[0]);
-        assert_eq!(j, 1);
-        assert_eq!(s, [-3.0, 0.0, 0.0]);
-        let (i, s) = list.split(list.of(1)[0]);
-        assert_eq!(i, 0);
-        assert_eq!(s, [3.0, 0.0, 0.0]);
+        let (list, order) = sorted_list(&x, &[0.1; 3], &b, (1.0, 2.0), 0.05);
+        let at = |id: u32| order.iter().position(|&k| k == id).unwrap();
+        let (p0, p1) = (at(0), at(1));
+        let from = |i: usize| -> Vec<(usize, [f64; 3])> {
+            list.neighbours(i).map(|e| list.split(e)).collect()
+        };
+        assert_eq!(from(p0), vec![(p1, [-3.0, 0.0, 0.0])]);
+        assert_eq!(from(p1), vec![(p0, [3.0, 0.0, 0.0])]);
+        assert!(from(at(2)).is_empty());
     }
 
     #[test]
@@ -457,14 +408,17 @@ mod tests {
             [1.4, 2e8, 1.5],
         ];
         let r = [0.1; 7];
-        let mut list = NeighbourList::default();
-        list.build_full(&x, &r, Some(&b), 1.0, 0.05).unwrap();
+        // Cells as narrow as allowed (the budget, not the particles per cell, bounds them).
+        let (list, order) = sorted_list(&x, &r, &b, (1.0, 1e-30), 0.05);
         let g = &list.grid;
         assert!(g.dims[0] == 3 && g.dims[2] == 3, "{:?}", g.dims);
         assert!(g.len() as f64 <= sparse_cell_limit(x.len()), "{:?}", g.dims);
         let mut got: Vec<(usize, usize)> = (0..x.len())
-            .flat_map(|i| list.upper(i).iter().map(move |&e| (i, e)))
-            .map(|(i, e)| (i, list.split(e).0))
+            .flat_map(|i| list.of(i).iter().map(move |&e| (i, e)))
+            .map(|(i, e)| {
+                let (a, b) = (order[i] as usize, order[list.split(e).0] as usize);
+                (a.min(b), a.max(b))
+            })
             .collect();
         got.sort_unstable();
         let mut want = brute_force(&x, &r, &b, 0.05);
@@ -479,7 +433,7 @@ mod tests {
             periodic: [true; 3],
         };
         let mut list = NeighbourList::default();
-        list.build_full(&[[971.0, 1.0, 1.0]], &[4.8e-62], Some(&b), 1e-61, 1e-62)
+        list.sort_order(&[[971.0, 1.0, 1.0]], Some(&b), 1e-61, 1e-30)
             .unwrap();
         assert!(
             list.grid.len() as f64 <= sparse_cell_limit(1),
@@ -497,7 +451,7 @@ mod tests {
         };
         let mut list = NeighbourList::default();
         let err = list
-            .build_full(&[[1.0; 3]], &[0.1], Some(&b), 1.0, 0.05)
+            .sort_order(&[[1.0; 3]], Some(&b), 1.0, 2.0)
             .unwrap_err();
         assert!(
             matches!(err, MdError::BoxTooSmall { axis: "x", .. }),

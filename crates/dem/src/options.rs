@@ -32,7 +32,7 @@ impl std::str::FromStr for ContactEnd {
 }
 
 /// Options of the MD engine.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MdOptions {
     /// Time step in s; must not exceed [`MAX_DT_FRACTION`] × the shortest expected
     /// contact time.

@@ -15,6 +15,9 @@ mod check;
 /// Sentinel for "no particle".
 pub const NONE: u32 = u32::MAX;
 
+/// The cell coordinates of a particle filed in no cell (see [`LinkedCells::take_out`]).
+pub const OUTSIDE: [u32; 3] = [NONE; 3];
+
 /// The automatic cell width for `n` particles in `volume` whose largest contact
 /// distance is `max_contact`: at least that, and about half the mean spacing
 /// (V/N)^(1/3) in a dilute gas, where a few more pair tests buy far fewer crossings
@@ -235,15 +238,34 @@ impl LinkedCells {
     }
 
     /// Renumbers the particles so that new number k is old number `order[k]`, and
-    /// lists every cell in increasing number.
+    /// lists every cell in increasing number (particles filed in no cell stay so).
     pub fn renumber(&mut self, order: &[u32]) {
         let mut coords = Vec::new();
         crate::state::permute(&mut self.coords, order, &mut coords);
         self.head.iter_mut().for_each(|h| *h = NONE);
         for i in (0..self.coords.len()).rev() {
             let c = self.coords[i];
-            self.insert(i, c);
+            if c != OUTSIDE {
+                self.insert(i, c);
+            }
         }
+    }
+
+    /// Takes particle `i` out of its cell and files it in none (coordinates
+    /// [`OUTSIDE`]) until it is inserted again.
+    pub fn take_out(&mut self, i: usize) {
+        if self.is_filed(i) {
+            self.remove(i);
+        }
+        self.next[i] = NONE;
+        self.prev[i] = NONE;
+        self.coords[i] = OUTSIDE;
+    }
+
+    /// Whether particle `i` is filed in a cell.
+    #[inline]
+    pub fn is_filed(&self, i: usize) -> bool {
+        self.coords[i] != OUTSIDE
     }
 
     /// Takes particle `i` out of its cell.

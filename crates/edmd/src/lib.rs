@@ -79,7 +79,7 @@ mod sweep;
 pub use auto::Engine;
 pub use broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 pub use calendar::CalendarQueue;
-pub use engine::{Event, EventEngine};
+pub use engine::{Event, EventEngine, EventHooks, NoHooks};
 pub use error::{EngineError, Result};
 pub use physics::{BroadPhaseKind, Interference, Physics};
 pub use queue::{EventQueue, IndexedHeap};

@@ -51,7 +51,7 @@ impl BroadPhaseKind {
 
 /// eMD* exception (b): which pending E^v events run early when a third particle hits
 /// a particle in its transient (Müller & Pöschel 2013, Sec. VI B 5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Interference {
     /// Only the particle that is hit (the paper's default; breaks angular momentum
     /// conservation by a tiny amount).

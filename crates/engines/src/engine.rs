@@ -2,7 +2,7 @@
 //! simulation interface.
 
 use crate::options::{EngineKind, EngineOptions};
-use crate::setup::{event_engine, md_options, mor_source};
+use crate::setup::{event_engine, interference, md_options, mor_source};
 use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, Md};
 use emdstar_hybrid::{Hybrid, HybridOptions};
@@ -50,7 +50,8 @@ impl AnyEngine {
                     phi_time: h.phi_time,
                     phi_event: h.phi_event,
                     max_events_per_step: h.max_events_per_step,
-                    cells: !h.no_cells,
+                    events: h.events.into(),
+                    interference: interference(options.edmd.interference),
                     ..HybridOptions::with_dt(md.dt)
                 };
                 let mor = mor_source(&system, &options.edmd)?;

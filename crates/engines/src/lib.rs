@@ -27,7 +27,8 @@ mod setup;
 
 pub use engine::AnyEngine;
 pub use options::{
-    BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, HybridChoice, InterferenceChoice,
+    BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, EventsChoice, HybridChoice,
+    InterferenceChoice,
     MdChoice, MorChoice, parse_engine,
 };
 pub use setup::{event_engine, md_options, mor_source};

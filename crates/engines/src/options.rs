@@ -150,7 +150,7 @@ pub struct EventChoice {
     /// eMD*: a MoR table file instead of the default one.
     #[cfg_attr(feature = "clap", arg(long, value_name = "FILE"))]
     pub table: Option<PathBuf>,
-    /// eMD*: exception (b) variant.
+    /// eMD* (and the hybrid's eMD* events): exception (b) variant.
     #[cfg_attr(feature = "clap", arg(long, value_enum, default_value_t = InterferenceChoice::default()))]
     pub interference: InterferenceChoice,
     /// How candidate pairs are found (the same collisions either way; epochs are
@@ -175,11 +175,33 @@ pub struct HybridChoice {
     /// time-driven (inelastic collapse, resting contacts).
     #[cfg_attr(feature = "clap", arg(long, value_name = "N", default_value_t = HybridChoice::default().max_events_per_step))]
     pub max_events_per_step: u32,
-    /// Hybrid: keep the Verlet list and its rebuilds even while no particle is
-    /// time-driven, instead of event-driven cell crossings (the same physics; slower in
-    /// dilute phases; for comparisons).
-    #[cfg_attr(feature = "clap", arg(long))]
-    pub no_cells: bool,
+    /// Hybrid: how the event-driven particles collide. "emdstar" (the default) runs
+    /// eMD* as --engine emdstar does: the matrix of restitution (--mor, --table) and,
+    /// where a contact has a tangential spring, the exact frictional contact; "emd"
+    /// runs classic eMD, instantaneous collisions with Walton's rule for friction, its
+    /// β₀ derived from the time-driven law (linear law only; HAET's events).
+    #[cfg_attr(feature = "clap", arg(long, value_enum, value_name = "RULE", default_value_t = EventsChoice::default()))]
+    pub events: EventsChoice,
+}
+
+/// How the hybrid's event-driven particles collide.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum EventsChoice {
+    /// eMD*: three events per collision, the exact frictional contact with friction.
+    #[default]
+    Emdstar,
+    /// Classic eMD with Walton's rule (β₀ derived from the time-driven law).
+    Emd,
+}
+
+impl From<EventsChoice> for emdstar_hybrid::EventRule {
+    fn from(choice: EventsChoice) -> Self {
+        match choice {
+            EventsChoice::Emdstar => Self::EmdStar,
+            EventsChoice::Emd => Self::Emd,
+        }
+    }
 }
 
 impl Default for HybridChoice {
@@ -190,7 +212,10 @@ impl Default for HybridChoice {
             phi_time: d.phi_time,
             phi_event: d.phi_event,
             max_events_per_step: d.max_events_per_step,
-            no_cells: !d.cells,
+            events: match d.events {
+                emdstar_hybrid::EventRule::EmdStar => EventsChoice::Emdstar,
+                emdstar_hybrid::EventRule::Emd => EventsChoice::Emd,
+            },
         }
     }
 }

@@ -94,6 +94,14 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
     })
 }
 
+/// The variant of eMD*'s exception (b) that `choice` names.
+pub fn interference(choice: InterferenceChoice) -> Interference {
+    match choice {
+        InterferenceChoice::Hit => Interference::HitOnly,
+        InterferenceChoice::Both => Interference::BothPartners,
+    }
+}
+
 /// The event engine (`kind` emd or emdstar) for `system`: with friction, emd runs
 /// Walton's rule (contacts with `tangential_restitution`) and eMD* the exact contact
 /// with the history spring (contacts with `tangential_stiffness`); each contact's model
@@ -105,10 +113,7 @@ pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> 
         EngineKind::EmdStar => Physics::EmdStar {
             interactions,
             mor: mor_source(system, choice)?,
-            interference: match choice.interference {
-                InterferenceChoice::Hit => Interference::HitOnly,
-                InterferenceChoice::Both => Interference::BothPartners,
-            },
+            interference: interference(choice.interference),
         },
         EngineKind::Md | EngineKind::Hybrid => bail!("this engine is not purely event-driven"),
     };

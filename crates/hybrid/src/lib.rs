@@ -157,5 +157,5 @@ mod options;
 mod phi;
 
 pub use engine::Hybrid;
-pub use options::{HybridError, HybridOptions, HybridStats, Mode};
+pub use options::{EventRule, HybridError, HybridOptions, HybridStats, Mode};
 pub use phi::local_volume_fractions;

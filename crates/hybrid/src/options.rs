@@ -13,6 +13,30 @@ pub enum Mode {
     Removed,
 }
 
+/// How the event-driven particles collide.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum EventRule {
+    /// eMD*, as the eMD* engine runs it: three events per collision with the matrix of
+    /// restitution (a table, an exact solve outside it), and the exact frictional
+    /// contact where a contact has the history spring.
+    #[default]
+    EmdStar,
+    /// Classic eMD: instantaneous collisions with the law's central restitution, and
+    /// where a contact has friction Walton's rule with β₀ derived from the
+    /// time-driven law (linear law only; HAET, Eqs. 1.1a-b).
+    Emd,
+}
+
+impl EventRule {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::EmdStar => "emdstar",
+            Self::Emd => "emd",
+        }
+    }
+}
+
 /// Options of the hybrid engine.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct HybridOptions {
@@ -32,18 +56,19 @@ pub struct HybridOptions {
     /// Events of one ED particle within one step above which it becomes TD.
     pub max_events_per_step: u32,
     /// An outlet: particles whose centre has passed behind this plane (distance < 0)
-    /// leave the system at the next list rebuild (a hopper's discharge).
+    /// leave the system at the next list rebuild or mode check (a hopper's discharge).
     pub outlet: Option<emdstar_system::Wall>,
-    /// Whether phases without TD particles run on the cell path (crate docs). False
-    /// keeps the list and its rebuilds throughout, as before the cell path: the same
-    /// physics, for comparisons and measurements.
-    pub cells: bool,
+    /// How the ED particles collide.
+    pub events: EventRule,
+    /// eMD*'s exception (b): which pending E^v events run early when a third particle
+    /// hits a particle in its transient.
+    pub interference: emdstar_edmd::Interference,
 }
 
 impl HybridOptions {
     /// Defaults around a time step: φ_TD = 0.2, φ_ED = 0.1 (eMD*'s exceptions are rare
-    /// up to η ≈ 0.1, Müller & Pöschel 2013, Fig. 7), adaptive, 50 events per step, the
-    /// cell path on.
+    /// up to η ≈ 0.1, Müller & Pöschel 2013, Fig. 7), adaptive, 50 events per step,
+    /// eMD* events with the paper's exception (b) (only the particle hit).
     pub fn with_dt(dt: f64) -> Self {
         Self {
             dt,
@@ -53,7 +78,8 @@ impl HybridOptions {
             adaptive: true,
             max_events_per_step: 50,
             outlet: None,
-            cells: true,
+            events: EventRule::EmdStar,
+            interference: emdstar_edmd::Interference::HitOnly,
         }
     }
 }
@@ -65,11 +91,12 @@ pub struct HybridStats {
     pub steps: u64,
     /// Neighbour-list rebuilds (each one also decides the modes).
     pub rebuilds: u64,
-    /// Mode checks on the cell path that found nothing to switch (no rebuild).
+    /// Mode checks while no particle is TD that found nothing to switch (no list was
+    /// built).
     pub cell_passes: u64,
-    /// The ED events, counted as the event engine counts them (collisions, E^v
-    /// events, exceptions, fallbacks; `events` leaves out the cell crossings, which
-    /// `crossings` counts).
+    /// The ED events, counted as the eMD* engine counts them (every event taken from
+    /// the queue, cell crossings included; collisions, E^v events, exceptions, MoR
+    /// fallbacks, exact frictional solves).
     pub ed: emdstar_edmd::Stats,
     /// ED → TD switches (all causes).
     pub to_time: u64,
@@ -84,6 +111,9 @@ pub struct HybridStats {
     pub max_late_overlap: f64,
     /// ED → TD switches because of the event budget per step.
     pub budget_conversions: u64,
+    /// Events of ED particles over their budget, held back until the particle became
+    /// TD at the end of the step.
+    pub vetoed_events: u64,
     /// Transients ended early by a switch (exception (b) at a switch).
     pub early_transient_ends: u64,
     /// Particle-steps done by TD particles (Σ over steps of N_TD).

@@ -14,9 +14,13 @@ pub enum Method {
     Emd,
     /// eMD*: the history spring, solved exactly per collision.
     EmdStar,
-    /// The hybrid: MD's laws in its time-driven part, Walton's rule with β₀ derived
-    /// from them in its event-driven part (linear normal law only).
+    /// The hybrid with eMD* events: MD's laws in its time-driven part, eMD* in its
+    /// event-driven part (the history spring solved exactly): what both run.
     Hybrid,
+    /// The hybrid with eMD events (`--events emd`): MD's laws in its time-driven part,
+    /// Walton's rule with β₀ derived from them in its event-driven part (linear normal
+    /// law only).
+    HybridEmd,
 }
 
 impl Method {
@@ -27,6 +31,7 @@ impl Method {
             Self::Emd => "emd",
             Self::EmdStar => "emdstar",
             Self::Hybrid => "hybrid",
+            Self::HybridEmd => "hybrid --events emd",
         }
     }
 }
@@ -64,19 +69,26 @@ fn refusal(method: Method, i: &Interaction, wall: bool) -> Option<&'static str> 
              tangential_stiffness (and tangential_damping) instead of tangential_restitution, \
              or run --engine emd",
         ),
-        (Method::Hybrid, Tangential::Walton(_)) => Some(
+        (Method::Hybrid | Method::HybridEmd, Tangential::Walton(_)) => Some(
             "the hybrid's time-driven part is MD, whose friction is a tangential spring \
-             (its event-driven part derives β₀ from that spring): give tangential_stiffness \
-             (and tangential_damping), or tangential = \"coulomb\", instead of \
-             tangential_restitution",
+             (its event-driven part solves that spring exactly, or derives β₀ from it with \
+             --events emd): give tangential_stiffness (and tangential_damping), or tangential \
+             = \"coulomb\", instead of tangential_restitution",
         ),
-        (Method::Hybrid, _) if matches!(i.law(), PairLaw::Hertz { .. }) => Some(
-            "the hybrid runs friction with the linear law only, not with model = \"hertz\": \
-             the tangential restitution β₀ of its event-driven collisions is derived from the \
-             contact time, which for Hertz contacts depends on the impact speed; use model = \
-             \"linear\", or run --engine md or emdstar",
+        (Method::Hybrid, Tangential::Coulomb { .. }) => Some(
+            "the hybrid's events are eMD*'s, which solve the history spring exactly; pure \
+             Coulomb sliding (tangential = \"coulomb\") has no exact solve: give \
+             tangential_stiffness (and tangential_damping), or run its events by Walton's \
+             rule with --events emd",
         ),
-        (Method::Hybrid, _) => None,
+        (Method::Hybrid, Tangential::History(_)) => refusal(Method::EmdStar, i, wall),
+        (Method::HybridEmd, _) if matches!(i.law(), PairLaw::Hertz { .. }) => Some(
+            "the hybrid's eMD events (--events emd) run friction with the linear law only, \
+             not with model = \"hertz\": the tangential restitution β₀ of Walton's rule is \
+             derived from the contact time, which for Hertz contacts depends on the impact \
+             speed; use model = \"linear\", or the hybrid's eMD* events (the default)",
+        ),
+        (Method::HybridEmd, _) => None,
     }
 }
 

@@ -4,9 +4,10 @@ use super::{LinkedCells, NONE};
 
 impl LinkedCells {
     /// Errors unless a decoded grid is whole: the stencils of its own shape, one entry
-    /// per particle `0..n` with cell coordinates inside the grid, and lists that hold
-    /// each particle at most once (every particle if `all_filed`), in its cell. (Whether
-    /// the shape is the config's is the caller's to check.)
+    /// per particle `0..n` with cell coordinates inside the grid (or, unless
+    /// `all_filed`, [`super::OUTSIDE`] for a particle filed in no cell), and lists that
+    /// hold each particle filed at most once (every particle if `all_filed`), in its
+    /// cell. (Whether the shape is the config's is the caller's to check.)
     pub fn check_restored(&self, n: usize, all_filed: bool) -> Result<(), String> {
         let dims = self.shape.dims;
         let cells = dims
@@ -22,10 +23,11 @@ impl LinkedCells {
         {
             return Err("a cell grid with other stencils or particles than its shape's".into());
         }
+        let outside = |c: &[u32; 3]| !all_filed && *c == super::OUTSIDE;
         if self
             .coords
             .iter()
-            .any(|c| (0..3).any(|k| c[k] as usize >= dims[k]))
+            .any(|c| !outside(c) && (0..3).any(|k| c[k] as usize >= dims[k]))
         {
             return Err("a particle's cell lies outside the grid".into());
         }
@@ -42,8 +44,8 @@ impl LinkedCells {
                 (prev, i) = (i, self.next[k]);
             }
         }
-        if all_filed && filed.contains(&false) {
-            return Err("a particle is in no cell".into());
+        if (0..n).any(|k| filed[k] == outside(&self.coords[k])) {
+            return Err("a particle is in no cell, or listed while filed in none".into());
         }
         Ok(())
     }

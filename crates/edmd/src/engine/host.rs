@@ -1,20 +1,24 @@
 //! The event engine as a host of the shared collision rules: its state and broad
-//! phase, apart from the rules that act on them.
+//! phase, apart from the rules that act on them, with the hooks of the engine that
+//! runs the loop.
 
+use super::hooks::EventHooks;
 use crate::broad_phase::BroadPhase;
 use crate::collision::{Host, LastContact, NONE, RotationProbe};
 use crate::queue::EventQueue;
 use crate::state::{Saved, State};
 use crate::stats::Stats;
+use emdstar_contact::vec3::{norm, sub};
 use emdstar_system::Wall;
 
 /// The parts of an [`super::EventEngine`] the collision rules act on.
-pub(crate) struct EngineHost<'a, B, Q: EventQueue> {
+pub(crate) struct EngineHost<'a, B, Q: EventQueue, H> {
     pub(crate) state: &'a mut State<Q>,
     pub(crate) broad: &'a mut B,
+    pub(crate) hooks: &'a mut H,
 }
 
-impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
+impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, H> {
     type Saved = Saved;
 
     #[inline]
@@ -46,6 +50,7 @@ impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
     #[inline]
     fn set_velocity(&mut self, i: usize, v: [f64; 3]) {
         self.state.slot[i].kin.vel = v;
+        self.hooks.velocity_set(v);
     }
 
     /// Spins are kept by original particle number, out of the slots.
@@ -109,6 +114,7 @@ impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
         self.state.pending_vel[i] = after;
         self.state.slot[i].ev.pending_time = end;
         self.state.slot[i].ev.partner = partner;
+        self.hooks.velocity_set(after);
     }
 
     #[inline]
@@ -136,6 +142,8 @@ impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
     /// Puts particle `p` at position `x` now (wrapped, re-filed).
     #[inline]
     fn place(&mut self, p: usize, x: [f64; 3]) {
+        let d = self.state.min_image(sub(x, self.state.slot[p].kin.pos));
+        self.hooks.jumped(p, norm(d));
         let x = self.state.wrap(x);
         self.state.slot[p].kin.pos = x;
         self.state.slot[p].kin.stamp = self.state.time;
@@ -159,6 +167,16 @@ impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
     #[inline]
     fn predict(&mut self, i: usize) {
         self.broad.predict(self.state, i);
+        if H::BODIES_OUTSIDE
+            && let Some((probe, slot)) = self.state.probe_slot(i)
+            && self.hooks.blocks_rotation(
+                i,
+                self.state.slot[i].kin.pos,
+                probe.old_position[slot],
+            )
+        {
+            self.state.block_probe();
+        }
     }
 
     #[inline]

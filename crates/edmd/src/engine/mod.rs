@@ -4,7 +4,9 @@
 //! and moved on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
 
 pub(crate) mod build;
+mod hooks;
 mod host;
+mod members;
 mod readout;
 mod snapshot;
 #[cfg(test)]
@@ -17,6 +19,7 @@ use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::state::State;
 use crate::stats::Stats;
+pub use hooks::{EventHooks, NoHooks};
 use host::EngineHost;
 
 /// What [`EventEngine::step`] did.
@@ -37,6 +40,8 @@ pub enum Event {
     /// An interfering collision whose pair stopped approaching once the pending E^v
     /// events ran (eMD* exception b); nothing else happened.
     Resolved(u32, u32),
+    /// The hooks vetoed the particle's event ([`EventHooks::admit`]).
+    Vetoed(u32),
 }
 
 /// The event-driven engine for hard spheres, eMD and eMD* on one broad phase `B`.
@@ -81,21 +86,18 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
 
     /// Full prediction for particle `i` at the current time: all neighbours, walls and
     /// the next cell crossing.
-    #[inline]
+    #[cfg(test)]
     pub(crate) fn predict(&mut self, i: usize) {
         self.broad.predict(&mut self.state, i);
     }
 
-    /// The parts the collision rules act on.
-    fn host(&mut self) -> EngineHost<'_, B, Q> {
-        EngineHost {
-            state: &mut self.state,
-            broad: &mut self.broad,
-        }
-    }
-
     /// Processes the next event.
     pub fn step(&mut self) -> Result<Event> {
+        self.step_with(&mut NoHooks)
+    }
+
+    /// Processes the next event, with `hooks` (see [`EventHooks`]).
+    pub fn step_with<H: EventHooks>(&mut self, hooks: &mut H) -> Result<Event> {
         let s = &mut self.state;
         let (i, t) = s.queue.peek();
         if !t.is_finite() {
@@ -133,41 +135,46 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             s.since_resort = 0;
             self.broad.resort(s);
             s.stats.events -= 1;
-            return self.step();
+            return self.step_with(hooks);
         }
+        if s.slot[i].ev.pending_time > t {
+            let (cross_time, axis, dir) = s.next_crossing(i);
+            if cross_time < s.slot[i].ev.coll_time {
+                s.stats.crossings += 1;
+                self.broad.crossing(s, i, axis, dir);
+                return Ok(Event::Crossing(self.state.id[i]));
+            }
+        }
+        if !hooks.admit(i, t) {
+            let next = s.next_crossing(i).0;
+            s.queue.set(i, next);
+            return Ok(Event::Vetoed(s.id[i]));
+        }
+        let mut host = EngineHost {
+            state: &mut self.state,
+            broad: &mut self.broad,
+            hooks,
+        };
+        let s = &mut *host.state;
         if s.slot[i].ev.pending_time <= t {
-            collision::velocity_event(&mut self.host(), i);
+            collision::velocity_event(&mut host, i);
             return Ok(Event::Velocity(self.state.id[i]));
-        }
-        let (cross_time, axis, dir) = s.next_crossing(i);
-        if cross_time < s.slot[i].ev.coll_time {
-            s.stats.crossings += 1;
-            self.broad.crossing(s, i, axis, dir);
-            return Ok(Event::Crossing(self.state.id[i]));
         }
         let j = s.slot[i].ev.coll_partner as usize;
         let n = s.len();
         if j >= n {
-            let mut host = EngineHost {
-                state: &mut self.state,
-                broad: &mut self.broad,
-            };
             collision::wall_collision(&mut host, &mut self.rules, i, j - n)?;
             return Ok(Event::Wall(self.state.id[i], (j - n) as u32));
         }
         if s.slot[j].ev.counter != s.slot[i].ev.coll_counter {
             s.stats.stale += 1;
-            self.predict(i);
+            host.broad.predict(host.state, i);
             return Ok(Event::Stale(self.state.id[i]));
         }
         if s.slot[i].ev.coll_now {
             s.stats.stabilising += 1;
         }
         let (id_i, id_j) = (s.id[i], s.id[j]);
-        let mut host = EngineHost {
-            state: &mut self.state,
-            broad: &mut self.broad,
-        };
         if collision::pair_collision(&mut host, &mut self.rules, i, j)? {
             Ok(Event::Collision(id_i, id_j))
         } else {
@@ -178,8 +185,13 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Runs until time `t_end` (all events before it), leaving every particle's
     /// stored state at its last event.
     pub fn run_until(&mut self, t_end: f64) -> Result<()> {
+        self.run_until_with(t_end, &mut NoHooks)
+    }
+
+    /// [`EventEngine::run_until`] with `hooks` (see [`EventHooks`]).
+    pub fn run_until_with<H: EventHooks>(&mut self, t_end: f64, hooks: &mut H) -> Result<()> {
         while self.state.queue.peek().1 <= t_end {
-            self.step()?;
+            self.step_with(hooks)?;
         }
         self.state.time = self.state.time.max(t_end);
         Ok(())

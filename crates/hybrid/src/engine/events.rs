@@ -1,304 +1,206 @@
-//! The event-driven part: eMD* among ED particles (Müller & Pöschel 2013, Sec. VI B)
-//! with stable detection (Bannerman et al. 2014), lazily updated particles, a binary
-//! queue holding each ED particle's earliest event (`emdstar_edmd`'s calendar queue,
-//! ties to the smaller particle number), and the ED → TD switch. The collisions
-//! themselves are `emdstar_edmd::collision`'s, with the hybrid as their host (host.rs).
+//! The event-driven part's step: the event core runs every ED event up to the step's
+//! end with the hybrid's hooks (emdstar-edmd's `EventHooks`): each event is counted
+//! against its particle's budget, speeds and jumps are noted for the list and the guard,
+//! and eMD*'s exception (a) also sees the TD particles.
 
 use super::Hybrid;
 use crate::options::{HybridError, Mode};
-use emdstar_contact::vec3::{dot, norm, sub};
-use emdstar_edmd::EventQueue;
-use emdstar_edmd::collision::{self, NONE};
-use emdstar_edmd::detect::{on_collision_course, sphere_sphere, sphere_wall};
+use emdstar_contact::vec3::{norm, sub};
+use emdstar_dem::NeighbourList;
+use emdstar_edmd::EventHooks;
+use emdstar_edmd::collision::pushes_deeper;
+use emdstar_system::Domain;
+
+/// What the events of a step report to the rest of the engine.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+pub(crate) struct EventBook {
+    /// A bound on the speed of every ED particle, pending E^v velocities included.
+    pub v_max: f64,
+    /// The eMD* position jumps of each particle since the last rebuild or mode check,
+    /// and their largest sum (both count against the list's skin).
+    jump: Vec<f64>,
+    pub max_jump: f64,
+    /// Each particle's events in the step it last had one: (step, events).
+    budget: Vec<(u64, u32)>,
+    /// Particles over their budget, switched to TD at the end of the step.
+    pub deferred: Vec<u32>,
+    /// Events held back over budget.
+    pub vetoed: u64,
+}
+
+impl EventBook {
+    pub(crate) fn new(n: usize) -> Self {
+        Self {
+            v_max: 0.0,
+            jump: vec![0.0; n],
+            max_jump: 0.0,
+            budget: vec![(u64::MAX, 0); n],
+            deferred: Vec::new(),
+            vetoed: 0,
+        }
+    }
+
+    /// After a rebuild or mode check (between steps; particles may have been
+    /// renumbered): no jumps, no events counted.
+    pub(crate) fn restart(&mut self) {
+        self.jump.iter_mut().for_each(|j| *j = 0.0);
+        self.max_jump = 0.0;
+        self.budget.iter_mut().for_each(|b| *b = (u64::MAX, 0));
+    }
+
+    #[inline]
+    pub(crate) fn note_speed(&mut self, v: [f64; 3]) {
+        self.v_max = self.v_max.max(norm(v));
+    }
+
+    /// Whether a decoded book (a checkpoint's) is whole for `n` particles.
+    pub(crate) fn is_whole(&self, n: usize) -> bool {
+        self.jump.len() == n
+            && self.budget.len() == n
+            && self.deferred.iter().all(|&i| (i as usize) < n)
+    }
+}
+
+/// The TD particles as exception (a) sees them: where they are at the step's start,
+/// within a margin of one step's reach.
+struct TimeDriven<'a> {
+    list: &'a NeighbourList,
+    mask: &'a [bool],
+    position: &'a [[f64; 3]],
+    radius: &'a [f64],
+    domain: &'a Domain,
+    margin: f64,
+}
+
+/// The hybrid's hooks into the event core for one step.
+struct Hooks<'a> {
+    book: &'a mut EventBook,
+    step: u64,
+    max_events: u32,
+    td: Option<TimeDriven<'a>>,
+}
+
+impl EventHooks for Hooks<'_> {
+    const BODIES_OUTSIDE: bool = true;
+
+    /// Counts the event; over the budget the particle only crosses cells until the
+    /// end of the step, where it becomes TD (crate docs).
+    fn admit(&mut self, i: usize, _t: f64) -> bool {
+        let (step, events) = &mut self.book.budget[i];
+        if *step != self.step {
+            *step = self.step;
+            *events = 0;
+        }
+        *events += 1;
+        if *events <= self.max_events {
+            return true;
+        }
+        if *events == self.max_events + 1 {
+            self.book.deferred.push(i as u32);
+        }
+        self.book.vetoed += 1;
+        false
+    }
+
+    #[inline]
+    fn velocity_set(&mut self, v: [f64; 3]) {
+        self.book.note_speed(v);
+    }
+
+    #[inline]
+    fn jumped(&mut self, i: usize, d: f64) {
+        let book = &mut *self.book;
+        book.jump[i] += d;
+        book.max_jump = book.max_jump.max(book.jump[i]);
+    }
+
+    /// A TD particle within contact (plus the margin) of the party's new position,
+    /// closer to it than to the old one, blocks the rotation.
+    fn blocks_rotation(&self, i: usize, x: [f64; 3], old: [f64; 3]) -> bool {
+        let Some(td) = &self.td else {
+            return false;
+        };
+        let min_image = |d| td.domain.min_image(d);
+        td.list.neighbours(i).any(|e| {
+            let j = td.list.split(e).0;
+            td.mask[j] && {
+                let xj = td.position[j];
+                let contact = td.radius[i] + td.radius[j] + td.margin;
+                pushes_deeper(min_image(sub(x, xj)), old, xj, contact, min_image)
+            }
+        })
+    }
+}
 
 impl Hybrid {
-    /// Position and velocity of ED particle `j` at time `t` ≥ its stamp (parabolic
-    /// flight under gravity, Bannerman 2014, Sec. 3).
-    #[inline(always)]
-    pub(crate) fn state_at(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
-        let dt = t - self.ed[j].stamp;
-        let p = &self.system.particles;
-        let (x, v, g) = (p.position[j], p.velocity[j], self.system.domain.gravity);
-        (
-            std::array::from_fn(|k| x[k] + v[k] * dt + 0.5 * g[k] * dt * dt),
-            std::array::from_fn(|k| v[k] + g[k] * dt),
-        )
-    }
-
-    /// State at `t` with a pending E^v velocity applied (for output and balances).
-    pub(crate) fn settled_state(&self, j: usize, t: f64) -> ([f64; 3], [f64; 3]) {
-        let (x, v) = self.state_at(j, t);
-        let rec = &self.ed[j];
-        if rec.pending_time.is_finite() {
-            let early = rec.pending_time - t;
-            let d = &self.system.domain;
-            let g = collision::transient_gravity(d.gravity, &d.walls, self.mode.len(), rec.partner);
-            (
-                x,
-                std::array::from_fn(|k| rec.pending_vel[k] - g[k] * early),
-            )
-        } else {
-            (x, v)
+    /// Runs every ED event up to `t_end` (the end of the step), in time order.
+    pub(super) fn run_events(&mut self, t_end: f64) -> Result<(), HybridError> {
+        let mixed = self.modes.any(Mode::Time) && self.modes.any(Mode::Event);
+        if mixed {
+            self.td.complete_list();
         }
-    }
-
-    /// Moves ED particle `i` on to time `t` (the delayed update).
-    #[inline]
-    pub(crate) fn sync(&mut self, i: usize, t: f64) {
-        if self.ed[i].stamp != t {
-            let (x, v) = self.state_at(i, t);
-            self.system.particles.position[i] = x;
-            self.system.particles.velocity[i] = v;
-            self.ed[i].stamp = t;
-        }
-    }
-
-    pub(crate) fn in_shared_transient(&self, i: usize, j: usize) -> bool {
-        let n = self.mode.len();
-        self.ed[i].partner == j as u32 && (j >= n || self.ed[j].partner == i as u32)
-    }
-
-    /// The earliest of `found` (time, partner) and the collisions of ED particle `i`
-    /// (synchronised at `now`) with the walls, but the one sharing its transient; a
-    /// wall w is partner `n + w` (Bannerman et al. 2014, Algorithm 2).
-    pub(crate) fn earliest_wall(&self, i: usize, now: f64, found: (f64, u32)) -> (f64, u32) {
-        let (mut best, mut best_j) = found;
-        let p = &self.system.particles;
-        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-        let n = self.mode.len();
-        for (w, wall) in self.system.domain.walls.iter().enumerate() {
-            if self.in_shared_transient(i, n + w) {
-                continue;
-            }
-            let dt = sphere_wall(
-                wall.distance(xi),
-                dot(wall.normal, vi),
-                dot(wall.normal, self.system.domain.gravity),
-                ri,
-            );
-            if now + dt < best {
-                best = now + dt;
-                best_j = (n + w) as u32;
-            }
-        }
-        (best, best_j)
-    }
-
-    /// Stores `i`'s predicted collision with `partner` (a particle, `n + w` for wall
-    /// w, or NONE) at `time`, with the partner's counter for the staleness check.
-    pub(crate) fn keep_collision(&mut self, i: usize, time: f64, partner: u32) {
-        let n = self.mode.len();
-        let coll_counter = if (partner as usize) < n {
-            self.ed[partner as usize].counter
-        } else {
-            0
+        let margin = self.td_probe_margin();
+        let td = mixed.then(|| TimeDriven {
+            list: self.td.list(),
+            mask: self.modes.time_driven(),
+            position: &self.system.particles.position,
+            radius: &self.system.particles.radius,
+            domain: &self.system.domain,
+            margin,
+        });
+        let mut hooks = Hooks {
+            book: &mut self.book,
+            step: self.steps,
+            max_events: self.opts.max_events_per_step,
+            td,
         };
-        let rec = &mut self.ed[i];
-        rec.coll_time = time;
-        rec.coll_partner = partner;
-        rec.coll_counter = coll_counter;
-    }
-
-    /// Predicts the earliest collision of ED particle `i` (synchronised at `now`) with
-    /// an ED neighbour or a wall and queues its earliest event. While `i` is a party
-    /// of an exception-(a) probe, every listed neighbour is shown to the probe: ED
-    /// ones where they are now, TD ones extrapolated from the step start with a margin
-    /// of one step's reach (see [`Hybrid::td_probe_margin`]).
-    pub(crate) fn predict(&mut self, i: usize, now: f64) {
-        if self.grid.is_some() {
-            self.predict_in_cells(i, now);
-            return;
-        }
-        self.sync(i, now);
-        let p = &self.system.particles;
-        let (xi, vi, ri) = (p.position[i], p.velocity[i], p.radius[i]);
-        let probe = self
-            .probe
-            .and_then(|probe| Some((probe, probe.slot_of(i)?)));
-        let (t0, td_margin) = (self.time(), self.td_probe_margin());
-        let mut blocked = false;
-        let mut best = f64::INFINITY;
-        let mut best_j = NONE;
-        for &entry in self.list.of(i) {
-            let (j, s) = self.list.split(entry);
-            if let Some((probe, slot)) = &probe {
-                let (xj, margin) = match self.mode[j] {
-                    Mode::Removed => ([f64::NAN; 3], 0.0),
-                    Mode::Event => (self.state_at(j, now).0, 0.0),
-                    Mode::Time => (
-                        std::array::from_fn(|k| p.position[j][k] + p.velocity[j][k] * (now - t0)),
-                        td_margin,
-                    ),
-                };
-                // The image of j next to i: r = x_i − (x_j + s).
-                let image: [f64; 3] = std::array::from_fn(|k| xj[k] + s[k]);
-                let contact = ri + p.radius[j] + margin;
-                blocked |= self.mode[j] != Mode::Removed
-                    && probe.blocks(*slot, j, sub(xi, image), image, contact, |d| d);
-            }
-            if self.mode[j] != Mode::Event || self.in_shared_transient(i, j) {
-                continue;
-            }
-            let (xj, vj) = self.state_at(j, now);
-            let r: [f64; 3] = std::array::from_fn(|k| xi[k] - xj[k] - s[k]);
-            let (v, sigma) = (sub(vi, vj), ri + p.radius[j]);
-            // Most candidates miss: one well-predicted test before the exact time.
-            if !on_collision_course(r, v, sigma) {
-                continue;
-            }
-            let dt = sphere_sphere(r, v, sigma);
-            if now + dt < best {
-                best = now + dt;
-                best_j = j as u32;
-            }
-        }
-        if blocked && let Some(probe) = &mut self.probe {
-            probe.blocked = true;
-        }
-        let (best, best_j) = self.earliest_wall(i, now, (best, best_j));
-        self.keep_collision(i, best, best_j);
-        self.ed[i].cross_time = f64::INFINITY;
-        self.schedule(i);
+        self.ed.run_until_with(t_end, &mut hooks)?;
+        self.stats.ed = *self.ed.stats();
+        self.stats.vetoed_events = self.book.vetoed;
+        Ok(())
     }
 
     /// How close a jump may bring an ED particle to a TD one: within one step's reach,
     /// the guard (which runs at step boundaries) would find the pair in contact.
-    pub(crate) fn td_probe_margin(&self) -> f64 {
-        2.0 * (self.v_max_td + self.v_max_ed) * self.opts.dt
+    fn td_probe_margin(&self) -> f64 {
+        2.0 * (self.td.v_max() + self.book.v_max) * self.opts.dt
     }
 
-    /// Queues the earliest event of `i` (a frozen particle's only event is its next
-    /// cell crossing, on the cell path).
-    pub(crate) fn schedule(&mut self, i: usize) {
-        let rec = &self.ed[i];
-        let time = if rec.frozen {
-            rec.cross_time
-        } else {
-            rec.coll_time.min(rec.pending_time).min(rec.cross_time)
-        };
-        let time = if time.is_finite() {
-            time
-        } else {
-            f64::INFINITY
-        };
-        self.heap.set(i, time);
-    }
-
-    /// Processes every ED event up to `t_end`, in time order.
-    #[inline(never)]
-    pub(crate) fn process_events(&mut self, t_end: f64) -> Result<(), HybridError> {
-        // Every branch below queues the particle's next event (or +∞).
-        loop {
-            let (i, t) = self.heap.peek();
-            // +∞ when no event is left (`schedule` never queues NaN).
-            if t > t_end {
-                break;
-            }
-            if self.mode[i] != Mode::Event {
-                self.heap.set(i, f64::INFINITY);
-                continue;
-            }
-            let rec = &self.ed[i];
-            if rec.frozen || (rec.pending_time > t && rec.cross_time < rec.coll_time) {
-                self.crossing(i, t);
-                continue;
-            }
-            self.stats.ed.events += 1;
-            if self.over_budget(i) {
-                continue;
-            }
-            self.now = t;
-            if self.ed[i].pending_time <= t {
-                collision::velocity_event(self, i);
-                continue;
-            }
-            let j = self.ed[i].coll_partner as usize;
-            let n = self.mode.len();
-            if j < n
-                && (self.mode[j] != Mode::Event || self.ed[j].counter != self.ed[i].coll_counter)
-            {
-                self.stats.ed.stale += 1;
-                self.predict(i, t);
-                continue;
-            }
-            // The rules act on the rest of the engine, its host.
-            let mut rules = std::mem::take(&mut self.rules);
-            let done = if j >= n {
-                collision::wall_collision(self, &mut rules, i, j - n)
-            } else {
-                collision::pair_collision(self, &mut rules, i, j).map(|_| ())
-            };
-            self.rules = rules;
-            done?;
+    /// At the end of a step: the ED particles over their event budget become TD.
+    pub(super) fn switch_deferred(&mut self) -> Result<(), HybridError> {
+        if self.book.deferred.is_empty() {
+            return Ok(());
         }
+        let t = self.time();
+        self.in_step(t)?;
+        for i in std::mem::take(&mut self.book.deferred) {
+            let i = i as usize;
+            if self.modes.of(i) == Mode::Event {
+                self.to_time(i);
+                self.stats.budget_conversions += 1;
+            }
+        }
+        if !self.upkeep.list {
+            // Leave the phase without TD particles: the list comes back.
+            self.rebuild(false)?;
+        } else {
+            self.td.complete_list();
+        }
+        self.add_fresh_forces();
         Ok(())
     }
 
-    /// Counts an event of `i`; over the budget the particle is frozen and switched to
-    /// TD at the end of the step.
-    fn over_budget(&mut self, i: usize) -> bool {
-        let step = self.steps;
-        let rec = &mut self.ed[i];
-        if rec.budget_step != step {
-            rec.budget_step = step;
-            rec.events = 0;
-        }
-        rec.events += 1;
-        if rec.events > self.opts.max_events_per_step {
-            rec.frozen = true;
-            // Drops its queued event (on the cell path, queues its next crossing).
-            self.schedule(i);
-            self.deferred.push(i as u32);
-            return true;
-        }
-        false
-    }
-
-    /// ED → TD at time `t` (a step boundary). A transient is ended first, for both
-    /// partners, and the partner switches too (crate docs).
-    pub(crate) fn switch_to_td(&mut self, i: usize, t: f64) {
-        if self.mode[i] != Mode::Event {
+    /// Adds the forces of the particles switched to TD at this boundary, as MD's first
+    /// step has them (their velocities now), to theirs and their TD partners'.
+    pub(super) fn add_fresh_forces(&mut self) {
+        if self.scratch.fresh.is_empty() {
             return;
         }
-        self.sync(i, t);
-        self.now = t;
-        let partner = self.ed[i].partner as usize;
-        if self.ed[i].pending_time.is_finite() {
-            collision::finish_transient(self, i);
-            self.stats.early_transient_ends += 1;
-            if partner < self.mode.len()
-                && self.mode[partner] == Mode::Event
-                && self.ed[partner].partner == i as u32
-            {
-                collision::finish_transient(self, partner);
-                self.set_time_driven(partner);
-            }
-        }
-        self.set_time_driven(i);
-    }
-
-    fn set_time_driven(&mut self, i: usize) {
-        self.mode[i] = Mode::Time;
-        self.contact_acc[i] = [0.0; 3];
-        let rec = &mut self.ed[i];
-        rec.counter = rec.counter.wrapping_add(1);
-        rec.partner = NONE;
-        rec.pending_time = f64::INFINITY;
-        rec.frozen = false;
-        self.heap.set(i, f64::INFINITY);
-        self.td_dirty = true;
-        self.converted.push(i as u32);
-        self.boundary.push(i as u32);
-        self.stats.to_time += 1;
-    }
-
-    /// Records a jump of particle `p` by `dx` (it counts against the list's skin).
-    pub(crate) fn record_jump(&mut self, p: usize, dx: [f64; 3]) {
-        self.jump[p] += norm(dx);
-        self.max_jump = self.max_jump.max(self.jump[p]);
-    }
-
-    pub(crate) fn note_speed(&mut self, v: [f64; 3]) {
-        self.v_max_ed = self.v_max_ed.max(norm(v));
+        self.td.complete_list();
+        let fresh = std::mem::take(&mut self.scratch.fresh);
+        self.td
+            .add_forces_of(&self.system, self.modes.time_driven(), &fresh);
+        self.scratch.fresh = fresh;
+        self.scratch.fresh.clear();
     }
 }

@@ -25,6 +25,13 @@ impl Simulation for Hybrid {
         Ok(self.advance(target.saturating_sub(self.steps()))?)
     }
 
+    /// Brings the TD velocities in step with the positions (as MD's); ED particles stay
+    /// at their last events.
+    fn synchronise(&mut self) -> Result<(), SimulationError> {
+        let t = self.time();
+        Ok(self.in_step(t)?)
+    }
+
     fn thermo(&self) -> Thermo {
         Hybrid::thermo(self)
     }

@@ -2,12 +2,10 @@
 
 use super::Hybrid;
 use crate::options::HybridError;
-use emdstar_edmd::EventQueue;
-use emdstar_edmd::collision::NONE;
 
 impl Hybrid {
-    /// The whole state (everything but the pair physics and the MoR source, which the
-    /// engine was built with), in the checkpoint encoding.
+    /// The whole state (everything but the pair physics and the collision rules,
+    /// which the engine was built with), in the checkpoint encoding.
     pub fn save_state(&self) -> Vec<u8> {
         postcard::to_allocvec(self).expect("a hybrid state serialises")
     }
@@ -23,7 +21,7 @@ impl Hybrid {
         })?;
         let same_system = saved.system.species == self.system.species
             && saved.system.domain == self.system.domain
-            && saved.mode.len() == self.mode.len();
+            && saved.modes.len() == self.modes.len();
         if !same_system {
             return Err(HybridError::Invalid(
                 "the checkpoint holds another system than this config describes; resume with \
@@ -48,53 +46,27 @@ impl Hybrid {
             &mut saved.system.interactions,
             &mut self.system.interactions,
         );
-        std::mem::swap(&mut saved.rules, &mut self.rules);
+        saved.ed.swap_rules(&mut self.ed);
+        saved.td.restored(&saved.system.particles);
         *self = saved;
         Ok(())
     }
-}
 
-impl Hybrid {
     /// Errors unless `self`, decoded from a checkpoint, fits `built`, the engine of
     /// the same config: the same bodies, one entry per particle in every array, indices
-    /// and partners in range, whole lists, queue, cells and springs.
+    /// in range, a whole driver and event core.
     fn check_restored(&self, built: &Self) -> Result<(), String> {
-        let n = built.mode.len();
-        let parties = n + built.system.domain.walls.len();
-        let party = |j: u32| j == NONE || (j as usize) < parties;
+        let n = built.modes.len();
         let indices = |v: &[u32]| v.iter().all(|&i| (i as usize) < n);
-        let lengths = [
-            self.inv_mass.len(),
-            self.contact_acc.len(),
-            self.new_acc.len(),
-            self.ed.len(),
-            self.jump.len(),
-        ];
-        let rotation = match (&self.rotation, &built.rotation) {
-            (None, None) => true,
-            (Some(r), Some(_)) => {
-                r.inv_inertia.len() == n && r.angular_acc.len() == n && r.springs.are_whole(n)
-            }
-            _ => false,
-        };
-        let whole = self.system.particles.same_bodies(&built.system.particles)
-            && lengths == [n; 5]
-            && [&self.td, &self.converted, &self.boundary, &self.deferred]
-                .into_iter()
-                .all(|v| indices(v))
-            && self
-                .ed
-                .iter()
-                .all(|r| party(r.partner) && party(r.coll_partner))
-            && rotation;
+        let same_bodies = self.system.particles.same_bodies(&built.system.particles);
+        let whole = same_bodies
+            && self.modes.is_whole(n)
+            && self.book.is_whole(n)
+            && indices(&self.boundary);
         if !whole {
             return Err("its particles or their records differ".into());
         }
-        self.heap.check(n)?;
-        self.list.check_restored(n)?;
-        match &self.grid {
-            Some(grid) => grid.check_restored(n, false),
-            None => Ok(()),
-        }
+        self.td.check_restored(&built.td, n)?;
+        self.ed.check_restored_members(&built.ed)
     }
 }

@@ -3,22 +3,12 @@
 use emdstar_contact::Vec3;
 use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Physics, Stats};
+use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Physics, Stats};
 use emdstar_hybrid::{Hybrid, HybridOptions};
 use emdstar_system::{Config, Particles, System};
 
 pub fn system(text: &str) -> System {
     Config::from_toml(text).unwrap().build().unwrap()
-}
-
-/// A dilute damped linear gas (k = 2000 N/m, γ = 1 kg/s, R = 0.1 m, ρ = 1140 kg/m³,
-/// η = 0.01, rms speed 1 m/s), placed at random.
-pub fn dilute_gas(t_end: f64, count: usize, seed: u64) -> System {
-    system(&format!(
-        "t_end = {t_end}\n[material]\nmodel = \"linear\"\nstiffness = 2000.0\ndamping = 1.0\n\
-         density = 1140.0\n[gas]\ncount = {count}\nradius = 0.1\narrangement = \"random\"\n\
-         packing_fraction = 0.01\nrms_speed = 1.0\nseed = {seed}\n"
-    ))
 }
 
 /// Elastic linear spheres (k = 2000 N/m, R = 0.1 m, ρ = 1140 kg/m³) with the given
@@ -55,18 +45,33 @@ pub fn hybrid_with(system: &System, opts: HybridOptions, t_end: f64) -> Hybrid {
     Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
 }
 
-/// The eMD* engine (exact MoR) run to `t_end`: the final state and its counters.
+/// The eMD* engine (exact MoR, on cell crossings) run to `t_end`: the final state
+/// (spins included) and its counters.
 pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
     let physics = Physics::EmdStar {
         interactions: system.interactions().clone(),
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };
-    let mut e: Engine = Engine::new(&system.particles, &system.domain, physics).unwrap();
+    // The hybrid's event core runs on cell crossings.
+    let mut e: Engine = Engine::with_broad_phase(
+        &system.particles,
+        &system.domain,
+        physics,
+        BroadPhaseKind::Crossings,
+    )
+    .unwrap();
     e.run_until(t_end).unwrap();
     let mut state = system.particles.clone();
     e.write_state(&mut state);
     (state, *e.stats())
+}
+
+/// A step count and the time step of `fraction` × the shortest contact time that
+/// lasts about `t_end`, with the end time the hybrid reaches after them exactly.
+pub fn steps_to(system: &System, t_end: f64, fraction: f64) -> (f64, u64, f64) {
+    let (dt, steps) = step(system, t_end, fraction);
+    (dt, steps, steps as f64 * dt)
 }
 
 /// Largest difference of positions (minimum image) and of velocities.

@@ -2,6 +2,7 @@
 //! solution, the eMD* engine and MD (`modes`), the all-event-driven cell path
 //! (`cells`), friction and rotation against frictional MD (`friction`), restarts.
 
+mod bitwise;
 mod cells;
 mod common;
 mod friction;

@@ -1,0 +1,214 @@
+//! The hybrid is a composition of MD's Verlet driver and the eMD* engine's event core,
+//! so with every particle in one mode it is that engine to the bit: every particle
+//! time-driven, MD (smooth and frictional, with walls and gravity); every particle
+//! event-driven, the eMD* engine on cell crossings (smooth with walls and gravity,
+//! frictional), with the same counts of collisions, exceptions and exact frictional
+//! solves.
+
+use crate::common::{emdstar_reference, hybrid_with, md, steps_to, system};
+use emdstar_edmd::Stats;
+use emdstar_hybrid::{EventRule, HybridOptions, Mode};
+use emdstar_system::{Particles, System};
+
+/// Every counter of the collisions.
+fn counts(s: &Stats) -> [u64; 9] {
+    [
+        s.pair_collisions,
+        s.wall_collisions,
+        s.velocity_events,
+        s.exception_rotation,
+        s.exception_interference,
+        s.interference_resolved,
+        s.mor_fallbacks,
+        s.frictional_solves,
+        s.stale,
+    ]
+}
+
+fn assert_same(a: &Particles, b: &Particles) {
+    assert_eq!(a.position, b.position, "positions");
+    assert_eq!(a.velocity, b.velocity, "velocities");
+    assert_eq!(a.angular_velocity, b.angular_velocity, "spins");
+}
+
+/// The hybrid with every particle TD against MD over `t_end`, its events (never run)
+/// by `events`: TD by the volume fraction (the default thresholds, decided at every
+/// rebuild) if `dense`, else by thresholds 0. Returns the particles at the end.
+fn time_driven_against_md(sys: &System, t_end: f64, dense: bool, events: EventRule) -> Particles {
+    let (dt, steps, _) = steps_to(sys, t_end, 0.02);
+    let mut opts = HybridOptions {
+        events,
+        ..HybridOptions::with_dt(dt)
+    };
+    if !dense {
+        (opts.phi_time, opts.phi_event) = (0.0, 0.0);
+    }
+    let mut h = hybrid_with(sys, opts, t_end);
+    let mut m = md(sys, dt, h.skin(), t_end);
+    // In two pieces, as a run with output between does.
+    h.advance(steps / 2).unwrap();
+    h.advance(steps - steps / 2).unwrap();
+    m.stride(steps).unwrap();
+    assert_eq!(h.count(Mode::Time), sys.particles.len());
+    let s = h.stats();
+    assert_eq!((s.to_event, s.ed.events), (0, 0));
+    assert!(m.rebuilds() > 2, "too few rebuilds to test: {}", m.rebuilds());
+    assert_eq!(s.rebuilds, m.rebuilds());
+    let end = m.particles_in_config_order();
+    assert_same(&h.particles(), &end);
+    assert_eq!(h.thermo(), m.thermo());
+    end
+}
+
+/// The hybrid with every particle ED (adaptive, dilute) against the eMD* engine over
+/// `t_end`; returns the hybrid's counts.
+fn event_driven_against_emdstar(sys: &System, t_end: f64) -> Stats {
+    let (dt, steps, t) = steps_to(sys, t_end, 0.02);
+    let mut h = hybrid_with(sys, HybridOptions::with_dt(dt), t_end);
+    assert_eq!(h.count(Mode::Event), sys.particles.len());
+    h.advance(steps).unwrap();
+    let s = *h.stats();
+    assert_eq!((s.to_time, s.td_particle_steps, s.rebuilds), (0, 0, 0), "{s:?}");
+    assert!(s.cell_passes > 0 && s.ed.crossings > 0, "{s:?}");
+    let (reference, es) = emdstar_reference(sys, t);
+    eprintln!("hybrid {:?}\nengine {:?}", counts(&s.ed), counts(&es));
+    assert_eq!(counts(&s.ed), counts(&es));
+    assert_same(&h.particles(), &reference);
+    s.ed
+}
+
+#[test]
+fn every_particle_time_driven_is_md_to_the_bit() {
+    // A dense damped Hertz gas: TD by its volume fraction.
+    let hertz = system(
+        r#"
+t_end = 0.1
+[material]
+model = "hertz"
+young = 1e9
+poisson = 0.4
+dissipation = 1e-4
+density = 1140.0
+[gas]
+count = 64
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.3
+rms_speed = 1.0
+seed = 5
+"#,
+    );
+    let end = time_driven_against_md(&hertz, 0.1, true, EventRule::EmdStar);
+    assert!(end.kinetic_energy() < 0.95 * hertz.particles.kinetic_energy(), "no collisions");
+}
+
+#[test]
+fn every_particle_time_driven_is_frictional_md_to_the_bit_with_walls_and_gravity() {
+    // Spinning frictional spheres settling on a floor under gravity.
+    let mut sys = system(
+        r#"
+t_end = 0.2
+gravity = [0.0, 0.0, -9.81]
+[material]
+model = "linear"
+stiffness = 20000.0
+damping = 2.0
+density = 1140.0
+friction = 0.3
+tangential_stiffness = 5714.0
+tangential_damping = 0.5
+[gas]
+count = 100
+radius = 0.1
+arrangement = "random"
+rms_speed = 1.0
+seed = 4
+[box]
+size = [2.0, 2.0, 2.0]
+periodic = [true, true, false]
+[[walls]]
+normal = [0.0, 0.0, 1.0]
+point = [0.0, 0.0, 0.0]
+[[walls]]
+normal = [0.0, 0.0, -1.0]
+point = [0.0, 0.0, 2.0]
+"#,
+    );
+    for (i, w) in sys.particles.angular_velocity.iter_mut().enumerate() {
+        *w = [(i % 3) as f64 - 1.0, 2.0 - (i % 5) as f64, 0.5];
+    }
+    // Friction at walls is not eMD*'s: the events (of which none runs) are eMD's.
+    let end = time_driven_against_md(&sys, 0.2, false, EventRule::Emd);
+    let turned = (0..end.len())
+        .filter(|&i| {
+            let (a, b) = (end.angular_velocity[i], sys.particles.angular_velocity[i]);
+            (0..3).any(|k| (a[k] - b[k]).abs() > 0.1)
+        })
+        .count();
+    assert!(turned > 20, "friction must turn the spins: {turned}");
+}
+
+#[test]
+fn every_particle_event_driven_is_the_emdstar_engine_to_the_bit_with_walls_and_gravity() {
+    // Elastic spheres under gravity between a floor and a lid, periodic sideways.
+    let sys = system(
+        r#"
+t_end = 0.6
+gravity = [0.0, 0.0, -9.81]
+[material]
+model = "linear"
+stiffness = 2e5
+damping = 0.0
+density = 1140.0
+[gas]
+count = 150
+radius = 0.05
+arrangement = "random"
+rms_speed = 2.0
+seed = 4
+[box]
+size = [3.0, 3.0, 3.0]
+periodic = [true, true, false]
+[[walls]]
+normal = [0.0, 0.0, 1.0]
+point = [0.0, 0.0, 0.0]
+[[walls]]
+normal = [0.0, 0.0, -1.0]
+point = [0.0, 0.0, 3.0]
+"#,
+    );
+    let s = event_driven_against_emdstar(&sys, 0.6);
+    assert!(s.wall_collisions > 50 && s.pair_collisions > 20, "{s:?}");
+}
+
+#[test]
+fn every_particle_event_driven_is_the_frictional_emdstar_engine_to_the_bit() {
+    // A dilute frictional gas of spinning spheres: every collision an exact
+    // frictional solve.
+    let mut sys = system(
+        r#"
+t_end = 3.0
+[material]
+model = "linear"
+stiffness = 2000.0
+damping = 1.0
+density = 1140.0
+friction = 0.3
+tangential_stiffness = 571.0
+tangential_damping = 0.3
+[gas]
+count = 125
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.02
+rms_speed = 1.0
+seed = 7
+"#,
+    );
+    for (i, w) in sys.particles.angular_velocity.iter_mut().enumerate() {
+        *w = [(i % 3) as f64 - 1.0, 2.0 - (i % 5) as f64, 0.5];
+    }
+    let s = event_driven_against_emdstar(&sys, 3.0);
+    assert!(s.pair_collisions > 30, "too few collisions to test: {s:?}");
+    assert_eq!(s.frictional_solves, s.pair_collisions);
+}
