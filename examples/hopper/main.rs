@@ -3,7 +3,7 @@
 //! curves and a JSON of the figures.
 //!
 //! ```sh
-//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--frictionless] [--font FILE.ttf (default: the embedded font)]
+//! cargo run --release --example hopper -- [--seeds 3] [--t-end 0.025] [--out DIR] [--law linear|hertz] [--events emdstar|emd] [--frictionless] [--font FILE.ttf (default: the embedded font)]
 //! ```
 //!
 //! See README.md beside this file for the set-up and what the figures mean.
@@ -11,11 +11,11 @@
 mod plot;
 
 use emdstar_contact::{
-    ForceLaw, HistorySpring, LinearDashpot, PairProperties, Sphere, Tangential,
-    sticking_restitution,
+    ForceLaw, HistorySpring, LinearDashpot, Model, PairLaw, PairProperties, Sphere, Tangential,
+    ViscoelasticHertz,
 };
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
+use emdstar_hybrid::{EventRule, Hybrid, HybridOptions, Mode};
 use emdstar_system::{Domain, Particles, SimBox, Species, System, Wall};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -30,9 +30,13 @@ const HEIGHT: f64 = 0.25;
 const OUTLET: f64 = 5.0e-3;
 /// Slab thickness: 1.1 diameters, a monolayer.
 const THICKNESS: f64 = 1.1 * 2.0 * RADIUS;
-/// Duration of a central particle–particle contact and its restitution.
+/// Duration of a central particle–particle contact and its restitution (for Hertz
+/// contacts: at the impact speed `HERTZ_SPEED`).
 const CONTACT_TIME: f64 = 1.0e-5;
 const RESTITUTION: f64 = 0.8;
+const HERTZ_SPEED: f64 = 1.0;
+/// Poisson's ratio of the Hertz material (glass).
+const POISSON: f64 = 0.22;
 /// Coulomb's µ (HAET, Sec. 7); the tangential spring and dashpot are 2/7 of the normal
 /// ones, so that a sticking contact oscillates as the normal one does.
 const FRICTION: f64 = 0.2;
@@ -70,8 +74,26 @@ fn sphere() -> Sphere {
     Sphere::from_density(RADIUS, DENSITY).expect("valid sphere")
 }
 
-/// The friction of the hopper's material with the normal law `law`: µ = 0.2, a history
-/// spring and dashpot of 2/7 of the normal ones.
+/// The viscoelastic Hertz material whose central particle–particle impact at
+/// `HERTZ_SPEED` lasts `CONTACT_TIME` (elastic duration, Müller & Pöschel 2013, Eq. 53)
+/// and has the restitution `RESTITUTION` (solved exactly, `emdstar_mor::with_restitution`).
+fn hertz_material(pair: &PairProperties) -> ViscoelasticHertz {
+    // The elastic duration scales as Y^(-2/5): one evaluation at Y = 1 fixes Y.
+    let unit = ForceLaw::Hertz(ViscoelasticHertz::new(1.0, POISSON, 0.0).expect("valid"));
+    let duration = PairLaw::same_material(&unit, pair.r_eff)
+        .and_then(|l| l.elastic_duration(pair.m_eff, HERTZ_SPEED))
+        .expect("elastic duration");
+    let young = (duration / CONTACT_TIME).powf(2.5);
+    let elastic = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0).expect("valid"));
+    match emdstar_mor::with_restitution(&elastic, pair, HERTZ_SPEED, RESTITUTION) {
+        Ok(ForceLaw::Hertz(h)) => h,
+        other => panic!("the Hertz material's restitution: {other:?}"),
+    }
+}
+
+/// The friction of the hopper's material: µ = 0.2, a history spring and dashpot of 2/7
+/// of the normal ones of the linear law `law` (for Hertz contacts, of the linear law
+/// with their contact time and restitution).
 fn friction(law: &LinearDashpot) -> Tangential {
     Tangential::History(
         HistorySpring::new(
@@ -85,8 +107,8 @@ fn friction(law: &LinearDashpot) -> Tangential {
 
 /// The hopper: side walls, two 45° funnel walls meeting the outlet at y = 0, a lid,
 /// two slab faces; 1200 particles at random above the funnel, 10 m/s downwards; with
-/// friction unless `frictionless`.
-fn hopper(seed: u64, frictionless: bool) -> System {
+/// the normal law `model` and friction unless `frictionless`.
+fn hopper(seed: u64, model: Model, frictionless: bool) -> System {
     let sphere = sphere();
     let species = vec![Species::new(RADIUS, sphere.mass)];
     let m_eff = PairProperties::spheres(&sphere, &sphere).m_eff;
@@ -126,6 +148,12 @@ fn hopper(seed: u64, frictionless: bool) -> System {
     } else {
         friction(&law)
     };
+    let normal = match model {
+        Model::Linear => ForceLaw::Linear(law),
+        Model::Hertz => ForceLaw::Hertz(hertz_material(&PairProperties::spheres(
+            &sphere, &sphere,
+        ))),
+    };
     let domain = Domain {
         sim_box: Some(SimBox {
             lo: [0.0, -0.01, 0.0],
@@ -135,14 +163,8 @@ fn hopper(seed: u64, frictionless: bool) -> System {
         walls,
         gravity: [0.0, -9.81, 0.0],
     };
-    System::one_material(
-        particles,
-        species,
-        &ForceLaw::Linear(law),
-        tangential,
-        domain,
-    )
-    .expect("the hopper's system")
+    System::one_material(particles, species, &normal, tangential, domain)
+        .expect("the hopper's system")
 }
 
 /// CPU time of this process in s (user + system, from /proc/self/stat, in clock
@@ -181,9 +203,27 @@ struct Run {
 const NX: usize = (WIDTH / BIN) as usize;
 const NY: usize = (HEIGHT / BIN) as usize;
 
-/// Runs the hopper of `seed` to `t_end`; `md` makes every particle time-driven.
-fn run(seed: u64, md: bool, frictionless: bool, t_end: f64, window: (f64, f64)) -> Run {
-    let system = hopper(seed, frictionless);
+/// What a run is asked to do.
+#[derive(Clone, Copy)]
+struct Setup {
+    model: Model,
+    events: EventRule,
+    frictionless: bool,
+    t_end: f64,
+    /// The time window the fields are averaged over.
+    window: (f64, f64),
+}
+
+/// Runs the hopper of `seed`; `md` makes every particle time-driven.
+fn run(seed: u64, md: bool, setup: Setup) -> Run {
+    let Setup {
+        model,
+        events,
+        frictionless,
+        t_end,
+        window,
+    } = setup;
+    let system = hopper(seed, model, frictionless);
     let tc = emdstar_dem::shortest_contact_time(&system, t_end)
         .expect("contact time")
         .expect("particles move");
@@ -194,15 +234,13 @@ fn run(seed: u64, md: bool, frictionless: bool, t_end: f64, window: (f64, f64)) 
     };
     let mut opts = HybridOptions {
         outlet: Some(outlet),
+        events,
         ..HybridOptions::with_dt(dt)
     };
     if md {
         (opts.phi_time, opts.phi_event) = (0.0, 0.0);
     }
-    let mor = TableMorSource::new(
-        emdstar_table::default_table(emdstar_contact::Model::Linear).expect("table"),
-        true,
-    );
+    let mor = TableMorSource::new(emdstar_table::default_table(model).expect("table"), true);
     let mut h = Hybrid::new(system, opts, Box::new(mor), t_end).expect("hopper set-up");
     let per_sample = (SAMPLE / dt).round() as u64;
     let samples = (t_end / SAMPLE).round() as u64;
@@ -296,6 +334,8 @@ fn main() {
     let mut font: Option<PathBuf> = None;
     let mut engines = vec![true, false];
     let mut frictionless = false;
+    let mut model = Model::Linear;
+    let mut events = EventRule::EmdStar;
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     if let Some(k) = args.iter().position(|a| a == "--frictionless") {
         frictionless = true;
@@ -310,6 +350,20 @@ fn main() {
             "--t-end" => t_end = value.parse().expect("--t-end SECONDS"),
             "--out" => out = value.into(),
             "--font" => font = Some(value.into()),
+            "--law" => {
+                model = match value.as_str() {
+                    "linear" => Model::Linear,
+                    "hertz" => Model::Hertz,
+                    other => panic!("--law {other}: linear or hertz"),
+                }
+            }
+            "--events" => {
+                events = match value.as_str() {
+                    "emdstar" => EventRule::EmdStar,
+                    "emd" => EventRule::Emd,
+                    other => panic!("--events {other}: emdstar or emd"),
+                }
+            }
             // Profiling aid: one engine only (no figures then).
             "--only" => engines = vec![value == "md"],
             other => panic!("unknown option {other}; see the doc comment of main.rs"),
@@ -322,11 +376,18 @@ fn main() {
         None => emdstar_plot::register_font(),
     }
     let window = (t_end - 4.0 * SAMPLE, t_end);
+    let setup = Setup {
+        model,
+        events,
+        frictionless,
+        t_end,
+        window,
+    };
     let mut md_runs = Vec::new();
     let mut hybrid_runs = Vec::new();
     for seed in 1..=seeds {
         for &md in &engines {
-            let r = run(seed, md, frictionless, t_end, window);
+            let r = run(seed, md, setup);
             eprintln!(
                 "seed {seed} {}: {:.1} s CPU, {:.1} s wall, {} removed, {} ED at the end, {:?}",
                 if md { "MD" } else { "hybrid" },
@@ -374,6 +435,19 @@ fn main() {
     let md_cpu: f64 = md_runs.iter().map(|r| r.cpu_s).sum();
     let hy_cpu: f64 = hybrid_runs.iter().map(|r| r.cpu_s).sum();
     let md_steps: u64 = md_runs.iter().map(|r| r.stats.td_particle_steps).sum();
+    let total = |f: fn(&emdstar_hybrid::HybridStats) -> u64| -> u64 {
+        hybrid_runs.iter().map(|r| f(&r.stats)).sum()
+    };
+    let counts = format!(
+        "{{\"pair_collisions\": {}, \"wall_collisions\": {}, \"frictional_solves\": {}, \
+         \"exceptions\": {}, \"mor_fallbacks\": {}, \"late_guard_switches\": {}}}",
+        total(|s| s.ed.pair_collisions),
+        total(|s| s.ed.wall_collisions),
+        total(|s| s.ed.frictional_solves),
+        total(|s| s.ed.exceptions()),
+        total(|s| s.ed.mor_fallbacks),
+        total(|s| s.late_conversions),
+    );
     let hy_steps: u64 = hybrid_runs.iter().map(|r| r.stats.td_particle_steps).sum();
     // HAET's Fig. 9(a) shows t_CPU/t of both methods against t: compare the ratio over
     // the first and the last quarter of the run.
@@ -387,24 +461,9 @@ fn main() {
     };
     let early = quarter(&md_runs, true) / quarter(&hybrid_runs, true);
     let late = quarter(&md_runs, false) / quarter(&hybrid_runs, false);
-    let law = material(PairProperties::spheres(&sphere(), &sphere()).m_eff);
-    // Smooth spheres have β₀ = −1.
-    let (beta_pair, beta_wall) = if frictionless {
-        (-1.0, -1.0)
-    } else {
-        let beta = |m_eff: f64| {
-            let t_c = law.central_impact(m_eff).expect("contact").duration;
-            sticking_restitution(&friction(&law), m_eff, t_c)
-        };
-        let s = sphere();
-        (
-            beta(PairProperties::spheres(&s, &s).m_eff),
-            beta(PairProperties::sphere_wall(&s).m_eff),
-        )
-    };
     let summary = format!(
         "{{\n  \"seeds\": {seeds},\n  \"t_end\": {t_end},\n  \"friction\": {},\n  \
-         \"beta0_pair\": {beta_pair:.4},\n  \"beta0_wall\": {beta_wall:.4},\n  \
+         \"law\": \"{}\",\n  \"events\": \"{}\",\n  \"hybrid_events\": {counts},\n  \
          \"cpu_ratio_md_over_hybrid_first_quarter\": {early:.3},\n  \
          \"cpu_ratio_md_over_hybrid_last_quarter\": {late:.3},\n  \
          \"rms_spin_hybrid_vs_md_same_seed\": {same_spin:?},\n  \
@@ -419,6 +478,8 @@ fn main() {
          \"mean\": {{\"phi_same\": {:.4e}, \"phi_noise\": {:.4e}, \"speed_same\": {:.4e}, \
          \"speed_noise\": {:.4e}}}\n}}\n",
         if frictionless { 0.0 } else { FRICTION },
+        model.name(),
+        events.name(),
         md_cpu / hy_cpu,
         md_wall / hy_wall,
         same.0,

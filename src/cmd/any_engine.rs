@@ -69,10 +69,10 @@ impl EngineReport for AnyEngine {
                 "dt": e.options().dt,
                 "skin": e.skin(),
                 "neighbour_rebuilds": e.stats().rebuilds,
-                "threads": 1,
+                "threads": threads,
                 "particle_steps_per_s": n * steps as f64 / wall_seconds,
                 "collisions_per_s": e.stats().ed.pair_collisions as f64 / wall_seconds,
-                "stats": hybrid_engine::stats_json(e.stats()),
+                "stats": hybrid_engine::stats_json(e.stats(), e.options().events),
             }),
         }
     }
