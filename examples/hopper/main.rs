@@ -150,9 +150,7 @@ fn hopper(seed: u64, model: Model, frictionless: bool) -> System {
     };
     let normal = match model {
         Model::Linear => ForceLaw::Linear(law),
-        Model::Hertz => ForceLaw::Hertz(hertz_material(&PairProperties::spheres(
-            &sphere, &sphere,
-        ))),
+        Model::Hertz => ForceLaw::Hertz(hertz_material(&PairProperties::spheres(&sphere, &sphere))),
     };
     let domain = Domain {
         sim_box: Some(SimBox {

@@ -144,7 +144,10 @@ fn hybrid_events_are_emdstar_unless_emd_is_chosen() {
     }
     assert_eq!(star["stats"]["events_by"], "emdstar");
     assert_eq!(emd["stats"]["events_by"], "emd");
-    assert!(star["stats"]["velocity_events"].as_u64().unwrap() > 0, "{star}");
+    assert!(
+        star["stats"]["velocity_events"].as_u64().unwrap() > 0,
+        "{star}"
+    );
     assert_eq!(emd["stats"]["velocity_events"], 0, "{emd}");
     let (a, b) = (
         star["energy_drift"].as_f64().unwrap(),

@@ -257,8 +257,7 @@ fn a_frictional_pair_runs_on_md_emdstar_and_the_hybrid_and_emd_without_walton_re
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for i in 0..2 {
         assert_eq!(
-            json["particles"][i]["angular_velocity"],
-            star["particles"][i]["angular_velocity"],
+            json["particles"][i]["angular_velocity"], star["particles"][i]["angular_velocity"],
             "the hybrid's spins are eMD*'s"
         );
     }

@@ -356,7 +356,12 @@ mod tests {
                 for (e, below) in list.neighbours(i).map(|e| (e, list.of(i).contains(&e))) {
                     let (j, s) = list.split(e);
                     // The image named is the close one, seen from either side.
-                    assert!(within(xs[i], xs[j], s, r[order[i] as usize] + r[order[j] as usize] + skin));
+                    assert!(within(
+                        xs[i],
+                        xs[j],
+                        s,
+                        r[order[i] as usize] + r[order[j] as usize] + skin
+                    ));
                     assert_eq!(below, j < i, "{i} {j}");
                     let (a, b) = (order[i] as usize, order[j] as usize);
                     if below { &mut lower } else { &mut upper }.push((a.min(b), a.max(b)));
@@ -364,8 +369,14 @@ mod tests {
             }
             lower.sort_unstable();
             upper.sort_unstable();
-            assert_eq!(lower, want, "each pair under its higher index, periodic {periodic:?}");
-            assert_eq!(upper, want, "each pair under its lower index, periodic {periodic:?}");
+            assert_eq!(
+                lower, want,
+                "each pair under its higher index, periodic {periodic:?}"
+            );
+            assert_eq!(
+                upper, want,
+                "each pair under its lower index, periodic {periodic:?}"
+            );
         }
     }
 

@@ -37,4 +37,3 @@ pub fn kick_drift(
     };
     ([x[0] + w[0] * dt, x[1] + w[1] * dt, x[2] + w[2] * dt], w)
 }
-

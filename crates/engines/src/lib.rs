@@ -28,7 +28,6 @@ mod setup;
 pub use engine::AnyEngine;
 pub use options::{
     BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, EventsChoice, HybridChoice,
-    InterferenceChoice,
-    MdChoice, MorChoice, parse_engine,
+    InterferenceChoice, MdChoice, MorChoice, parse_engine,
 };
 pub use setup::{event_engine, md_options, mor_source};

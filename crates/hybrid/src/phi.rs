@@ -27,62 +27,110 @@ pub(crate) fn region(
 pub fn local_volume_fractions(
     positions: &[[f64; 3]],
     radius: &[f64],
+    region: ([f64; 3], [f64; 3], [bool; 3]),
+    cell: f64,
+) -> Vec<f64> {
+    let mut scratch = PhiScratch::default();
+    volume_fractions(positions, radius, region, cell, &mut scratch).to_vec()
+}
+
+/// Scratch of the volume fractions, kept between calls (`solid` stays zero and
+/// `phi_cell` NaN between them).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PhiScratch {
+    solid: Vec<f64>,
+    phi_cell: Vec<f64>,
+    cell_of: Vec<usize>,
+    phi: Vec<f64>,
+}
+
+/// The link cells of a φ computation: at least `cell` wide over the region, fewer
+/// where particles are few and far apart.
+fn phi_grid(
     (lo, extent, periodic): ([f64; 3], [f64; 3], [bool; 3]),
     cell: f64,
-) -> Vec<f64> {
-    let mut grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
-    grid.bin(positions);
-    volume_fractions_on(&grid, positions, radius, cell)
+    n: usize,
+) -> CellGrid {
+    CellGrid::sparse(lo, extent, periodic, cell, n)
 }
 
-/// [`local_volume_fractions`] on a grid binned with `positions`.
-pub(crate) fn volume_fractions_on(
-    grid: &CellGrid,
-    positions: &[[f64; 3]],
-    radius: &[f64],
-    cell: f64,
-) -> Vec<f64> {
-    let periodic = grid.periodic;
-    let mut solid = vec![0.0; grid.len()];
-    for (x, r) in positions.iter().zip(radius) {
-        solid[grid.index(grid.coords(*x))] += 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-    }
-    let cell_volume: f64 = grid
-        .cell_size
+/// The volume of a link cell of `grid` (`cell` along a flat axis).
+fn cell_volume(grid: &CellGrid, cell: f64) -> f64 {
+    grid.cell_size
         .iter()
         .map(|&c| if c > 0.0 { c } else { cell })
-        .product();
-    let mut phi_cell = vec![f64::NAN; grid.len()];
-    positions
-        .iter()
-        .map(|x| {
-            let c = grid.coords(*x);
-            let index = grid.index(c);
-            if phi_cell[index].is_nan() {
-                // Every cell of the neighbourhood counts, empty or not.
-                let cells: usize = (0..3)
-                    .map(|k| {
-                        let d = grid.dims[k];
-                        if periodic[k] && d >= 3 {
-                            3
-                        } else {
-                            1 + usize::from(c[k] > 0) + usize::from(c[k] + 1 < d)
-                        }
-                    })
-                    .product();
-                let (near, n) = around(grid, c);
-                let occupied = near[..n]
-                    .iter()
-                    .filter(|&&o| grid.cell_start[o] != grid.cell_start[o + 1]);
-                let v: f64 = occupied.map(|&o| solid[o]).sum();
-                phi_cell[index] = v / (cells as f64 * cell_volume);
-            }
-            phi_cell[index]
-        })
-        .collect()
+        .product()
 }
 
-/// The cells around cell `c` of a φ grid, as [`volume_fractions_on`] counts them
+/// Files the solid volume of each particle in its cell of `grid` (`solid`, sized) and
+/// notes each particle's cell (`cell_of`).
+fn file_solid(grid: &CellGrid, positions: &[[f64; 3]], radius: &[f64], s: &mut PhiScratch) {
+    if s.solid.len() < grid.len() {
+        s.solid.resize(grid.len(), 0.0);
+        s.phi_cell.resize(grid.len(), f64::NAN);
+    }
+    s.cell_of.clear();
+    // `grid.coords` without the floor call (a library call on baseline x86-64): for
+    // non-negative c, truncation is the floor.
+    let coords_of = |x: [f64; 3]| -> [usize; 3] {
+        std::array::from_fn(|k| {
+            let c = (x[k] - grid.lo[k]) / grid.cell_size[k];
+            let top = grid.dims[k] - 1;
+            if c < 0.0 {
+                if grid.periodic[k] { top } else { 0 }
+            } else {
+                (c as usize).min(top)
+            }
+        })
+    };
+    for (x, r) in positions.iter().zip(radius) {
+        let m = grid.index(coords_of(*x));
+        s.cell_of.push(m);
+        s.solid[m] += 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
+    }
+}
+
+/// Empties the cells `file_solid` filled.
+fn clear_solid(s: &mut PhiScratch) {
+    for &m in &s.cell_of {
+        s.solid[m] = 0.0;
+        s.phi_cell[m] = f64::NAN;
+    }
+}
+
+/// [`local_volume_fractions`] into `scratch` (no allocation once it has grown).
+pub(crate) fn volume_fractions<'a>(
+    positions: &[[f64; 3]],
+    radius: &[f64],
+    region: ([f64; 3], [f64; 3], [bool; 3]),
+    cell: f64,
+    scratch: &'a mut PhiScratch,
+) -> &'a [f64] {
+    let grid = phi_grid(region, cell, positions.len());
+    file_solid(&grid, positions, radius, scratch);
+    let volume = cell_volume(&grid, cell);
+    let (nx, ny) = (grid.dims[0], grid.dims[1]);
+    let PhiScratch {
+        solid,
+        phi_cell,
+        cell_of,
+        phi,
+    } = scratch;
+    phi.clear();
+    for &m in cell_of.iter() {
+        if phi_cell[m].is_nan() {
+            // Every cell of the neighbourhood counts, empty or not.
+            let (near, count) = around(&grid, [m % nx, (m / nx) % ny, m / (nx * ny)]);
+            let sum: f64 = near[..count].iter().map(|&o| solid[o]).sum();
+            phi_cell[m] = sum / (count as f64 * volume);
+        }
+        phi.push(phi_cell[m]);
+    }
+    clear_solid(scratch);
+    &scratch.phi
+}
+
+/// The cells around cell `c` of a φ grid, as the volume fractions count them
 /// (wrapping along a periodic axis of at least 3 cells, clipped otherwise).
 fn around(grid: &CellGrid, c: [usize; 3]) -> ([usize; 27], usize) {
     let mut axis = [[0usize; 3]; 3];
@@ -116,60 +164,28 @@ fn around(grid: &CellGrid, c: [usize; 3]) -> ([usize; 27], usize) {
     (out, n)
 }
 
-/// Scratch buffers of [`any_dense`] (kept between calls; `solid` stays zero).
-#[derive(Debug, Clone, Default)]
-pub(crate) struct DenseScratch {
-    solid: Vec<f64>,
-    cell_of: Vec<usize>,
-}
-
 /// Whether any particle's local volume fraction (as [`local_volume_fractions`] with
-/// the same arguments; radius 0 leaves a particle out) reaches `phi`, without binning
-/// the whole grid: φ of a neighbourhood is at most the largest φ of its cells, so only
-/// the neighbourhoods of cells that alone reach `phi` are summed. O(N) per call.
+/// the same arguments; radius 0 leaves a particle out) reaches `phi`, without summing
+/// every neighbourhood: φ of a neighbourhood is at most the largest φ of its cells, so
+/// only the neighbourhoods of cells that alone reach `phi` are summed. O(N) per call.
 pub(crate) fn any_dense(
     positions: &[[f64; 3]],
     radius: &[f64],
-    (lo, extent, periodic): ([f64; 3], [f64; 3], [bool; 3]),
+    region: ([f64; 3], [f64; 3], [bool; 3]),
     cell: f64,
     phi: f64,
-    scratch: &mut DenseScratch,
+    scratch: &mut PhiScratch,
 ) -> bool {
-    let grid = CellGrid::sparse(lo, extent, periodic, cell, positions.len());
-    let DenseScratch { solid, cell_of } = scratch;
-    if solid.len() < grid.len() {
-        solid.resize(grid.len(), 0.0);
-    }
-    cell_of.clear();
-    // `grid.coords` without the floor call (a library call on baseline x86-64): for
-    // non-negative c, truncation is the floor.
-    let coords_of = |x: [f64; 3]| -> [usize; 3] {
-        std::array::from_fn(|k| {
-            let c = (x[k] - grid.lo[k]) / grid.cell_size[k];
-            let top = grid.dims[k] - 1;
-            if c < 0.0 {
-                if grid.periodic[k] { top } else { 0 }
-            } else {
-                (c as usize).min(top)
-            }
-        })
-    };
-    for (x, r) in positions.iter().zip(radius) {
-        let m = grid.index(coords_of(*x));
-        cell_of.push(m);
-        solid[m] += 4.0 / 3.0 * std::f64::consts::PI * r * r * r;
-    }
-    let volume: f64 = grid
-        .cell_size
-        .iter()
-        .map(|&c| if c > 0.0 { c } else { cell })
-        .product();
+    let grid = phi_grid(region, cell, positions.len());
+    file_solid(&grid, positions, radius, scratch);
+    let volume = cell_volume(&grid, cell);
+    let solid = &scratch.solid;
     // Slightly below the threshold, so that round-off in the sums cannot hide one.
     let hot = phi * volume * (1.0 - 1e-9);
     let (nx, ny) = (grid.dims[0], grid.dims[1]);
     let coords = |m: usize| [m % nx, (m / nx) % ny, m / (nx * ny)];
     let mut dense = false;
-    'cells: for &m in cell_of.iter() {
+    'cells: for &m in scratch.cell_of.iter() {
         if solid[m] == 0.0 || solid[m] < hot {
             continue;
         }
@@ -186,9 +202,7 @@ pub(crate) fn any_dense(
             }
         }
     }
-    for &m in cell_of.iter() {
-        solid[m] = 0.0;
-    }
+    clear_solid(scratch);
     dense
 }
 
@@ -228,7 +242,7 @@ mod tests {
             phi.iter().all(|p| p.is_finite() && *p >= 0.0 && *p < 1e-6),
             "{phi:?}"
         );
-        let mut scratch = DenseScratch::default();
+        let mut scratch = PhiScratch::default();
         assert!(!any_dense(&x, &[0.1; 3], region, 0.3, 0.2, &mut scratch));
         assert!(scratch.solid.len() < 1 << 23);
     }
@@ -245,7 +259,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let mut scratch = DenseScratch::default();
+        let mut scratch = PhiScratch::default();
         for periodic in [[true; 3], [false; 3], [true, false, true]] {
             let mut x: Vec<[f64; 3]> = (0..300)
                 .map(|_| [6.0 * uniform(), 5.0 * uniform(), 4.0 * uniform()])

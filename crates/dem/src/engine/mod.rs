@@ -83,7 +83,9 @@ impl Md {
     fn particles_now(&self) -> Particles {
         let p = &self.system.particles;
         Particles {
-            velocity: self.verlet.velocities_now(p, All, self.system.domain.gravity),
+            velocity: self
+                .verlet
+                .velocities_now(p, All, self.system.domain.gravity),
             angular_velocity: self.verlet.spins_now(p),
             ..p.clone()
         }

@@ -169,11 +169,9 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
         self.broad.predict(self.state, i);
         if H::BODIES_OUTSIDE
             && let Some((probe, slot)) = self.state.probe_slot(i)
-            && self.hooks.blocks_rotation(
-                i,
-                self.state.slot[i].kin.pos,
-                probe.old_position[slot],
-            )
+            && self
+                .hooks
+                .blocks_rotation(i, self.state.slot[i].kin.pos, probe.old_position[slot])
         {
             self.state.block_probe();
         }

@@ -77,7 +77,11 @@ impl<Q: EventQueue> EventEngine<Crossings, Q> {
             };
             s.last_contact[i] = LastContact::NONE;
             let id = s.id[i] as usize;
-            s.spin[id] = particles.angular_velocity.get(i).copied().unwrap_or([0.0; 3]);
+            s.spin[id] = particles
+                .angular_velocity
+                .get(i)
+                .copied()
+                .unwrap_or([0.0; 3]);
             let c = self.broad.grid.coords_of(x);
             self.broad.grid.insert(i, c);
         }
@@ -113,7 +117,10 @@ impl<Q: EventQueue> EventEngine<Crossings, Q> {
     pub fn renumber(&mut self, order: &[u32]) {
         self.state.permute(order);
         self.broad.grid.renumber(order);
-        self.state.refile();
+        // Without any event every key is +∞, whatever the numbering.
+        if self.state.queue.peek().1.is_finite() {
+            self.state.refile();
+        }
     }
 
     /// Swaps the collision rules with `other`'s (a core decoded from a checkpoint takes
@@ -184,5 +191,4 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     pub fn spin(&self, i: usize) -> [f64; 3] {
         self.state.spin[self.state.id[i] as usize]
     }
-
 }

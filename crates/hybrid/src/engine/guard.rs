@@ -74,14 +74,17 @@ impl Hybrid {
         Ok(())
     }
 
-    /// TD particle `i`'s velocity now (its stored one with a pending half kick).
+    /// TD particle `i`'s velocity now: its stored one without the step's contact kick
+    /// if taken, with a pending half kick.
     fn td_velocity(&self, i: usize) -> [f64; 3] {
-        let v = self.system.particles.velocity[i];
-        if !self.td.is_lagging() {
-            return v;
-        }
         let (a, g) = (self.td.contact_acc(i), self.system.domain.gravity);
-        let h = 0.5 * self.opts.dt;
-        std::array::from_fn(|k| v[k] + h * (a[k] + g[k]))
+        let kick = self.td_kick.unwrap_or(0.0);
+        let h = if self.td.is_lagging() {
+            0.5 * self.opts.dt
+        } else {
+            0.0
+        };
+        let v = self.system.particles.velocity[i];
+        std::array::from_fn(|k| v[k] - kick * a[k] + h * (a[k] + g[k]))
     }
 }

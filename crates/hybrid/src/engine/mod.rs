@@ -15,9 +15,9 @@ mod upkeep;
 mod walton;
 
 use crate::options::{EventRule, HybridError, HybridOptions, HybridStats, Mode};
-use crate::phi::{DenseScratch, local_volume_fractions, region};
+use crate::phi::{PhiScratch, local_volume_fractions, region};
 use emdstar_contact::vec3::norm;
-use emdstar_dem::{ContactEnd, MdError, MdOptions, Verlet, prepare_system};
+use emdstar_dem::{All, ContactEnd, MdError, MdOptions, Verlet, prepare_system};
 use emdstar_edmd::rules::MorSource;
 use emdstar_edmd::{Crossings, EventEngine, Physics};
 use emdstar_system::{Method, System};
@@ -46,6 +46,9 @@ pub struct Hybrid {
     /// set at rebuilds, grown by every switch to TD.
     boundary: Vec<u32>,
     upkeep: Upkeep,
+    /// The contact kick of the current step, once the TD velocities have taken it (as
+    /// MD, before the list check); `None` between steps.
+    td_kick: Option<f64>,
     steps: u64,
     stats: HybridStats,
     #[serde(skip)]
@@ -60,7 +63,7 @@ struct Scratch {
     /// The mode checks' positions and radii now, and cell sums.
     positions: Vec<[f64; 3]>,
     radius: Vec<f64>,
-    dense: DenseScratch,
+    phi: PhiScratch,
 }
 
 impl Hybrid {
@@ -135,6 +138,7 @@ impl Hybrid {
             book: EventBook::new(n),
             boundary: Vec::new(),
             upkeep: Upkeep::default(),
+            td_kick: None,
             steps: 0,
             stats: HybridStats::default(),
             scratch: Scratch::default(),
@@ -217,17 +221,25 @@ impl Hybrid {
         let dt = self.opts.dt;
         let g = self.system.domain.gravity;
         if self.upkeep.list {
+            // MD's step: the contact kick, then the list check with its speed bound.
             let kick = self.td.next_kick();
-            let kicked = self.td.kicked_speed2(&self.system.particles, kick);
+            let kicked = self.td.kick(&mut self.system.particles, kick);
+            self.td_kick = Some(kick);
             let v_td = self.td.speed_bound(kicked, g, kick);
             let v_ed = self.ed_speed_bound();
             let v_bound = max_nan(v_td, v_ed);
-            let drift = self.td.drift_bound().max(self.upkeep.ed_drift + self.book.max_jump);
+            let drift = self
+                .td
+                .drift_bound()
+                .max(self.upkeep.ed_drift + self.book.max_jump);
             if !self.td.list_holds(drift, v_bound, dt) {
                 self.rebuild(self.opts.adaptive)?;
                 self.td.step_fits(v_bound, dt)?;
             }
-        } else if self.upkeep.check_due(self.ed_speed_bound(), self.book.max_jump, dt) {
+        } else if self
+            .upkeep
+            .check_due(self.ed_speed_bound(), self.book.max_jump, dt)
+        {
             self.mode_check()?;
         }
         self.guard()?;
@@ -235,9 +247,21 @@ impl Hybrid {
         let t1 = (self.steps + 1) as f64 * dt;
         self.run_events(t1)?;
         if self.modes.any(Mode::Time) {
-            let kick = self.td.next_kick();
-            self.td.kick(&mut self.system.particles, kick);
-            self.td.sweep(&mut self.system, self.modes.time_driven(), kick, dt);
+            let kick = match self.td_kick.take() {
+                Some(kick) => kick,
+                None => {
+                    let kick = self.td.next_kick();
+                    self.td.kick(&mut self.system.particles, kick);
+                    kick
+                }
+            };
+            if self.modes.count(Mode::Time) == self.modes.len() {
+                // Every particle TD: MD's sweep itself, without a test per pair.
+                self.td.sweep(&mut self.system, All, kick, dt);
+            } else {
+                self.td
+                    .sweep(&mut self.system, self.modes.time_driven(), kick, dt);
+            }
             self.stats.td_particle_steps += self.modes.count(Mode::Time) as u64;
         }
         self.upkeep.ed_drift += self.ed_speed_bound() * dt;

@@ -4,7 +4,7 @@
 
 use super::Hybrid;
 use crate::options::{HybridError, Mode};
-use crate::phi::{local_volume_fractions, region};
+use crate::phi::{region, volume_fractions};
 
 /// Every particle's mode, and the TD ones as the Verlet driver's mask.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
@@ -58,7 +58,10 @@ impl Modes {
     /// After the particles were renumbered by `order` (new k is old `order[k]`).
     pub(crate) fn permute(&mut self, order: &[u32]) {
         self.mode = order.iter().map(|&k| self.mode[k as usize]).collect();
-        self.time_driven = order.iter().map(|&k| self.time_driven[k as usize]).collect();
+        self.time_driven = order
+            .iter()
+            .map(|&k| self.time_driven[k as usize])
+            .collect();
     }
 
     /// Whether a decoded set (a checkpoint's) is whole for `n` particles.
@@ -87,15 +90,23 @@ impl Hybrid {
             .map(|i| if removed(i) { 0.0 } else { p.radius[i] })
             .collect();
         let area = region(&p.position, self.system.domain.sim_box.as_ref());
-        let phi = local_volume_fractions(&p.position, &radius, area, min_cell);
-        let touching = self.touching(&radius);
+        let mut scratch = std::mem::take(&mut self.scratch.phi);
+        let phi = volume_fractions(&p.position, &radius, area, min_cell, &mut scratch);
+        let sparse = |i: usize| self.modes.of(i) == Mode::Time && phi[i] < self.opts.phi_event;
+        // Contacts only matter for TD particles sparse enough to become ED.
+        let touching = if (0..n).any(sparse) {
+            self.touching(&radius)
+        } else {
+            Vec::new()
+        };
         let mut target: Vec<Mode> = (0..n)
             .map(|i| match self.modes.of(i) {
-                Mode::Time if phi[i] < self.opts.phi_event && !touching[i] => Mode::Event,
+                Mode::Time if sparse(i) && !touching[i] => Mode::Event,
                 Mode::Event if phi[i] >= self.opts.phi_time => Mode::Time,
                 m => m,
             })
             .collect();
+        self.scratch.phi = scratch;
         // The buffer: an ED particle within the list's reach of a TD one becomes TD.
         if target.contains(&Mode::Event) && target.contains(&Mode::Time) {
             let list = self.td.list();
@@ -117,7 +128,9 @@ impl Hybrid {
             }
         }
         let to_event: Vec<u32> = (0..n as u32)
-            .filter(|&i| target[i as usize] == Mode::Event && self.modes.of(i as usize) == Mode::Time)
+            .filter(|&i| {
+                target[i as usize] == Mode::Event && self.modes.of(i as usize) == Mode::Time
+            })
             .collect();
         let to_time: Vec<usize> = (0..n)
             .filter(|&i| target[i] == Mode::Time && self.modes.of(i) == Mode::Event)
@@ -145,7 +158,13 @@ impl Hybrid {
                 continue;
             }
             let xi = p.position[i];
-            if self.system.domain.walls.iter().any(|w| w.distance(xi) < radius[i]) {
+            if self
+                .system
+                .domain
+                .walls
+                .iter()
+                .any(|w| w.distance(xi) < radius[i])
+            {
                 touching[i] = true;
             }
             for &e in list.of(i) {
@@ -162,8 +181,12 @@ impl Hybrid {
     }
 
     /// Brings the TD velocities in step with the positions at time `t` (before a
-    /// switch, which hands over or takes in a velocity now).
+    /// switch, which hands over or takes in a velocity now): the step's contact kick
+    /// undone if it was taken, the pending half kick applied.
     pub(super) fn in_step(&mut self, t: f64) -> Result<(), HybridError> {
+        if let Some(kick) = self.td_kick.take() {
+            self.td.kick(&mut self.system.particles, -kick);
+        }
         let g = self.system.domain.gravity;
         let members = self.modes.time_driven();
         Ok(self
@@ -244,7 +267,13 @@ impl Hybrid {
     /// condition (6.2)): it would start an event-driven flight inside a contact.
     pub fn set_mode(&mut self, id: usize, mode: Mode) -> Result<(), HybridError> {
         let n = self.modes.len();
-        let Some(i) = self.system.particles.id.iter().position(|&k| k as usize == id) else {
+        let Some(i) = self
+            .system
+            .particles
+            .id
+            .iter()
+            .position(|&k| k as usize == id)
+        else {
             return Err(HybridError::Invalid(format!(
                 "particle {id} does not exist: there are {n} particles"
             )));

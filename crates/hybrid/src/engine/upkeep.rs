@@ -193,7 +193,7 @@ impl Hybrid {
                 region(&positions, self.system.domain.sim_box.as_ref()),
                 2.0 * self.system.max_radius() + self.td.skin(),
                 self.opts.phi_time,
-                &mut self.scratch.dense,
+                &mut self.scratch.phi,
             );
         self.scratch.positions = positions;
         self.scratch.radius = radius;

@@ -52,7 +52,11 @@ fn time_driven_against_md(sys: &System, t_end: f64, dense: bool, events: EventRu
     assert_eq!(h.count(Mode::Time), sys.particles.len());
     let s = h.stats();
     assert_eq!((s.to_event, s.ed.events), (0, 0));
-    assert!(m.rebuilds() > 2, "too few rebuilds to test: {}", m.rebuilds());
+    assert!(
+        m.rebuilds() > 2,
+        "too few rebuilds to test: {}",
+        m.rebuilds()
+    );
     assert_eq!(s.rebuilds, m.rebuilds());
     let end = m.particles_in_config_order();
     assert_same(&h.particles(), &end);
@@ -68,7 +72,11 @@ fn event_driven_against_emdstar(sys: &System, t_end: f64) -> Stats {
     assert_eq!(h.count(Mode::Event), sys.particles.len());
     h.advance(steps).unwrap();
     let s = *h.stats();
-    assert_eq!((s.to_time, s.td_particle_steps, s.rebuilds), (0, 0, 0), "{s:?}");
+    assert_eq!(
+        (s.to_time, s.td_particle_steps, s.rebuilds),
+        (0, 0, 0),
+        "{s:?}"
+    );
     assert!(s.cell_passes > 0 && s.ed.crossings > 0, "{s:?}");
     let (reference, es) = emdstar_reference(sys, t);
     eprintln!("hybrid {:?}\nengine {:?}", counts(&s.ed), counts(&es));
@@ -99,7 +107,10 @@ seed = 5
 "#,
     );
     let end = time_driven_against_md(&hertz, 0.1, true, EventRule::EmdStar);
-    assert!(end.kinetic_energy() < 0.95 * hertz.particles.kinetic_energy(), "no collisions");
+    assert!(
+        end.kinetic_energy() < 0.95 * hertz.particles.kinetic_energy(),
+        "no collisions"
+    );
 }
 
 #[test]

@@ -135,7 +135,10 @@ fn event_driven_frictional_collisions_are_mds_through_the_exact_contact() {
     for (name, sys) in [
         ("linear, sticking", oblique_pair(10.0, 0.08)),
         ("linear, sliding", oblique_pair(0.2, 0.12)),
-        ("Hertz, sticking", oblique_pair_of(hertz_sticking, 10.0, 0.08)),
+        (
+            "Hertz, sticking",
+            oblique_pair_of(hertz_sticking, 10.0, 0.08),
+        ),
         ("Hertz, sliding", oblique_hertz_pair(0.2, 0.12)),
     ] {
         let (ed, reference, h) = after_collision(&sys, EventRule::EmdStar);
@@ -143,7 +146,10 @@ fn event_driven_frictional_collisions_are_mds_through_the_exact_contact() {
         let (dv, dw) = relative_differences(&ed, &reference);
         let turned = spin_difference(&reference, &sys.particles) * 0.1 / 0.5;
         eprintln!("{name}: dv = {dv:e}, dw = {dw:e} (spins changed by {turned} of 0.5 m/s)");
-        assert!(turned > 0.1, "{name}: friction must turn the spins: {turned}");
+        assert!(
+            turned > 0.1,
+            "{name}: friction must turn the spins: {turned}"
+        );
         assert!(dv < 1e-4 && dw < 1e-4, "{name}: dv = {dv:e}, dw = {dw:e}");
     }
 }
@@ -239,7 +245,10 @@ fn friction_the_hybrid_cannot_run_is_refused_with_what_to_do() {
     }
     let coulomb = format!("{linear}tangential = \"coulomb\"\n{particles}");
     let refused = refuse(&coulomb, EventRule::EmdStar);
-    assert!(refused.contains("coulomb") && refused.contains("--events emd"), "{refused}");
+    assert!(
+        refused.contains("coulomb") && refused.contains("--events emd"),
+        "{refused}"
+    );
     assert!(build(&coulomb, EventRule::Emd).is_ok());
     let hertz = format!(
         "t_end = 0.01\n[material]\nmodel = \"hertz\"\nyoung = 1e9\npoisson = 0.4\n\
@@ -247,7 +256,10 @@ fn friction_the_hybrid_cannot_run_is_refused_with_what_to_do() {
          {particles}"
     );
     let refused = refuse(&hertz, EventRule::Emd);
-    assert!(refused.contains("hertz") && refused.contains("linear"), "{refused}");
+    assert!(
+        refused.contains("hertz") && refused.contains("linear"),
+        "{refused}"
+    );
     assert!(build(&hertz, EventRule::EmdStar).is_ok());
 }
 
