@@ -1,68 +1,15 @@
-//! The exact two-body contact of frictional soft spheres: the normal force law of
-//! Müller & Pöschel 2013 (Eqs. 40 and 51) with the Cundall–Strack history spring of
-//! `emdstar_contact::tangential` (docs/physics.md, "Friction and rotation"), both
-//! spins, in three dimensions, from first touch to the end of the frictionless solver,
-//! F_n = 0 with the spheres separating (Eq. 10).
-//!
-//! # Equations (relative coordinates r = x₁ − x₂, v = ṙ, n = r/|r|)
-//! - m_eff v̇ = F_n n + F_t, F_n = F(ξ, ξ̇) the pair's law, ξ = l − |r|, ξ̇ = −v·n;
-//! - I_i ω̇_i = −(R_i − ξ/2) n × F_t (both spheres, the lever arm of [`lever_arm`]);
-//! - the slip v_t = v − (v·n)n − (R₁ω₁ + R₂ω₂) × n ([`slip_velocity`]);
-//! - the spring, in the tangent plane, is transported with the normal and grows by the
-//!   slip: ξ̇_t = v_t − (ξ_t·ṅ)n, ṅ = (v − (v·n)n)/|r| (the continuous form of
-//!   [`emdstar_contact::turn_spring`] plus growth);
-//! - sticking: F_t = f = −k_t ξ_t − γ_t v_t while |f| ≤ µF_n;
-//! - sliding: F_t = µF_n f̂, and the spring stays where −k_t ξ_t − γ_t v_t = µF_n f̂
-//!   (MD's reset of the spring onto the cap, in the limit dt → 0):
-//!   ξ̇_t = v_t − (ξ_t·ṅ)n + c f̂ with c = (−k_t f̂·(v_t − (ξ_t·ṅ)n) − γ_t f̂·v̇_t − µḞ_n)/k_t,
-//!   which keeps d|f|/dt = µḞ_n.
-//!
-//! Sticking turns to sliding where µF_n − |f| crosses zero, sliding to sticking where c
-//! does (the cap would let go). Each stretch is one smooth ODE, integrated by DOP853; the
-//! switches and the end are located on the dense output, and the next stretch starts
-//! there. For Hertz, √ξ makes the start non-smooth; as in the frictionless solver the
-//! state carries w = √ξ and the independent variable is σ with dt/dσ = w.
-//!
-//! The pure Coulomb model (F_t = −µF_n v̂_t) has no spring and chatters about v_t = 0;
-//! it is not solved here.
+//! The reference solver of the exact frictional contact: the equations of [`super`] in
+//! the state (r − r_touch, v, ω₁, ω₂, ξ_t, ξ or √ξ, t), integrated by DOP853 to the
+//! tolerance asked for, each stick or slip stretch to its end, through the singular end
+//! of a sliding contact (the force direction turns ever faster as F_n → 0) by ever
+//! smaller steps. Slow (about 10³ evaluations of the right-hand side per contact at
+//! 10⁻¹¹) and plain: the yardstick of [`super::contact`].
 
-use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
+use super::{FrictionalEnd, MAX_SWITCHES, SAMPLES, Spinning, failure, sliding_direction};
+use crate::dop853::{Dop853, System, Tolerances, illinois};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{
-    Friction, PairLaw, SOLID_SPHERE_INERTIA, TangentialModel, lever_arm, slip_velocity,
-};
-
-/// One sphere of a frictional contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Spinning {
-    pub radius: f64,
-    pub mass: f64,
-    /// Angular velocity in rad/s.
-    pub spin: [f64; 3],
-}
-
-impl Spinning {
-    fn inertia(&self) -> f64 {
-        SOLID_SPHERE_INERTIA * self.mass * self.radius * self.radius
-    }
-}
-
-/// The relative state of a pair at the end of its contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrictionalEnd {
-    /// r = x₁ − x₂ at the end, in m.
-    pub separation: [f64; 3],
-    /// v = v₁ − v₂ at the end, in m/s.
-    pub velocity: [f64; 3],
-    /// ω₁ and ω₂ at the end, in rad/s.
-    pub spins: [[f64; 3]; 2],
-    /// Contact duration τ, in s.
-    pub duration: f64,
-    /// Switches between sticking and sliding.
-    pub switches: usize,
-    pub stats: SolveStats,
-}
+use emdstar_contact::{Friction, PairLaw, TangentialModel, lever_arm, slip_velocity};
 
 /// Index of the components of the state.
 const D: usize = 0;
@@ -74,12 +21,6 @@ const SPRING: usize = 12;
 const S: usize = 15;
 const T: usize = 16;
 const N: usize = 17;
-
-/// Samples of a step that bracket an event starting at zero.
-const SAMPLES: usize = 16;
-
-/// Bound on the stick–slip switches of one contact.
-const MAX_SWITCHES: usize = 1000;
 
 /// The contact of `bodies` touching at `separation` (|r| = R₁ + R₂) with relative velocity
 /// `velocity` (approaching), under `law` and the history spring of `friction`.
@@ -509,28 +450,4 @@ fn vec(y: &[f64; N], at: usize) -> [f64; 3] {
 
 fn put(y: &mut [f64; N], at: usize, v: [f64; 3]) {
     y[at..at + 3].copy_from_slice(&v);
-}
-
-fn failure(f: StepFailure) -> SolveError {
-    match f {
-        StepFailure::Underflow { t } | StepFailure::OutsideDomain { t } => {
-            SolveError::StepSizeUnderflow { t }
-        }
-    }
-}
-
-/// The direction of the tangential force at the cap: that of the trial force
-/// −k_t ξ_t − γ_t v_t, or against the slip where the trial force vanishes (zero
-/// without slip).
-fn sliding_direction(trial: [f64; 3], slip: [f64; 3]) -> [f64; 3] {
-    let t = norm(trial);
-    if t > 0.0 {
-        return scale(1.0 / t, trial);
-    }
-    let s = norm(slip);
-    if s > 0.0 {
-        scale(-1.0 / s, slip)
-    } else {
-        [0.0; 3]
-    }
 }
