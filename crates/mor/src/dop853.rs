@@ -24,6 +24,9 @@ pub(crate) trait System<const N: usize> {
     fn monitored(&self, _y: &[f64; N]) -> Option<(f64, [f64; N])> {
         None
     }
+
+    /// Called as each trial step begins (before its stages are evaluated).
+    fn trial_started(&self) {}
 }
 
 /// Per-step error control: a step is accepted when the weighted error norm is ≤ 1, with
@@ -138,12 +141,21 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         }
     }
 
+    /// Starts again at (t, y) with a first trial step `h` (as [`Self::new`], keeping the
+    /// counters and the tolerances).
+    pub fn restart(&mut self, t: f64, y: [f64; N], h: f64) -> Result<(), StepFailure> {
+        self.f = self.eval(t, &y).ok_or(StepFailure::OutsideDomain { t })?;
+        (self.t, self.y, self.h, self.t0, self.y0) = (t, y, h, t, y);
+        Ok(())
+    }
+
     /// Start time and state of the last accepted step.
     pub fn last_start(&self) -> (f64, &[f64; N]) {
         (self.t0, &self.y0)
     }
 
     /// Takes one accepted step, retrying with smaller steps as the error control demands.
+    #[inline(always)]
     pub fn step(&mut self) -> Result<(), StepFailure> {
         let mut rejected_before = false;
         loop {
@@ -177,6 +189,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     }
 
     /// The 7th-order interpolant of the last accepted step (3 more evaluations of f).
+    #[inline]
     pub fn dense(&mut self) -> Result<Dense<N>, StepFailure> {
         let (t0, h, y0) = (self.t0, self.h0, self.y0);
         for i in 13..16 {
@@ -204,6 +217,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         Ok(Dense { t0, h, cont })
     }
 
+    #[inline(always)]
     fn eval(&mut self, t: f64, y: &[f64; N]) -> Option<[f64; N]> {
         self.counters.evaluations += 1;
         self.sys.rhs(t, y)
@@ -227,7 +241,9 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
 
     /// One trial step of size h: the new state and the error norm (Hairer's `err`), or
     /// `None` if a stage left the domain.
+    #[inline(always)]
     fn trial(&mut self, h: f64) -> Option<([f64; N], f64)> {
+        self.sys.trial_started();
         let (t, y) = (self.t, self.y);
         self.k[0] = self.f;
         // Unrolled, so that each row of the tableau is a compile-time constant.
@@ -315,6 +331,7 @@ pub(crate) struct Dense<const N: usize> {
 
 impl<const N: usize> Dense<N> {
     /// The interpolated state at time t (meant for t in [t0, t0 + h]).
+    #[inline]
     pub fn eval(&self, t: f64) -> [f64; N] {
         let s = (t - self.t0) / self.h;
         let s1 = 1.0 - s;

@@ -5,7 +5,7 @@
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 
-use crate::frictional::{Spinning, solve_frictional};
+use crate::frictional::{HistorySpring, Spinning, solve_contact};
 use crate::{Mor, SolveError, SolverOptions, solve};
 use emdstar_contact::vec3::{from_na, to_na};
 use emdstar_contact::{ContactError, Friction, Impact, PairLaw, PairProperties, Vec3, scale};
@@ -151,7 +151,8 @@ pub fn exact_collision(
 }
 
 /// The exact collision of two frictional spheres with radii `radii` and spins `spins`
-/// ([`solve_frictional`]) in eMD*'s events: the E^φ event places the spheres where the
+/// ([`solve_contact`], to the accuracy of `opts`: eMD* uses
+/// [`crate::frictional::CONTACT_OPTIONS`]) in eMD*'s events: the E^φ event places the spheres where the
 /// contact leaves them relative to their centre of mass and gives both its velocity, the
 /// E^v event the post-collision velocities; the spins after the contact come second.
 pub fn frictional_collision(
@@ -172,9 +173,9 @@ pub fn frictional_collision(
     let r0 = b1.position - b2.position;
     let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
     let v0 = b1.velocity - b2.velocity;
-    let end = solve_frictional(
+    let end = solve_contact(
         law,
-        friction,
+        &HistorySpring::of(friction)?,
         &spinning,
         from_na(&touch),
         from_na(&v0),

@@ -19,8 +19,9 @@ use crate::error::{EngineError, Result};
 use crate::physics::Physics;
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
 use emdstar_contact::{Friction, SOLID_SPHERE_INERTIA};
+use emdstar_mor::SolveError;
+use emdstar_mor::frictional::CONTACT_OPTIONS;
 use emdstar_mor::rule::{Body, frictional_collision};
-use emdstar_mor::{SolveError, SolverOptions};
 
 /// The E^φ of the pair `i`, `j` meeting now with `r` = x_i − x_j (minimum image) and
 /// `v` = v_i − v_j, or the restitution of eMD's fallback (exception a).
@@ -55,7 +56,7 @@ pub(super) fn pair<H: Host>(
         &bodies,
         radii,
         spins_before,
-        &SolverOptions::default(),
+        &CONTACT_OPTIONS,
     )
     .map_err(|e| {
         let why = match e {

@@ -50,11 +50,13 @@ pub(super) const T: usize = 12;
 pub(super) const Q: usize = 13;
 
 /// Part of the accuracy the end of a sliding contact may spend.
-const TAIL_SHARE: f64 = 0.3;
+const TAIL_SHARE: f64 = 1.0;
 /// The first trial step, in units of the time scale.
 const FIRST_STEP: f64 = 0.05;
 /// The safety factor of the step-size control.
 const SAFETY: f64 = 0.8;
+/// The head ends where the spring on the cap is this many times its absolute tolerance.
+const RESOLVED: f64 = 1e3;
 /// Sliding, the longest step as a part of the estimated time left to the end (F_n over
 /// its rate): the spring's direction turns ever faster there.
 const END_REACH: f64 = 0.6;
@@ -69,6 +71,10 @@ pub(super) enum Mode {
     /// F_t = µF_n along the direction the spring would keep (the end of a sliding
     /// contact; µ = 0 throughout).
     Tail,
+    /// As the tail, for one short step from touch where a contact slides from touch and
+    /// F_n(0) = 0, while the spring on the cap, µF_n/k_t, is too short for its direction
+    /// to be resolved (its direction turns at k_t|v_t|/(µF_n), without bound at touch).
+    Head,
 }
 
 /// The partner of the sphere.
@@ -91,6 +97,9 @@ pub(super) struct Contact {
     pub k_t: f64,
     pub gamma_t: f64,
     pub m_eff: f64,
+    /// 1/m_eff and 1/k_t.
+    pub inv_m_eff: f64,
+    pub inv_k_t: f64,
     /// Σ R_i²/I_i and Σ R_i/(2I_i): Ω̇ = −(a − bξ) n × F_t.
     pub a: f64,
     pub b: f64,
@@ -128,99 +137,185 @@ enum Found {
     End([f64; N]),
     Switch(f64, [f64; N]),
     Tail(f64, [f64; N]),
+    /// The head's spring is long enough to follow.
+    Resolved(f64, [f64; N]),
 }
 
 /// One smooth stretch of the contact.
 struct Stretch<'a> {
     contact: &'a Contact,
-    mode: Mode,
-    /// The least switch function met at the stages since the last reset: a switch
-    /// there and back within a step shows here, not at its ends.
+    mode: Cell<Mode>,
+    /// The least switch function and the least end function (where ξ falls) met at the
+    /// stages of the current trial step: a switch there and back within a step, or an
+    /// end that a long step passes (damped Hertz: F_n = ρw(w² + (3/2)Aξ̇) is positive
+    /// again once w < 0), shows here, not at the step's ends.
     low: Cell<f64>,
+    low_end: Cell<f64>,
 }
 
 impl System<N> for Stretch<'_> {
-    #[inline]
+    #[inline(always)]
     fn rhs(&self, _x: f64, y: &[f64; N]) -> Option<[f64; N]> {
-        let e = self.contact.eval::<false>(y, self.mode);
+        let e = self.contact.eval::<false>(y, self.mode.get());
         self.low.set(self.low.get().min(e.mode));
+        if e.rate < 0.0 {
+            self.low_end.set(self.low_end.get().min(e.end));
+        }
         Some(e.dy)
+    }
+
+    fn trial_started(&self) {
+        self.low.set(f64::INFINITY);
+        self.low_end.set(f64::INFINITY);
     }
 }
 
 impl Contact {
     /// Integrates from the touch state `y0` to the end of the contact: the state there,
-    /// the stick–slip switches and the work done.
+    /// the stick–slip switches and the work done. With AVX2 where the CPU has it (the
+    /// same operations in the same order: the same result to the bit).
     pub fn integrate(&self, y0: [f64; N]) -> Result<([f64; N], usize, SolveStats), SolveError> {
-        let mut mode = if self.mu == 0.0 {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2.
+            return unsafe { self.integrate_avx2(y0) };
+        }
+        self.integrate_portable(y0)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn integrate_avx2(
+        &self,
+        y0: [f64; N],
+    ) -> Result<([f64; N], usize, SolveStats), SolveError> {
+        self.integrate_portable(y0)
+    }
+
+    #[inline(always)]
+    fn integrate_portable(
+        &self,
+        y0: [f64; N],
+    ) -> Result<([f64; N], usize, SolveStats), SolveError> {
+        let tail_impulse =
+            TAIL_SHARE * self.accuracy.min(self.rtol) * self.slip_mass() * self.speed;
+        // The spring's direction is resolved once its length on the cap is this many
+        // times its absolute tolerance.
+        let resolved = RESOLVED * self.tolerances().atol[SPRING] * self.k_t;
+        let mut y = y0;
+        let mut switches = 0;
+        let mode = if self.mu == 0.0 {
             Mode::Tail
         } else if self.starts_sliding(&y0) {
-            Mode::Slide
+            // The spring goes onto the cap; where the cap then outgrows the trial force
+            // (the pull is negative: damped Hertz, F_n ~ √t), the contact sticks at once.
+            y = self.onto_cap(&y);
+            let (_, _, f_n) = self.normal(y[S], -y[V]);
+            if self.eval::<true>(&y, Mode::Slide).mode < 0.0 {
+                switches += 1;
+                Mode::Stick
+            } else if self.mu * f_n < resolved {
+                Mode::Head
+            } else {
+                Mode::Slide
+            }
         } else {
             Mode::Stick
         };
-        let tol = self.tolerances();
-        let tail_impulse =
-            TAIL_SHARE * self.accuracy.min(self.rtol) * self.slip_mass() * self.speed;
-        let mut stats = SolveStats::default();
-        let (mut x, mut y) = (0.0, y0);
+        let stretch = Stretch {
+            contact: self,
+            mode: Cell::new(mode),
+            low: Cell::new(f64::INFINITY),
+            low_end: Cell::new(f64::INFINITY),
+        };
         let mut step = FIRST_STEP * self.first_step();
-        let mut switches = 0;
-        loop {
-            if mode == Mode::Slide {
-                y = self.onto_cap(&y);
-                let (ready, end_in) = self.slide_check(&y, tail_impulse);
-                if ready && x > 0.0 {
-                    mode = Mode::Tail;
+        match mode {
+            Mode::Slide => step = step.min(END_REACH * self.slide_check(&y, tail_impulse).1),
+            // One step, to where the cap µF_n reaches `resolved`: F_n = k v_n t (linear)
+            // or ρ(v_n σ/2)³ (elastic Hertz, w = v_n σ/2) from touch.
+            Mode::Head => {
+                let (cap, v_n) = (resolved / self.mu, -y0[V]);
+                step = if self.hertz {
+                    2.0 / v_n * (cap / self.elastic).cbrt()
                 } else {
-                    step = step.min(END_REACH * end_in);
-                }
+                    cap / (self.elastic * v_n)
+                };
             }
-            let stretch = Stretch {
-                contact: self,
-                mode,
-                low: Cell::new(f64::INFINITY),
-            };
-            let mut solver = Dop853::new(&stretch, x, y, tol, step).map_err(failure)?;
-            solver.set_safety(SAFETY);
-            let found = loop {
-                if stats.accepted_steps + solver.counters.accepted >= self.max_steps {
-                    return Err(SolveError::TooManySteps(self.max_steps));
+            _ => {}
+        }
+        let mut solver = Dop853::new(&stretch, 0.0, y, self.tolerances(), step).map_err(failure)?;
+        solver.set_safety(SAFETY);
+        loop {
+            if solver.counters.accepted >= self.max_steps {
+                return Err(SolveError::TooManySteps(self.max_steps));
+            }
+            solver.step().map_err(failure)?;
+            let mode = stretch.mode.get();
+            let found = match stretch.event_in_step(&mut solver)? {
+                Some(found) => found,
+                None if mode == Mode::Head => {
+                    // The spring onto the cap along the head's direction.
+                    let y = solver.y();
+                    let (_, _, f_n) = self.normal(y[S], -y[V]);
+                    let e = self.eval::<true>(y, Mode::Head);
+                    let mut y = *y;
+                    let slip = [y[V + 1] - y[OMEGA + 2], y[V + 2] + y[OMEGA + 1]];
+                    for k in 0..2 {
+                        y[SPRING + k] = -(self.mu * f_n * e.direction[k] + self.gamma_t * slip[k])
+                            * self.inv_k_t;
+                    }
+                    Found::Resolved(solver.t(), y)
                 }
-                stretch.low.set(f64::INFINITY);
-                solver.step().map_err(failure)?;
-                if let Some(found) = stretch.event_in_step(&mut solver)? {
-                    break found;
-                }
-                if mode == Mode::Slide {
+                None if mode == Mode::Slide => {
                     let (ready, end_in) = self.slide_check(solver.y(), tail_impulse);
                     if ready {
-                        break Found::Tail(solver.t(), *solver.y());
+                        Found::Tail(solver.t(), *solver.y())
+                    } else {
+                        solver.limit_step(END_REACH * end_in);
+                        continue;
                     }
-                    solver.limit_step(END_REACH * end_in);
                 }
+                None => continue,
             };
-            let c = solver.counters;
-            stats.accepted_steps += c.accepted;
-            stats.rejected_steps += c.rejected;
-            stats.rhs_evaluations += c.evaluations;
-            step = solver.next_step();
-            match found {
-                Found::End(y_end) => return Ok((y_end, switches, stats)),
+            let (x, mut y, mut next) = match found {
+                Found::End(y_end) => {
+                    let c = solver.counters;
+                    let stats = SolveStats {
+                        accepted_steps: c.accepted,
+                        rejected_steps: c.rejected,
+                        rhs_evaluations: c.evaluations,
+                    };
+                    return Ok((y_end, switches, stats));
+                }
                 Found::Switch(x_s, y_s) => {
                     switches += 1;
                     if switches > MAX_SWITCHES {
                         return Err(SolveError::TooManySteps(self.max_steps));
                     }
-                    mode = if mode == Mode::Stick {
+                    let next = if mode == Mode::Stick {
                         Mode::Slide
                     } else {
                         Mode::Stick
                     };
-                    (x, y) = (x_s, y_s);
+                    (x_s, y_s, next)
                 }
-                Found::Tail(x_t, y_t) => (mode, x, y) = (Mode::Tail, x_t, y_t),
+                Found::Tail(x_t, y_t) => (x_t, y_t, Mode::Tail),
+                Found::Resolved(x_r, y_r) => (x_r, y_r, Mode::Slide),
+            };
+            let mut step = solver.next_step();
+            if next == Mode::Slide {
+                if mode != Mode::Head {
+                    y = self.onto_cap(&y);
+                }
+                let (ready, end_in) = self.slide_check(&y, tail_impulse);
+                if ready {
+                    next = Mode::Tail;
+                } else {
+                    step = step.min(END_REACH * end_in);
+                }
             }
+            stretch.mode.set(next);
+            solver.restart(x, y, step).map_err(failure)?;
         }
     }
 
@@ -322,7 +417,7 @@ impl Contact {
         let (w1, w2) = (-v2 * inv_r, v1 * inv_r);
         // Accelerations and spin rates without the tangential force, then its share.
         let free_v = [
-            f_n / self.m_eff + (v1 * v1 + v2 * v2) * inv_r,
+            f_n * self.inv_m_eff + (v1 * v1 + v2 * v2) * inv_r,
             -v0 * v1 * inv_r,
             -v0 * v2 * inv_r,
         ];
@@ -343,13 +438,13 @@ impl Contact {
                 let d = sliding_direction(trial, slip);
                 (d, [cap * d[0], cap * d[1]])
             }
-            Mode::Tail => {
-                let d = self.tail_direction(f_n, slip, free_v, free_o);
+            Mode::Tail | Mode::Head => {
+                let d = self.tail_direction((y[S], rate), f_n, slip, free_v, free_o);
                 (d, [cap * d[0], cap * d[1]])
             }
         };
         let arm = -(self.a - self.b * xi);
-        let inv_m = 1.0 / self.m_eff;
+        let inv_m = self.inv_m_eff;
         let dv = [
             free_v[0],
             free_v[1] + f_t[0] * inv_m,
@@ -416,16 +511,16 @@ impl Contact {
                         * jac
                         * (direction[0] * slip_rate[0] + direction[1] * slip_rate[1]);
                 }
-                pull /= self.k_t;
+                pull *= self.inv_k_t;
                 e.dy[SPRING] = jac * slip[0] + pull * direction[0];
                 e.dy[SPRING + 1] = jac * slip[1] + pull * direction[1];
                 e.mode = pull;
                 if PROBE {
                     e.f_n_rate = growth / jac;
-                    e.tail_direction = self.tail_direction(f_n, slip, free_v, free_o);
+                    e.tail_direction = self.tail_direction((y[S], rate), f_n, slip, free_v, free_o);
                 }
             }
-            Mode::Tail => {}
+            Mode::Tail | Mode::Head => {}
         }
         e
     }
@@ -436,6 +531,7 @@ impl Contact {
     #[inline(always)]
     fn tail_direction(
         &self,
+        (s, rate): (f64, f64),
         f_n: f64,
         slip: [f64; 2],
         free_v: [f64; 3],
@@ -454,13 +550,19 @@ impl Contact {
         let q = [-g[0] * inv, -g[1] * inv];
         let cap = self.mu * f_n;
         let slip_rate = [
-            free_slip[0] + cap * q[0] * (1.0 / self.m_eff + self.a),
-            free_slip[1] + cap * q[1] * (1.0 / self.m_eff + self.a),
+            free_slip[0] + cap * q[0] * (self.inv_m_eff + self.a),
+            free_slip[1] + cap * q[1] * (self.inv_m_eff + self.a),
         ];
-        // ĝ' = P⊥ ġ/|g| with ġ ≈ k_t v̇_t; the lag is ĝ'/λ, λ = |g|/(µF_n).
+        // ĝ' = P⊥ ġ/|g| with ġ ≈ k_t v̇_t. The lag δ follows δ' = |ĝ'| − λδ with
+        // λ = |g|/(µF_n) growing as F_n falls: where it grows as fast as it relaxes,
+        // δ = |ĝ'|/(λ + Ḟ_n/F_n) (exact for F_n, ĝ' and |g| linear in time).
         let along = slip_rate[0] * q[0] + slip_rate[1] * q[1];
         let perp = [slip_rate[0] - along * q[0], slip_rate[1] - along * q[1]];
-        let lag = self.k_t * cap / g2;
+        let jac = if self.hertz { s } else { 1.0 };
+        let growth = self.normal_growth(s, rate, -free_v[0]);
+        let f_n_rate = if jac > 0.0 { growth / jac } else { 0.0 };
+        let size = g2.sqrt();
+        let lag = self.k_t * cap / (size * (size + self.mu * f_n_rate).max(0.5 * size));
         let d = [q[0] + lag * perp[0], q[1] + lag * perp[1]];
         let inv_d = 1.0 / (d[0] * d[0] + d[1] * d[1]).sqrt();
         [d[0] * inv_d, d[1] * inv_d]
@@ -524,8 +626,12 @@ impl Contact {
             e.direction[1] - e.tail_direction[1],
         ];
         let bound = (2.0 * (off[0] * off[0] + off[1] * off[1]).sqrt()).min(2.0);
+        // The slip must keep its way to the end (the tail cannot stick again): the
+        // impulse left changes it by at most left/m_t.
+        let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
+        let keeps = slip > 4.0 * left / self.slip_mass() && e.mode > 0.0;
         let jac = if self.hertz { y[S] } else { 1.0 };
-        (left * bound <= impulse, left_time / jac)
+        (keeps && left * bound <= impulse, left_time / jac)
     }
 }
 
@@ -533,10 +639,11 @@ impl Stretch<'_> {
     /// The first event inside the last accepted step: the end of the contact or a switch
     /// (also one there and back within the step, seen at a stage).
     fn event_in_step(&self, solver: &mut Dop853<'_, Self, N>) -> Result<Option<Found>, SolveError> {
-        let c = self.contact;
-        let e_b = c.eval::<true>(solver.y(), self.mode);
-        let ends = e_b.end <= 0.0 && e_b.rate < 0.0;
-        let switches = self.mode != Mode::Tail && (e_b.mode < 0.0 || self.low.get() < 0.0);
+        let (c, mode) = (self.contact, self.mode.get());
+        let e_b = c.eval::<true>(solver.y(), mode);
+        let ends = (e_b.end <= 0.0 && e_b.rate < 0.0) || self.low_end.get() <= 0.0;
+        let free = matches!(mode, Mode::Tail | Mode::Head);
+        let switches = !free && (e_b.mode < 0.0 || self.low.get() < 0.0);
         if !ends && !switches {
             return Ok(None);
         }
@@ -544,7 +651,14 @@ impl Stretch<'_> {
         let (x_a, y_a) = solver.last_start();
         let span = (x_a, *y_a, solver.t(), e_b);
         let x_end = if ends {
-            self.root(&dense, &span, |e| e.end)
+            // Only a fall of ξ ends the contact (F_n is zero at touch too).
+            self.root(&dense, &span, |e| {
+                if e.rate < 0.0 {
+                    e.end
+                } else {
+                    e.end.abs().max(f64::MIN_POSITIVE)
+                }
+            })
         } else {
             None
         };
@@ -569,9 +683,9 @@ impl Stretch<'_> {
         &(x_a, y_a, x_b, ref e_b): &(f64, [f64; N], f64, Eval),
         g: impl Fn(&Eval) -> f64,
     ) -> Option<f64> {
-        let c = self.contact;
-        let value = |x: f64| g(&c.eval::<true>(&dense.eval(x), self.mode));
-        let g_a = g(&c.eval::<true>(&y_a, self.mode));
+        let (c, mode) = (self.contact, self.mode.get());
+        let value = |x: f64| g(&c.eval::<true>(&dense.eval(x), mode));
+        let g_a = g(&c.eval::<true>(&y_a, mode));
         let g_b = g(e_b);
         if g_a > 0.0 && g_b <= 0.0 {
             return Some(illinois(value, (x_a, g_a), (x_b, g_b)));
@@ -600,7 +714,8 @@ impl Stretch<'_> {
 fn sliding_direction(trial: [f64; 2], slip: [f64; 2]) -> [f64; 2] {
     let t = (trial[0] * trial[0] + trial[1] * trial[1]).sqrt();
     if t > 0.0 {
-        return [trial[0] / t, trial[1] / t];
+        let inv = 1.0 / t;
+        return [trial[0] * inv, trial[1] * inv];
     }
     let s = (slip[0] * slip[0] + slip[1] * slip[1]).sqrt();
     if s > 0.0 {

@@ -336,6 +336,8 @@ fn contact(
         k_t: spring.stiffness,
         gamma_t: spring.damping,
         m_eff,
+        inv_m_eff: 1.0 / m_eff,
+        inv_k_t: 1.0 / spring.stiffness,
         a,
         b,
         speed: norm(velocity),
