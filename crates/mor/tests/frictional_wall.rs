@@ -139,7 +139,7 @@ fn without_friction_it_is_the_frictionless_wall_rule() {
             damping: 0.0,
         };
         // `resolve_wall`'s plane passes through the origin.
-        let along = add_scaled(unit(&mut rng), 0.0, n);
+        let along = unit(&mut rng);
         let in_plane = add_scaled(along, -dot(along, n), n);
         let body = Body {
             position: to_na(add_scaled(scale(0.5, in_plane), RADIUS, n)),
