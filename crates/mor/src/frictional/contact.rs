@@ -32,8 +32,8 @@
 //! difference of the two directions at the hand-over, which the hand-over keeps below
 //! a part of the accuracy.
 
-use super::{HistorySpring, MAX_SWITCHES, SAMPLES, failure};
-use crate::dop853::{Dense, Dop853, System, Tolerances, illinois};
+use super::{HistorySpring, MAX_SWITCHES, failure, first_crossing};
+use crate::dop853::{Dense, Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats};
 use emdstar_contact::PairLaw;
 use std::cell::Cell;
@@ -675,8 +675,8 @@ impl Stretch<'_> {
         })
     }
 
-    /// The first zero crossing from above of `g` on the step (x_a, y_a) to (x_b, e_b), by
-    /// samples of its dense output and the Illinois method; `None` if g stays positive.
+    /// The first zero crossing from above of `g` on the step (x_a, y_a) to (x_b, e_b)
+    /// ([`first_crossing`] on its dense output).
     fn root(
         &self,
         dense: &Dense<N>,
@@ -686,24 +686,7 @@ impl Stretch<'_> {
         let (c, mode) = (self.contact, self.mode.get());
         let value = |x: f64| g(&c.eval::<true>(&dense.eval(x), mode));
         let g_a = g(&c.eval::<true>(&y_a, mode));
-        let g_b = g(e_b);
-        if g_a > 0.0 && g_b <= 0.0 {
-            return Some(illinois(value, (x_a, g_a), (x_b, g_b)));
-        }
-        // Zero at the start of a stretch, or positive at both ends: bracket the first
-        // crossing by samples of the step (at a stretch's start, switch right there if
-        // the function never rises).
-        let mut from = (g_a > 0.0).then_some((x_a, g_a));
-        for i in 1..=SAMPLES {
-            let x = x_a + (x_b - x_a) * i as f64 / SAMPLES as f64;
-            let g_x = if i == SAMPLES { g_b } else { value(x) };
-            match from {
-                Some(a) if g_x <= 0.0 => return Some(illinois(value, a, (x, g_x))),
-                _ if g_x > 0.0 => from = Some((x, g_x)),
-                _ => {}
-            }
-        }
-        (g_a <= 0.0 && from.is_none()).then_some(x_a)
+        first_crossing(value, (x_a, g_a), (x_b, g(e_b)))
     }
 }
 

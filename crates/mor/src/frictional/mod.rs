@@ -31,7 +31,7 @@ mod reference;
 
 pub use reference::solve_frictional;
 
-use crate::dop853::StepFailure;
+use crate::dop853::{StepFailure, illinois};
 use crate::{SolveError, SolveStats, SolverOptions};
 use contact::{Contact, Geometry, check_spring, normal_law};
 use emdstar_contact::vec3::{add, cross, dot, norm, scale, sub};
@@ -379,6 +379,33 @@ pub struct FrictionalEnd {
     /// Switches between sticking and sliding.
     pub switches: usize,
     pub stats: SolveStats,
+}
+
+/// The first zero crossing from above of an event function g on a step [x_a, x_b]
+/// (`value` evaluates it on the step's dense output; g_a and g_b are its values at the
+/// ends): by the Illinois method where the ends bracket it, else by SAMPLES samples of
+/// the step (g positive at both ends but below zero in between: a switch there and back;
+/// or g zero at the start of a stretch). `None` if g stays positive; x_a if it starts at
+/// or below zero and never rises (a switch right at a stretch's start).
+fn first_crossing(
+    value: impl Fn(f64) -> f64,
+    (x_a, g_a): (f64, f64),
+    (x_b, g_b): (f64, f64),
+) -> Option<f64> {
+    if g_a > 0.0 && g_b <= 0.0 {
+        return Some(illinois(value, (x_a, g_a), (x_b, g_b)));
+    }
+    let mut from = (g_a > 0.0).then_some((x_a, g_a));
+    for i in 1..=SAMPLES {
+        let x = x_a + (x_b - x_a) * i as f64 / SAMPLES as f64;
+        let g_x = if i == SAMPLES { g_b } else { value(x) };
+        match from {
+            Some(a) if g_x <= 0.0 => return Some(illinois(value, a, (x, g_x))),
+            _ if g_x > 0.0 => from = Some((x, g_x)),
+            _ => {}
+        }
+    }
+    (g_a <= 0.0 && from.is_none()).then_some(x_a)
 }
 
 fn failure(f: StepFailure) -> SolveError {

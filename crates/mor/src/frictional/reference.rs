@@ -5,11 +5,12 @@
 //! smaller steps. Slow (about 10³ evaluations of the right-hand side per contact at
 //! 10⁻¹¹) and plain: the yardstick of [`super::contact`].
 
-use super::{FrictionalEnd, MAX_SWITCHES, SAMPLES, Spinning, failure, sliding_direction};
-use crate::dop853::{Dop853, System, Tolerances, illinois};
+use super::{FrictionalEnd, MAX_SWITCHES, Spinning, failure, first_crossing, sliding_direction};
+use crate::dop853::{Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
 use emdstar_contact::{Friction, PairLaw, TangentialModel, lever_arm, slip_velocity};
+use std::cell::Cell;
 
 /// Index of the components of the state.
 const D: usize = 0;
@@ -47,6 +48,8 @@ pub fn solve_frictional(
         let stretch = Stretch {
             contact: &ode,
             sliding,
+            low: Cell::new(f64::INFINITY),
+            low_end: Cell::new(f64::INFINITY),
         };
         if sliding {
             y = stretch.onto_cap(&y);
@@ -103,6 +106,10 @@ struct Contact {
 struct Stretch<'a> {
     contact: &'a Contact,
     sliding: bool,
+    /// The least switch function, and end function where ξ falls, at the stages of the
+    /// current trial step (an event there and back within a step).
+    low: Cell<f64>,
+    low_end: Cell<f64>,
 }
 
 /// What ends a stretch.
@@ -362,7 +369,17 @@ impl Contact {
 
 impl System<N> for Stretch<'_> {
     fn rhs(&self, _x: f64, y: &[f64; N]) -> Option<[f64; N]> {
-        self.contact.eval(y, self.sliding).map(|e| e.dy)
+        let e = self.contact.eval(y, self.sliding)?;
+        self.low.set(self.low.get().min(e.mode));
+        if e.rate < 0.0 {
+            self.low_end.set(self.low_end.get().min(e.end));
+        }
+        Some(e.dy)
+    }
+
+    fn trial_started(&self) {
+        self.low.set(f64::INFINITY);
+        self.low_end.set(f64::INFINITY);
     }
 }
 
@@ -396,8 +413,8 @@ impl Stretch<'_> {
         let e_b = c
             .eval(&y_b, self.sliding)
             .ok_or(SolveError::StepSizeUnderflow { t: solver.t() })?;
-        let ends = e_b.end <= 0.0 && e_b.rate < 0.0;
-        let switches = e_b.mode < 0.0;
+        let ends = (e_b.end <= 0.0 && e_b.rate < 0.0) || self.low_end.get() <= 0.0;
+        let switches = e_b.mode < 0.0 || self.low.get() < 0.0;
         if !ends && !switches {
             return Ok(None);
         }
@@ -406,41 +423,34 @@ impl Stretch<'_> {
         let y_a = *y_a;
         let x_b = solver.t();
         let e_a = c.eval(&y_a, self.sliding);
-        let at = |x: f64| c.eval(&dense.eval(x), self.sliding);
         let root = |g: &dyn Fn(&Eval) -> f64, g_a: f64| {
-            let value = |x: f64| at(x).map_or(-1.0, |e| g(&e));
-            let mut from = (x_a, g_a);
-            let mut to = (x_b, g(&e_b));
-            if g_a <= 0.0 {
-                // At the start of a stretch the event is zero: bracket its crossing by
-                // samples of the step, or switch right there if it never rises.
-                let xs: Vec<f64> = (1..SAMPLES)
-                    .map(|i| x_a + (x_b - x_a) * i as f64 / SAMPLES as f64)
-                    .collect();
-                let Some(first) = xs.iter().position(|&x| value(x) > 0.0) else {
-                    return x_a;
-                };
-                from = (xs[first], value(xs[first]));
-                for &x in &xs[first + 1..] {
-                    let g_x = value(x);
-                    if g_x <= 0.0 {
-                        to = (x, g_x);
-                        break;
-                    }
-                    from = (x, g_x);
-                }
-            }
-            illinois(value, from, to)
+            let value = |x: f64| c.eval(&dense.eval(x), self.sliding).map_or(-1.0, |e| g(&e));
+            first_crossing(value, (x_a, g_a), (x_b, g(&e_b)))
         };
-        let x_end = ends.then(|| root(&|e: &Eval| e.end, e_a.as_ref().map_or(1.0, |e| e.end)));
-        let x_switch =
-            switches.then(|| root(&|e: &Eval| e.mode, e_a.as_ref().map_or(1.0, |e| e.mode)));
-        Ok(Some(match (x_end, x_switch) {
-            (Some(x_e), Some(x_s)) if x_s < x_e => Found::Switch(x_s, dense.eval(x_s)),
-            (Some(x_e), _) => Found::End(dense.eval(x_e)),
-            (None, Some(x_s)) => Found::Switch(x_s, dense.eval(x_s)),
-            (None, None) => unreachable!("an event was found"),
-        }))
+        // Only a fall of ξ ends the contact (F_n is zero at touch too).
+        let end = |e: &Eval| {
+            if e.rate < 0.0 {
+                e.end
+            } else {
+                e.end.abs().max(f64::MIN_POSITIVE)
+            }
+        };
+        let x_end = if ends {
+            root(&end, e_a.as_ref().map_or(1.0, end))
+        } else {
+            None
+        };
+        let x_switch = if switches {
+            root(&|e: &Eval| e.mode, e_a.as_ref().map_or(1.0, |e| e.mode))
+        } else {
+            None
+        };
+        Ok(match (x_end, x_switch) {
+            (Some(x_e), Some(x_s)) if x_s < x_e => Some(Found::Switch(x_s, dense.eval(x_s))),
+            (Some(x_e), _) => Some(Found::End(dense.eval(x_e))),
+            (None, Some(x_s)) => Some(Found::Switch(x_s, dense.eval(x_s))),
+            (None, None) => None,
+        })
     }
 }
 
