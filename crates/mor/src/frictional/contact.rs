@@ -125,8 +125,10 @@ struct Eval {
     /// Sticking: µF_n − |f|; sliding: the pull c·dt/dx. Crosses zero from above at a
     /// switch.
     mode: f64,
-    /// Probed, sliding: F_n, dF_n/dt, the force's direction and the tail's.
+    /// F_n; sliding, dF_n/dx (x: the independent variable); probed, sliding, dF_n/dt,
+    /// the force's direction and the tail's.
     f_n: f64,
+    growth: f64,
     f_n_rate: f64,
     direction: [f64; 2],
     tail_direction: [f64; 2],
@@ -151,6 +153,9 @@ struct Stretch<'a> {
     /// again once w < 0), shows here, not at the step's ends.
     low: Cell<f64>,
     low_end: Cell<f64>,
+    /// F_n and dF_n/dx at the last evaluation: at the end of an accepted step, those of
+    /// its end (the first stage of the next, evaluated last).
+    last: Cell<(f64, f64)>,
 }
 
 impl System<N> for Stretch<'_> {
@@ -161,6 +166,7 @@ impl System<N> for Stretch<'_> {
         if e.rate < 0.0 {
             self.low_end.set(self.low_end.get().min(e.end));
         }
+        self.last.set((e.f_n, e.growth));
         Some(e.dy)
     }
 
@@ -227,10 +233,14 @@ impl Contact {
             mode: Cell::new(mode),
             low: Cell::new(f64::INFINITY),
             low_end: Cell::new(f64::INFINITY),
+            last: Cell::new((0.0, 0.0)),
         };
         let mut step = FIRST_STEP * self.first_step();
         match mode {
-            Mode::Slide => step = step.min(END_REACH * self.slide_check(&y, tail_impulse).1),
+            Mode::Slide => {
+                let end_in = self.slide_check(&y, tail_impulse, self.load(&y)).1;
+                step = step.min(END_REACH * end_in);
+            }
             // One step, to where the cap µF_n reaches `resolved`: F_n = k v_n t (linear)
             // or ρ(v_n σ/2)³ (elastic Hertz, w = v_n σ/2) from touch.
             Mode::Head => {
@@ -267,7 +277,8 @@ impl Contact {
                     Found::Resolved(solver.t(), y)
                 }
                 None if mode == Mode::Slide => {
-                    let (ready, end_in) = self.slide_check(solver.y(), tail_impulse);
+                    let (ready, end_in) =
+                        self.slide_check(solver.y(), tail_impulse, stretch.last.get());
                     if ready {
                         Found::Tail(solver.t(), *solver.y())
                     } else {
@@ -307,7 +318,7 @@ impl Contact {
                 if mode != Mode::Head {
                     y = self.onto_cap(&y);
                 }
-                let (ready, end_in) = self.slide_check(&y, tail_impulse);
+                let (ready, end_in) = self.slide_check(&y, tail_impulse, self.load(&y));
                 if ready {
                     next = Mode::Tail;
                 } else {
@@ -317,6 +328,12 @@ impl Contact {
             stretch.mode.set(next);
             solver.restart(x, y, step).map_err(failure)?;
         }
+    }
+
+    /// F_n and dF_n/dx at `y`, sliding.
+    fn load(&self, y: &[f64; N]) -> (f64, f64) {
+        let e = self.eval::<false>(y, Mode::Slide);
+        (e.f_n, e.growth)
     }
 
     /// 1/(1/m_eff + Σ R_i²/I_i): the mass the slip sees.
@@ -490,6 +507,7 @@ impl Contact {
             rate,
             mode: 0.0,
             f_n,
+            growth: 0.0,
             f_n_rate: 0.0,
             direction,
             tail_direction: [0.0; 2],
@@ -515,6 +533,7 @@ impl Contact {
                 e.dy[SPRING] = jac * slip[0] + pull * direction[0];
                 e.dy[SPRING + 1] = jac * slip[1] + pull * direction[1];
                 e.mode = pull;
+                e.growth = growth;
                 if PROBE {
                     e.f_n_rate = growth / jac;
                     e.tail_direction = self.tail_direction((y[S], rate), f_n, slip, free_v, free_o);
@@ -614,13 +633,19 @@ impl Contact {
     /// direction and the tail's, below `impulse`, the accuracy's share in N·s), and the
     /// estimated time left to the end, F_n/|Ḟ_n| in units of the independent variable (∞
     /// while F_n grows).
-    fn slide_check(&self, y: &[f64; N], impulse: f64) -> (bool, f64) {
-        let e = self.eval::<true>(y, Mode::Slide);
-        if !(e.f_n > 0.0 && e.f_n_rate < 0.0) {
+    fn slide_check(&self, y: &[f64; N], impulse: f64, (f_n, growth): (f64, f64)) -> (bool, f64) {
+        if !(f_n > 0.0 && growth < 0.0) {
             return (false, f64::INFINITY);
         }
-        let left_time = e.f_n / -e.f_n_rate;
-        let left = 2.0 * self.mu * e.f_n * left_time;
+        let end_in = f_n / -growth;
+        let jac = if self.hertz { y[S] } else { 1.0 };
+        let left_time = end_in * jac;
+        let left = 2.0 * self.mu * f_n * left_time;
+        // Far from the end no direction is close enough to hand over.
+        if left > 1e6 * impulse {
+            return (false, end_in);
+        }
+        let e = self.eval::<true>(y, Mode::Slide);
         let off = [
             e.direction[0] - e.tail_direction[0],
             e.direction[1] - e.tail_direction[1],
@@ -630,8 +655,7 @@ impl Contact {
         // impulse left changes it by at most left/m_t.
         let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
         let keeps = slip > 4.0 * left / self.slip_mass() && e.mode > 0.0;
-        let jac = if self.hertz { y[S] } else { 1.0 };
-        (keeps && left * bound <= impulse, left_time / jac)
+        (keeps && left * bound <= impulse, end_in)
     }
 }
 
@@ -639,15 +663,18 @@ impl Stretch<'_> {
     /// The first event inside the last accepted step: the end of the contact or a switch
     /// (also one there and back within the step, seen at a stage).
     fn event_in_step(&self, solver: &mut Dop853<'_, Self, N>) -> Result<Option<Found>, SolveError> {
+        // The stages' minima include the step's end (evaluated last, for the next step).
         let (c, mode) = (self.contact, self.mode.get());
-        let e_b = c.eval::<true>(solver.y(), mode);
-        let ends = (e_b.end <= 0.0 && e_b.rate < 0.0) || self.low_end.get() <= 0.0;
+        let ends = self.low_end.get() <= 0.0;
         let free = matches!(mode, Mode::Tail | Mode::Head);
-        let switches = !free && (e_b.mode < 0.0 || self.low.get() < 0.0);
+        let switches = !free && self.low.get() < 0.0;
         if !ends && !switches {
             return Ok(None);
         }
+        let e_b = c.eval::<true>(solver.y(), mode);
         let dense = solver.dense().map_err(failure)?;
+        // The dense output's stages are evaluated last now: the step's end is e_b.
+        self.last.set((e_b.f_n, e_b.growth));
         let (x_a, y_a) = solver.last_start();
         let span = (x_a, *y_a, solver.t(), e_b);
         let x_end = if ends {
