@@ -77,9 +77,9 @@ pub struct BenchEdmdArgs {
     #[arg(long, value_name = "EVENTS_PER_PARTICLE")]
     pub resort_every: Option<f64>,
     /// Instead: MD against eMD* on the frictional Hertz gas of the speed goals (N = 2000,
-    /// µ = 0.3, k_t = 1e5 N/m; η = 0.001, 0.01, 0.1), with and without friction, each
-    /// case run whole as `emdstar run` would, in turns, --rounds times (about a minute
-    /// a round: MD takes most of it).
+    /// µ = 0.3, k_t = 1e5 N/m; η = 0.001, 0.01, 0.1), with and without friction: each
+    /// case one `emdstar run` of this executable, timed by its summary, in turns,
+    /// --rounds times (about 20 s a round on an idle 2-core host: MD takes most of it).
     #[arg(long, conflicts_with_all = ["scaling", "hard_spheres_only", "emdstar_only"])]
     pub friction: bool,
     /// With --friction: run this part of each gas's simulated time (a quick look).

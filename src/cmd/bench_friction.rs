@@ -1,67 +1,68 @@
 //! `emdstar bench edmd --friction`: MD against eMD* on the frictional Hertz gas of the
-//! speed goals, with and without friction, as `emdstar run GAS --engine md|emdstar`
-//! would run it (N = 2000, R = 0.01 m, Y = 1 GPa, ν = 0.4, restitution 0.8 at 1 m/s,
+//! speed goals, with and without friction, each case an `emdstar run GAS --engine
+//! md|emdstar` of this executable timed by its summary, as the goals are stated (N = 2000, R = 0.01 m, Y = 1 GPa, ν = 0.4, restitution 0.8 at 1 m/s,
 //! µ = 0.3, k_t = 10⁵ N/m; η = 0.001, 0.01, 0.1 to t_end = 2, 0.3, 0.05 s).
 
 use anyhow::{Result, bail};
-use emdstar_engines::{AnyEngine, EngineKind, EngineOptions};
-use emdstar_system::Config;
+use emdstar_engines::EngineKind;
 use indicatif::ProgressBar;
 use serde_json::{Value, json};
-use std::time::Instant;
 
 /// The packing fractions and the simulated times of the gas (about 10³ collisions each).
 const GASES: [(f64, f64); 3] = [(0.001, 2.0), (0.01, 0.3), (0.1, 0.05)];
 /// The goals MD / eMD* with friction at the three packing fractions.
 const GOALS: [f64; 3] = [400.0, 60.0, 8.0];
 
-/// The gas at packing fraction `eta` to `t_end`, with the history spring or without
-/// friction.
-fn gas(eta: f64, t_end: f64, friction: bool) -> Result<Config> {
+/// The config of the gas at packing fraction `eta` to `t_end`, with the history spring
+/// or without friction.
+fn gas(eta: f64, t_end: f64, friction: bool) -> String {
     let spring = if friction {
         "friction = 0.3\ntangential_stiffness = 1e5\n"
     } else {
         ""
     };
-    let text = format!(
+    format!(
         "t_end = {t_end}\n[material]\nmodel = \"hertz\"\nyoung = 1e9\npoisson = 0.4\n\
          restitution = 0.8\nrestitution_speed = 1.0\ndensity = 1140.0\n{spring}[gas]\n\
          count = 2000\nradius = 0.01\narrangement = \"random\"\npacking_fraction = {eta}\n\
          rms_speed = 1.0\nseed = 3\n"
-    );
-    Ok(Config::from_toml(&text)?)
+    )
 }
 
-/// Wall seconds of one run of `engine` over the config's t_end, and eMD*'s collisions
-/// and exact frictional solves. As `emdstar run` drives it (`run_loop`): in steps of a
-/// thousandth of the run, the thermo state every hundredth (what its log lines take).
-fn time(config: &Config, engine: EngineKind) -> Result<(f64, Value)> {
-    let options = EngineOptions {
-        engine,
-        ..Default::default()
-    };
-    let system = config.build()?;
-    let mut run = AnyEngine::build(&options, config, system, emdstar_dem::DEFAULT_DT_FRACTION)?;
-    let start = Instant::now();
-    let mut thermo = run.sim().thermo();
-    for k in 1..=1000 {
-        run.sim_mut()
-            .advance_to(config.t_end * k as f64 / 1000.0)
-            .map_err(|e| anyhow::anyhow!(e))?;
-        if k % 10 == 0 {
-            thermo = run.sim().thermo();
-        }
+/// Wall seconds of one `emdstar run CONFIG --engine ENGINE` of this executable (the
+/// summary's `wall_time_s`, as the goals are stated), and eMD*'s collisions and exact
+/// frictional solves.
+fn time(config: &std::path::Path, engine: EngineKind) -> Result<(f64, Value)> {
+    let out = std::process::Command::new(std::env::current_exe()?)
+        .args([
+            "run",
+            "--quiet",
+            "--trajectory",
+            "none",
+            "--log",
+            "/dev/null",
+            "--engine",
+        ])
+        .arg(engine.name())
+        .arg(config)
+        .stderr(std::process::Stdio::null())
+        .output()?;
+    if !out.status.success() {
+        bail!(
+            "emdstar run {} --engine {} failed",
+            config.display(),
+            engine.name()
+        );
     }
-    std::hint::black_box(thermo);
-    let seconds = start.elapsed().as_secs_f64();
-    let stats = match &run {
-        AnyEngine::Event(e) => {
-            let s = e.stats();
-            json!({"collisions": s.collisions(), "frictional_solves": s.frictional_solves})
-        }
-        _ => Value::Null,
+    let summary: Value = serde_json::from_slice(&out.stdout)?;
+    let Some(seconds) = summary["wall_time_s"].as_f64() else {
+        bail!("emdstar run printed no wall_time_s");
     };
-    Ok((seconds, stats))
+    let stats = &summary["stats"];
+    Ok((
+        seconds,
+        json!({"collisions": stats["collisions"], "frictional_solves": stats["frictional_solves"]}),
+    ))
 }
 
 /// The best (least) of a list.
@@ -87,7 +88,13 @@ pub fn run(rounds: usize, time_scale: f64, bar: &ProgressBar, json_out: bool) ->
     ));
     for (k, &(eta, t_end)) in GASES.iter().enumerate() {
         let t_end = t_end * time_scale;
-        let configs = [gas(eta, t_end, false)?, gas(eta, t_end, true)?];
+        let dir =
+            std::env::temp_dir().join(format!("emdstar-bench-friction-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)?;
+        let configs = [false, true].map(|f| dir.join(format!("gas-{eta}-{f}.toml")));
+        for (path, f) in configs.iter().zip([false, true]) {
+            std::fs::write(path, gas(eta, t_end, f))?;
+        }
         // [smooth, frictional] × [md, emdstar].
         let mut walls = [[vec![], vec![]], [vec![], vec![]]];
         let mut stats = Value::Null;
@@ -111,6 +118,7 @@ pub fn run(rounds: usize, time_scale: f64, bar: &ProgressBar, json_out: bool) ->
                 }
             }
         }
+        std::fs::remove_dir_all(&dir)?;
         let ratio = |f: usize| best(&walls[f][0]) / best(&walls[f][1]);
         let solves = stats["frictional_solves"].as_f64().unwrap_or(f64::NAN);
         // eMD*'s extra wall time with friction over its frictional solves.

@@ -33,7 +33,7 @@ pub use reference::solve_frictional;
 
 use crate::dop853::{StepFailure, illinois};
 use crate::{SolveError, SolveStats, SolverOptions};
-use contact::{Contact, Geometry, check_spring, normal_law};
+use contact::{Contact, Geometry, check_spring};
 use emdstar_contact::vec3::{add, cross, dot, norm, scale, sub};
 use emdstar_contact::{Friction, PairLaw, SOLID_SPHERE_INERTIA, TangentialModel};
 
@@ -326,12 +326,12 @@ fn contact(
     length: f64,
     opts: &SolverOptions,
 ) -> Contact {
-    let (hertz, elastic, viscous, overlap) = normal_law(law, m_eff, approach);
+    let normal = Normal::of(law);
     Contact {
         geometry,
-        hertz,
-        elastic,
-        viscous,
+        hertz: normal.hertz,
+        elastic: normal.elastic,
+        viscous: normal.viscous,
         mu: spring.friction,
         k_t: spring.stiffness,
         gamma_t: spring.damping,
@@ -341,8 +341,8 @@ fn contact(
         a,
         b,
         speed: norm(velocity),
-        overlap,
-        time: overlap / approach,
+        overlap: normal.peak(m_eff, approach),
+        time: normal.peak(m_eff, approach) / approach,
         length,
         rtol: opts.rtol,
         accuracy: opts.atol,
@@ -379,6 +379,90 @@ pub struct FrictionalEnd {
     /// Switches between sticking and sliding.
     pub switches: usize,
     pub stats: SolveStats,
+}
+
+/// The normal law in the solvers' terms: linear (k, γ) or Hertz (ρ_el, (3/2)A), the
+/// overlap coordinate s being ξ (linear) or w = √ξ (Hertz, in the time σ, dt/dσ = w).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Normal {
+    hertz: bool,
+    elastic: f64,
+    viscous: f64,
+}
+
+impl Normal {
+    fn of(law: &PairLaw) -> Self {
+        match *law {
+            PairLaw::Linear { stiffness, damping } => Self {
+                hertz: false,
+                elastic: stiffness,
+                viscous: damping,
+            },
+            PairLaw::Hertz {
+                rho_el,
+                dissipation,
+            } => Self {
+                hertz: true,
+                elastic: rho_el,
+                viscous: 1.5 * dissipation,
+            },
+        }
+    }
+
+    /// The estimated peak overlap of an approach at `approach` with effective mass `m_eff`.
+    fn peak(&self, m_eff: f64, approach: f64) -> f64 {
+        if self.hertz {
+            (1.25 * m_eff * approach * approach / self.elastic).powf(0.4)
+        } else {
+            approach * (m_eff / self.elastic).sqrt()
+        }
+    }
+
+    /// ξ, dt/dx and the normal force from the overlap coordinate s and ξ̇ = `rate`.
+    #[inline(always)]
+    fn force(&self, s: f64, rate: f64) -> (f64, f64, f64) {
+        if self.hertz {
+            let xi = s * s;
+            (xi, s, self.elastic * s * (xi + self.viscous * rate))
+        } else {
+            (s, 1.0, self.elastic * s + self.viscous * rate)
+        }
+    }
+
+    /// dF_n/dt · dt/dx given ξ̇ and ξ̈ (finite at ξ = 0 for Hertz).
+    #[inline(always)]
+    fn growth(&self, s: f64, rate: f64, rate_dot: f64) -> f64 {
+        if self.hertz {
+            let xi = s * s;
+            self.elastic
+                * (0.5 * rate * (xi + self.viscous * rate) + xi * (rate + self.viscous * rate_dot))
+        } else {
+            self.elastic * rate + self.viscous * rate_dot
+        }
+    }
+
+    /// Whether a contact with slip speed `slip` and normal speed `approach` at touch
+    /// slides from its first instant under the spring (µ, k_t, γ_t): the trial force
+    /// −γ_t v_t against the cap µF_n(0⁺), and where both vanish their growth.
+    fn slides_from_touch(
+        &self,
+        (mu, k_t, gamma_t): (f64, f64, f64),
+        slip: f64,
+        approach: f64,
+    ) -> bool {
+        let (trial, cap) = (gamma_t * slip, mu * self.viscous * approach);
+        let cap = if self.hertz { 0.0 } else { cap };
+        if trial != cap {
+            return trial > cap;
+        }
+        // Both zero: |f| grows as k_t s t; the cap as µ k v_n t (linear), faster than t
+        // (damped Hertz) or slower (elastic Hertz).
+        if self.hertz {
+            self.viscous == 0.0
+        } else {
+            k_t * slip > mu * self.elastic * approach
+        }
+    }
 }
 
 /// The first zero crossing from above of an event function g on a step [x_a, x_b]

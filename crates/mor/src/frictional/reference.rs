@@ -5,7 +5,9 @@
 //! smaller steps. Slow (about 10³ evaluations of the right-hand side per contact at
 //! 10⁻¹¹) and plain: the yardstick of [`super::contact`].
 
-use super::{FrictionalEnd, MAX_SWITCHES, Spinning, failure, first_crossing, sliding_direction};
+use super::{
+    FrictionalEnd, MAX_SWITCHES, Normal, Spinning, failure, first_crossing, sliding_direction,
+};
 use crate::dop853::{Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
@@ -158,21 +160,9 @@ impl Contact {
         }
         let m_eff = bodies[0].mass * bodies[1].mass / (bodies[0].mass + bodies[1].mass);
         let speed = norm(velocity);
-        let (hertz, elastic, viscous, overlap) = match *law {
-            PairLaw::Linear { stiffness, damping } => (
-                false,
-                stiffness,
-                damping,
-                approach * (m_eff / stiffness).sqrt(),
-            ),
-            PairLaw::Hertz {
-                rho_el,
-                dissipation,
-            } => {
-                let peak = (1.25 * m_eff * approach * approach / rho_el).powf(0.4);
-                (true, rho_el, 1.5 * dissipation, peak)
-            }
-        };
+        let normal = Normal::of(law);
+        let (hertz, elastic, viscous) = (normal.hertz, normal.elastic, normal.viscous);
+        let overlap = normal.peak(m_eff, approach);
         Ok(Self {
             hertz,
             elastic,
@@ -224,48 +214,31 @@ impl Contact {
     /// ξ, dt/dx and the normal force from the overlap coordinate s, and the derivative
     /// of the force times dt/dx given ξ̇ and ξ̈.
     fn normal(&self, s: f64, rate: f64) -> (f64, f64, f64) {
-        if self.hertz {
-            let xi = s * s;
-            (xi, s, self.elastic * s * (xi + self.viscous * rate))
-        } else {
-            (s, 1.0, self.elastic * s + self.viscous * rate)
-        }
+        self.law().force(s, rate)
     }
 
     /// dF_n/dt · dt/dx (finite at ξ = 0 for Hertz).
     fn normal_growth(&self, s: f64, rate: f64, rate_dot: f64) -> f64 {
-        if self.hertz {
-            let xi = s * s;
-            self.elastic
-                * (0.5 * rate * (xi + self.viscous * rate) + xi * (rate + self.viscous * rate_dot))
-        } else {
-            self.elastic * rate + self.viscous * rate_dot
+        self.law().growth(s, rate, rate_dot)
+    }
+
+    fn law(&self) -> Normal {
+        Normal {
+            hertz: self.hertz,
+            elastic: self.elastic,
+            viscous: self.viscous,
         }
     }
 
-    /// Whether the contact slides from its first instant: the trial force −γ_t v_t
-    /// against the cap µF_n(0⁺), and where both vanish their growth.
+    /// Whether the contact slides from its first instant ([`Normal::slides_from_touch`]).
     fn starts_sliding(&self, y: &[f64; N]) -> bool {
-        let v = vec(y, V);
         let n = scale(1.0 / norm(self.touch), self.touch);
-        let slip = self.slip(y, n);
-        let s = norm(slip);
+        let s = norm(self.slip(y, n));
         if s <= 1e-14 * self.speed {
             return false;
         }
-        let approach = -dot(v, n);
-        let (trial, cap) = (self.gamma_t * s, self.mu * self.viscous * approach);
-        let cap = if self.hertz { 0.0 } else { cap };
-        if trial != cap {
-            return trial > cap;
-        }
-        // Both zero: |f| grows as k_t s t; the cap as µ k v_n t (linear), faster than t
-        // (damped Hertz) or slower (elastic Hertz).
-        if self.hertz {
-            self.viscous == 0.0
-        } else {
-            self.k_t * s > self.mu * self.elastic * approach
-        }
+        let spring = (self.mu, self.k_t, self.gamma_t);
+        self.law().slides_from_touch(spring, s, -dot(vec(y, V), n))
     }
 
     fn slip(&self, y: &[f64; N], n: [f64; 3]) -> [f64; 3] {

@@ -32,11 +32,13 @@
 //! difference of the two directions at the hand-over, which the hand-over keeps below
 //! a part of the accuracy.
 
-use super::{HistorySpring, MAX_SWITCHES, failure, first_crossing};
-use crate::dop853::{Dense, Dop853, System, Tolerances};
+use super::{HistorySpring, MAX_SWITCHES, Normal, failure};
+use crate::dop853::{Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats};
-use emdstar_contact::PairLaw;
 use std::cell::Cell;
+
+mod events;
+mod tail;
 
 /// State: v (frame), Ω (frame), P (frame), the spring (e₁, e₂), ξ or √ξ, t, and the
 /// attitude q (pair) or the displacement along the wall (wall).
@@ -386,23 +388,21 @@ impl Contact {
     /// ξ, dt/dx and the normal force from the overlap coordinate s.
     #[inline(always)]
     fn normal(&self, s: f64, rate: f64) -> (f64, f64, f64) {
-        if self.hertz {
-            let xi = s * s;
-            (xi, s, self.elastic * s * (xi + self.viscous * rate))
-        } else {
-            (s, 1.0, self.elastic * s + self.viscous * rate)
-        }
+        self.law().force(s, rate)
     }
 
     /// dF_n/dt · dt/dx (finite at ξ = 0 for Hertz).
     #[inline(always)]
     fn normal_growth(&self, s: f64, rate: f64, rate_dot: f64) -> f64 {
-        if self.hertz {
-            let xi = s * s;
-            self.elastic
-                * (0.5 * rate * (xi + self.viscous * rate) + xi * (rate + self.viscous * rate_dot))
-        } else {
-            self.elastic * rate + self.viscous * rate_dot
+        self.law().growth(s, rate, rate_dot)
+    }
+
+    #[inline(always)]
+    fn law(&self) -> Normal {
+        Normal {
+            hertz: self.hertz,
+            elastic: self.elastic,
+            viscous: self.viscous,
         }
     }
 
@@ -544,70 +544,14 @@ impl Contact {
         e
     }
 
-    /// The direction the sliding force keeps where the spring's turning is fast: against
-    /// g = k_t v_t + γ_t v̇_t (v̇_t without the tangential force), less the lag of a
-    /// direction that turns after ĝ at the rate |g|/(µF_n): ĝ' µF_n/|g|.
-    #[inline(always)]
-    fn tail_direction(
-        &self,
-        (s, rate): (f64, f64),
-        f_n: f64,
-        slip: [f64; 2],
-        free_v: [f64; 3],
-        free_o: [f64; 3],
-    ) -> [f64; 2] {
-        // The slip's rate without the tangential force.
-        let free_slip = [free_v[1] - free_o[2], free_v[2] + free_o[1]];
-        let g = [
-            self.k_t * slip[0] + self.gamma_t * free_slip[0],
-            self.k_t * slip[1] + self.gamma_t * free_slip[1],
-        ];
-        let floor = 1e-12 * self.k_t * self.speed;
-        let g2 = g[0] * g[0] + g[1] * g[1] + floor * floor;
-        // The force against ĝ turns the slip, and with it ĝ, at k_t (v̇_t · ĝ⊥)/|g|.
-        let inv = 1.0 / g2.sqrt();
-        let q = [-g[0] * inv, -g[1] * inv];
-        let cap = self.mu * f_n;
-        let slip_rate = [
-            free_slip[0] + cap * q[0] * (self.inv_m_eff + self.a),
-            free_slip[1] + cap * q[1] * (self.inv_m_eff + self.a),
-        ];
-        // ĝ' = P⊥ ġ/|g| with ġ ≈ k_t v̇_t. The lag δ follows δ' = |ĝ'| − λδ with
-        // λ = |g|/(µF_n) growing as F_n falls: where it grows as fast as it relaxes,
-        // δ = |ĝ'|/(λ + Ḟ_n/F_n) (exact for F_n, ĝ' and |g| linear in time).
-        let along = slip_rate[0] * q[0] + slip_rate[1] * q[1];
-        let perp = [slip_rate[0] - along * q[0], slip_rate[1] - along * q[1]];
-        let jac = if self.hertz { s } else { 1.0 };
-        let growth = self.normal_growth(s, rate, -free_v[0]);
-        let f_n_rate = if jac > 0.0 { growth / jac } else { 0.0 };
-        let size = g2.sqrt();
-        let lag = self.k_t * cap / (size * (size + self.mu * f_n_rate).max(0.5 * size));
-        let d = [q[0] + lag * perp[0], q[1] + lag * perp[1]];
-        let inv_d = 1.0 / (d[0] * d[0] + d[1] * d[1]).sqrt();
-        [d[0] * inv_d, d[1] * inv_d]
-    }
-
-    /// Whether the contact slides from its first instant: the trial force −γ_t v_t
-    /// against the cap µF_n(0⁺), and where both vanish their growth.
+    /// Whether the contact slides from its first instant ([`Normal::slides_from_touch`]).
     fn starts_sliding(&self, y: &[f64; N]) -> bool {
-        let slip = [y[V + 1] - y[OMEGA + 2], y[V + 2] + y[OMEGA + 1]];
-        let s = (slip[0] * slip[0] + slip[1] * slip[1]).sqrt();
-        if s <= 1e-14 * self.speed {
+        let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
+        if slip <= 1e-14 * self.speed {
             return false;
         }
-        let rate = -y[V];
-        let (trial, cap) = (self.gamma_t * s, self.mu * self.viscous * rate);
-        let cap = if self.hertz { 0.0 } else { cap };
-        if trial != cap {
-            return trial > cap;
-        }
-        // Both zero: |f| grows as k_t s t; the cap as µ k v_n t (linear), faster than t
-        // (damped Hertz) or slower (elastic Hertz).
-        if self.hertz {
-            self.viscous == 0.0
-        } else {
-            self.k_t * s > self.mu * self.elastic * rate
-        }
+        let spring = (self.mu, self.k_t, self.gamma_t);
+        self.law().slides_from_touch(spring, slip, -y[V])
     }
 
     /// The state with the spring set onto the cap, −k_t ξ_t − γ_t v_t = µF_n f̂ (as MD
@@ -626,94 +570,6 @@ impl Contact {
             out[SPRING + k] = -(cap * d[k] + self.gamma_t * slip[k]) / self.k_t;
         }
         out
-    }
-
-    /// Whether the rest of a sliding contact from `y` on may be the tail (the impulse
-    /// left, at most 2µF_n·F_n/|Ḟ_n| while F_n falls, times the difference of the force's
-    /// direction and the tail's, below `impulse`, the accuracy's share in N·s), and the
-    /// estimated time left to the end, F_n/|Ḟ_n| in units of the independent variable (∞
-    /// while F_n grows).
-    fn slide_check(&self, y: &[f64; N], impulse: f64, (f_n, growth): (f64, f64)) -> (bool, f64) {
-        if !(f_n > 0.0 && growth < 0.0) {
-            return (false, f64::INFINITY);
-        }
-        let end_in = f_n / -growth;
-        let jac = if self.hertz { y[S] } else { 1.0 };
-        let left_time = end_in * jac;
-        let left = 2.0 * self.mu * f_n * left_time;
-        // Far from the end no direction is close enough to hand over.
-        if left > 1e6 * impulse {
-            return (false, end_in);
-        }
-        let e = self.eval::<true>(y, Mode::Slide);
-        let off = [
-            e.direction[0] - e.tail_direction[0],
-            e.direction[1] - e.tail_direction[1],
-        ];
-        let bound = (2.0 * (off[0] * off[0] + off[1] * off[1]).sqrt()).min(2.0);
-        // The slip must keep its way to the end (the tail cannot stick again): the
-        // impulse left changes it by at most left/m_t.
-        let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
-        let keeps = slip > 4.0 * left / self.slip_mass() && e.mode > 0.0;
-        (keeps && left * bound <= impulse, end_in)
-    }
-}
-
-impl Stretch<'_> {
-    /// The first event inside the last accepted step: the end of the contact or a switch
-    /// (also one there and back within the step, seen at a stage).
-    fn event_in_step(&self, solver: &mut Dop853<'_, Self, N>) -> Result<Option<Found>, SolveError> {
-        // The stages' minima include the step's end (evaluated last, for the next step).
-        let (c, mode) = (self.contact, self.mode.get());
-        let ends = self.low_end.get() <= 0.0;
-        let free = matches!(mode, Mode::Tail | Mode::Head);
-        let switches = !free && self.low.get() < 0.0;
-        if !ends && !switches {
-            return Ok(None);
-        }
-        let e_b = c.eval::<true>(solver.y(), mode);
-        let dense = solver.dense().map_err(failure)?;
-        // The dense output's stages are evaluated last now: the step's end is e_b.
-        self.last.set((e_b.f_n, e_b.growth));
-        let (x_a, y_a) = solver.last_start();
-        let span = (x_a, *y_a, solver.t(), e_b);
-        let x_end = if ends {
-            // Only a fall of ξ ends the contact (F_n is zero at touch too).
-            self.root(&dense, &span, |e| {
-                if e.rate < 0.0 {
-                    e.end
-                } else {
-                    e.end.abs().max(f64::MIN_POSITIVE)
-                }
-            })
-        } else {
-            None
-        };
-        let x_switch = if switches {
-            self.root(&dense, &span, |e| e.mode)
-        } else {
-            None
-        };
-        Ok(match (x_end, x_switch) {
-            (Some(x_e), Some(x_s)) if x_s < x_e => Some(Found::Switch(x_s, dense.eval(x_s))),
-            (Some(x_e), _) => Some(Found::End(dense.eval(x_e))),
-            (None, Some(x_s)) => Some(Found::Switch(x_s, dense.eval(x_s))),
-            (None, None) => None,
-        })
-    }
-
-    /// The first zero crossing from above of `g` on the step (x_a, y_a) to (x_b, e_b)
-    /// ([`first_crossing`] on its dense output).
-    fn root(
-        &self,
-        dense: &Dense<N>,
-        &(x_a, y_a, x_b, ref e_b): &(f64, [f64; N], f64, Eval),
-        g: impl Fn(&Eval) -> f64,
-    ) -> Option<f64> {
-        let (c, mode) = (self.contact, self.mode.get());
-        let value = |x: f64| g(&c.eval::<true>(&dense.eval(x), mode));
-        let g_a = g(&c.eval::<true>(&y_a, mode));
-        first_crossing(value, (x_a, g_a), (x_b, g(e_b)))
     }
 }
 
@@ -752,80 +608,5 @@ pub(super) fn check_spring(spring: &HistorySpring) -> Result<(), SolveError> {
     Ok(())
 }
 
-/// (hertz, elastic, viscous, peak overlap) of `law` for an approach at `approach` with
-/// effective mass `m_eff`.
-pub(super) fn normal_law(law: &PairLaw, m_eff: f64, approach: f64) -> (bool, f64, f64, f64) {
-    match *law {
-        PairLaw::Linear { stiffness, damping } => (
-            false,
-            stiffness,
-            damping,
-            approach * (m_eff / stiffness).sqrt(),
-        ),
-        PairLaw::Hertz {
-            rho_el,
-            dissipation,
-        } => {
-            let peak = (1.25 * m_eff * approach * approach / rho_el).powf(0.4);
-            (true, rho_el, 1.5 * dissipation, peak)
-        }
-    }
-}
-
 #[cfg(all(test, target_arch = "x86_64"))]
-mod tests {
-    use super::super::{Frame, contact, start};
-    use super::*;
-
-    /// The AVX2 build of the integrator takes the same steps to the same bits as the
-    /// portable one (no fused multiply-adds: the same operations in the same order).
-    #[test]
-    fn the_avx2_path_is_the_portable_one_to_the_bit() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("no AVX2 here: nothing to compare");
-            return;
-        }
-        let opts = super::super::CONTACT_OPTIONS;
-        for (k, law) in [
-            PairLaw::Hertz {
-                rho_el: 5.6e7,
-                dissipation: 9.5e-6,
-            },
-            PairLaw::Linear {
-                stiffness: 2000.0,
-                damping: 0.5,
-            },
-        ]
-        .iter()
-        .enumerate()
-        {
-            let spring = HistorySpring {
-                friction: 0.3,
-                stiffness: if k == 0 { 1e5 } else { 500.0 },
-                damping: 0.1 * k as f64,
-            };
-            let r: [f64; 3] = [0.012, -0.015, 0.004];
-            let l = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-            let v = [-0.9, 1.1, 0.2];
-            let approach = -(v[0] * r[0] + v[1] * r[1] + v[2] * r[2]) / l;
-            let c = contact(
-                law,
-                &spring,
-                Geometry::Pair { l },
-                2.4e-3,
-                (5.0e4, 2.5e2),
-                v,
-                approach,
-                l,
-                &opts,
-            );
-            let y0 = start(&Frame::new(r, v), v, [0.3, -0.2, 0.5], [1.0, 0.0, 0.0, 0.0]);
-            let portable = c.integrate_portable(y0).unwrap();
-            // SAFETY: the CPU has AVX2 (checked above).
-            let avx2 = unsafe { c.integrate_avx2(y0) }.unwrap();
-            assert_eq!(portable.0.map(f64::to_bits), avx2.0.map(f64::to_bits));
-            assert_eq!(portable.1, avx2.1);
-            assert_eq!(portable.2, avx2.2);
-        }
-    }
-}
+mod tests;
