@@ -9,8 +9,8 @@
 //! solver's distance from the reference at 1e-12 are printed once.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use emdstar_contact::PairLaw;
 use emdstar_contact::vec3::{add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{Friction, PairLaw, TangentialModel};
 use emdstar_mor::SolverOptions;
 use emdstar_mor::frictional::{
     CONTACT_OPTIONS, FrictionalEnd, HistorySpring, Spinning, solve_contact, solve_frictional,
@@ -113,8 +113,8 @@ fn report(name: &str, ends: &[FrictionalEnd]) {
 
 fn bench(c: &mut Criterion) {
     let law = law();
-    let friction = Friction::new(0.3, 1e5, 0.0, TangentialModel::History).unwrap();
-    let spring = HistorySpring::of(&friction).unwrap();
+    let spring = HistorySpring::new(0.3, 1e5, 0.0).unwrap();
+    let friction = spring;
     let o = SolverOptions::default();
     let points = impacts(256, 7);
     let reference: Vec<_> = points

@@ -5,10 +5,10 @@
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 
-use crate::frictional::{HistorySpring, Spinning, solve_contact, solve_wall_contact};
+use crate::frictional::{Spinning, solve_contact, solve_wall_contact};
 use crate::{Mor, SolveError, SolverOptions, solve};
 use emdstar_contact::vec3::{from_na, to_na};
-use emdstar_contact::{ContactError, Friction, Impact, PairLaw, PairProperties, Vec3, scale};
+use emdstar_contact::{ContactError, HistorySpring, Impact, PairLaw, PairProperties, Vec3, scale};
 use std::fmt;
 
 /// Position, velocity and mass of one sphere.
@@ -157,7 +157,7 @@ pub fn exact_collision(
 /// E^v event the post-collision velocities; the spins after the contact come second.
 pub fn frictional_collision(
     law: &PairLaw,
-    friction: &Friction,
+    friction: &HistorySpring,
     bodies: &[Body; 2],
     radii: [f64; 2],
     spins: [[f64; 3]; 2],
@@ -175,7 +175,7 @@ pub fn frictional_collision(
     let v0 = b1.velocity - b2.velocity;
     let end = solve_contact(
         law,
-        &HistorySpring::of(friction)?,
+        friction,
         &spinning,
         from_na(&touch),
         from_na(&v0),

@@ -3,7 +3,7 @@
 //! two formulations of the same equations that share no code but the force laws.
 
 use emdstar_contact::vec3::{add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{Friction, PairLaw, SOLID_SPHERE_INERTIA, Sphere, TangentialModel};
+use emdstar_contact::{PairLaw, SOLID_SPHERE_INERTIA, Sphere};
 use emdstar_mor::SolverOptions;
 use emdstar_mor::frictional::{
     CONTACT_OPTIONS, FrictionalEnd, HistorySpring, Spinning, solve_contact, solve_frictional,
@@ -105,14 +105,12 @@ fn case(rng: &mut ChaCha8Rng, k: usize) -> Case {
 }
 
 fn reference(c: &Case) -> FrictionalEnd {
-    let s = &c.spring;
-    let friction = Friction::new(s.friction, s.stiffness, s.damping, TangentialModel::History);
     let opts = SolverOptions {
         rtol: 1e-12,
         atol: 1e-12,
         max_steps: 1_000_000,
     };
-    solve_frictional(&c.law, &friction.unwrap(), &c.bodies, c.r, c.v, &opts).unwrap()
+    solve_frictional(&c.law, &c.spring, &c.bodies, c.r, c.v, &opts).unwrap()
 }
 
 /// Positions in units of l, velocities and spins (times R) in units of |v|.

@@ -8,8 +8,7 @@
 
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
 use emdstar_contact::{
-    Friction, Impact, PairLaw, PairProperties, SOLID_SPHERE_INERTIA, TangentialModel,
-    scale as scale_impact,
+    Impact, PairLaw, PairProperties, SOLID_SPHERE_INERTIA, scale as scale_impact,
 };
 use emdstar_mor::frictional::{
     CONTACT_OPTIONS, HistorySpring, Spinning, solve_frictional, solve_wall_contact,
@@ -93,20 +92,13 @@ fn a_wall_is_a_huge_heavy_partner_that_does_not_spin() {
             mass: 1e20 * MASS,
             spin: [0.0; 3],
         };
-        let friction = Friction::new(
-            spring.friction,
-            spring.stiffness,
-            spring.damping,
-            TangentialModel::History,
-        )
-        .unwrap();
         let touch = scale(RADIUS + big.radius, n);
         let opts = SolverOptions {
             rtol: 1e-12,
             atol: 1e-12,
             max_steps: 1_000_000,
         };
-        let pair = solve_frictional(&law, &friction, &[sphere, big], touch, v, &opts).unwrap();
+        let pair = solve_frictional(&law, &spring, &[sphere, big], touch, v, &opts).unwrap();
         let speed = norm(v);
         // The sphere's way from touch, its velocity and spin.
         let moved_wall = sub(wall.separation, scale(RADIUS, n));

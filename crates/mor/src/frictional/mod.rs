@@ -34,45 +34,15 @@ pub use reference::solve_frictional;
 use crate::dop853::{StepFailure, illinois};
 use crate::{SolveError, SolveStats, SolverOptions};
 use contact::{Contact, Geometry, check_spring};
+pub use emdstar_contact::HistorySpring;
 use emdstar_contact::vec3::{add, cross, dot, norm, scale, sub};
-use emdstar_contact::{Friction, PairLaw, SOLID_SPHERE_INERTIA, TangentialModel};
+use emdstar_contact::{PairLaw, SOLID_SPHERE_INERTIA};
 
 /// Samples of a step that bracket an event starting at zero.
 const SAMPLES: usize = 16;
 
 /// Bound on the stick–slip switches of one contact.
 const MAX_SWITCHES: usize = 1000;
-
-/// The history spring of a contact: Coulomb's µ, the tangential stiffness k_t and the
-/// tangential damping γ_t (`emdstar_contact::tangential`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HistorySpring {
-    /// µ ≥ 0.
-    pub friction: f64,
-    /// k_t > 0, in N/m.
-    pub stiffness: f64,
-    /// γ_t ≥ 0, in kg/s.
-    pub damping: f64,
-}
-
-impl HistorySpring {
-    /// The spring of a material's friction; an error for pure Coulomb sliding, which has
-    /// no exact solve.
-    pub fn of(friction: &Friction) -> Result<Self, SolveError> {
-        if friction.model != TangentialModel::History {
-            return Err(SolveError::InvalidParams(
-                "the exact frictional contact needs the history spring (tangential = \
-                 \"history\"); pure Coulomb sliding has no exact solve"
-                    .into(),
-            ));
-        }
-        Ok(Self {
-            friction: friction.friction,
-            stiffness: friction.stiffness,
-            damping: friction.damping,
-        })
-    }
-}
 
 /// The options of [`solve_contact`] and [`solve_wall_contact`] that eMD* uses: accuracy
 /// 10⁻⁹ per step (rtol, and atol in units of each component's scale). Against the

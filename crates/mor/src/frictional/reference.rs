@@ -11,7 +11,7 @@ use super::{
 use crate::dop853::{Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{Friction, PairLaw, TangentialModel, lever_arm, slip_velocity};
+use emdstar_contact::{HistorySpring, PairLaw, lever_arm, slip_velocity};
 use std::cell::Cell;
 
 /// Index of the components of the state.
@@ -29,7 +29,7 @@ const N: usize = 17;
 /// `velocity` (approaching), under `law` and the history spring of `friction`.
 pub fn solve_frictional(
     law: &PairLaw,
-    friction: &Friction,
+    friction: &HistorySpring,
     bodies: &[Spinning; 2],
     separation: [f64; 3],
     velocity: [f64; 3],
@@ -133,19 +133,12 @@ struct Eval {
 impl Contact {
     fn new(
         law: &PairLaw,
-        friction: &Friction,
+        friction: &HistorySpring,
         bodies: &[Spinning; 2],
         touch: [f64; 3],
         velocity: [f64; 3],
     ) -> Result<Self, SolveError> {
         let invalid = |why: String| Err(SolveError::InvalidParams(why));
-        if friction.model != TangentialModel::History {
-            return invalid(
-                "the exact frictional contact needs the history spring (tangential = \
-                 \"history\"); pure Coulomb sliding has no exact solve"
-                    .into(),
-            );
-        }
         if !(friction.stiffness > 0.0 && friction.stiffness.is_finite()) {
             return invalid("the exact frictional contact needs tangential_stiffness > 0".into());
         }
