@@ -25,6 +25,15 @@
 //!
 //! The pure Coulomb model (F_t = −µF_n v̂_t) has no spring and chatters about v_t = 0;
 //! it is not solved here.
+//!
+//! # Solvers
+//! - [`solve_frictional`]: the reference, these equations as written (r, v, both spins,
+//!   the spring), to the tolerance asked for; slow near the end of a sliding contact.
+//! - [`solve_contact`]: what eMD* uses ([`CONTACT_OPTIONS`], within a few 10⁻⁹ of the
+//!   reference on gas-like impacts): the same equations in the frame the normal carries
+//!   along, with a tail for the end of a sliding contact ([`contact`]'s documentation).
+//! - [`solve_wall_contact`]: a sphere at a flat wall, the limit of a partner of infinite
+//!   mass and radius that does not spin, by the same solver with the normal fixed.
 
 mod contact;
 mod reference;
