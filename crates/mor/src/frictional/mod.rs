@@ -6,8 +6,8 @@
 //!
 //! # Equations (relative coordinates r = x₁ − x₂, v = ṙ, n = r/|r|)
 //! - m_eff v̇ = F_n n + F_t, F_n = F(ξ, ξ̇) the pair's law, ξ = l − |r|, ξ̇ = −v·n;
-//! - I_i ω̇_i = −(R_i − ξ/2) n × F_t (both spheres, the lever arm of [`lever_arm`]);
-//! - the slip v_t = v − (v·n)n − (R₁ω₁ + R₂ω₂) × n ([`slip_velocity`]);
+//! - I_i ω̇_i = −(R_i − ξ/2) n × F_t (both spheres, the lever arm of [`emdstar_contact::lever_arm`]);
+//! - the slip v_t = v − (v·n)n − (R₁ω₁ + R₂ω₂) × n ([`emdstar_contact::slip_velocity`]);
 //! - the spring, in the tangent plane, is transported with the normal and grows by the
 //!   slip: ξ̇_t = v_t − (ξ_t·ṅ)n, ṅ = (v − (v·n)n)/|r| (the continuous form of
 //!   [`emdstar_contact::turn_spring`] plus growth);
@@ -31,7 +31,7 @@
 //!   the spring), to the tolerance asked for; slow near the end of a sliding contact.
 //! - [`solve_contact`]: what eMD* uses ([`CONTACT_OPTIONS`], within a few 10⁻⁹ of the
 //!   reference on gas-like impacts): the same equations in the frame the normal carries
-//!   along, with a tail for the end of a sliding contact ([`contact`]'s documentation).
+//!   along, with a tail for the end of a sliding contact (see its source, `contact/`).
 //! - [`solve_wall_contact`]: a sphere at a flat wall, the limit of a partner of infinite
 //!   mass and radius that does not spin, by the same solver with the normal fixed.
 
