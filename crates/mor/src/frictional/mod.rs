@@ -65,7 +65,7 @@ pub const CONTACT_OPTIONS: SolverOptions = SolverOptions {
 
 /// The contact of `bodies` touching at `separation` (|r| = R₁ + R₂) with relative
 /// velocity `velocity` (approaching), under `law` and the history spring `spring`: the
-/// equations of this module solved by [`contact`]'s fast solver, to `opts.rtol` per step
+/// equations of this module solved by the fast solver (the carried frame), to `opts.rtol` per step
 /// and `opts.atol` in units of each component's scale.
 pub fn solve_contact(
     law: &PairLaw,
