@@ -77,6 +77,15 @@ pub struct BenchEdmdArgs {
     /// [default: the engine's, 20 from N = 1000 on].
     #[arg(long, value_name = "EVENTS_PER_PARTICLE")]
     pub resort_every: Option<f64>,
+    /// Instead: MD against eMD* on the frictional Hertz gas of the speed goals (N = 2000,
+    /// µ = 0.3, k_t = 1e5 N/m; η = 0.001, 0.01, 0.1), with and without friction: each
+    /// case one `emdstar run` of this executable, timed by its summary, in turns,
+    /// --rounds times (about 20 s a round on an idle 2-core host: MD takes most of it).
+    #[arg(long, conflicts_with_all = ["scaling", "hard_spheres_only", "emdstar_only"])]
+    pub friction: bool,
+    /// With --friction: run this part of each gas's simulated time (a quick look).
+    #[arg(long, default_value_t = 1.0, requires = "friction")]
+    pub time_scale: f64,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -294,6 +303,14 @@ pub fn run(a: &BenchEdmdArgs) -> Result<()> {
         "{prefix} {bar:30} {pos}/{len} runs {elapsed} {msg}",
     );
     bar.set_prefix("bench edmd");
+    if a.friction {
+        let rows = super::bench_friction::run(a.rounds, a.time_scale, &bar, a.json)?;
+        bar.finish_and_clear();
+        if a.json {
+            println!("{}", json!({ "friction": rows }));
+        }
+        return Ok(());
+    }
     let (hs_rate, hs) = if a.emdstar_only {
         (f64::NAN, Value::Null)
     } else {

@@ -3,6 +3,7 @@
 pub mod any_engine;
 pub mod bench;
 pub mod bench_edmd;
+pub mod bench_friction;
 pub mod bench_soak;
 pub mod bench_table;
 pub mod check;

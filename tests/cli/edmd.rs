@@ -338,3 +338,33 @@ fn bench_edmd_refuses_zero_rounds_and_impossible_gases() {
         assert!(err.contains("--hs-cells must be 1 to"), "{err}");
     }
 }
+
+#[test]
+fn bench_edmd_friction_sets_md_against_emdstar_with_and_without_friction() {
+    // A hundredth of each gas's simulated time: a few collisions at η = 0.1.
+    let v = emdstar_json(&[
+        "bench",
+        "edmd",
+        "--friction",
+        "--time-scale",
+        "0.01",
+        "--json",
+    ]);
+    let rows = v["friction"].as_array().expect("rows");
+    assert_eq!(rows.len(), 3, "{v}");
+    for row in rows {
+        for key in ["ratio", "ratio_friction"] {
+            let r = row[key].as_f64().unwrap_or(f64::NAN);
+            assert!(r > 0.0 && r.is_finite(), "{key}: {v}");
+        }
+    }
+    // At η = 0.1 the frictional eMD* solves every collision exactly.
+    let dense = &rows[2]["emdstar_friction"];
+    let solves = dense["frictional_solves"].as_u64().unwrap();
+    assert!(
+        solves > 0 && Some(solves) == dense["collisions"].as_u64(),
+        "{v}"
+    );
+    let err = emdstar_error(&["bench", "edmd", "--friction", "--time-scale", "2"]);
+    assert!(err.contains("--time-scale"), "{err}");
+}

@@ -36,16 +36,11 @@ pub enum BroadPhaseKind {
 }
 
 impl BroadPhaseKind {
-    /// [`BroadPhaseKind::Auto`] takes epochs below this packing fraction. Measured on the
-    /// elastic Hertz gas (wall time per simulated second, epochs against crossings,
-    /// `speed_probe`, two interleaved runs each): at N = 2000, 0.88 at η = 0.015, 0.97
-    /// at 0.02, 1.04 at 0.025, 1.14 at 0.03; at N = 10⁴, 1.00 at 0.02 and 1.13 at 0.025.
+    /// [`BroadPhaseKind::Auto`] takes epochs below this packing fraction, where they beat
+    /// crossings on the elastic Hertz gas (the measurements: commit history, docs/performance.md).
     pub const AUTO_EPOCHS_BELOW: f64 = 0.02;
     /// [`BroadPhaseKind::Auto`] takes neighbour lists from this packing fraction on
-    /// (hard spheres and eMD). Measured on elastic hard spheres, N = 32 000, collisions
-    /// per CPU second, best of three interleaved runs on a shared machine: cells 6.1e5
-    /// and lists 4.9e5 at η = 0.3, 6.1e5 and 5.7e5 at 0.34, 6.0e5 and 5.9e5 at 0.37;
-    /// lists 7.1e5 at 0.4 (docs/performance.md).
+    /// (hard spheres and eMD), where they beat cells (measurements: docs/performance.md).
     pub const AUTO_NEIGHBOURS_FROM: f64 = 0.38;
 }
 

@@ -40,17 +40,15 @@ pub(crate) struct Span {
     count: u32,
 }
 
-/// Runs up to this long are listed by [`SMALL_RUN_PAIRS`] (measured at the goal's gas,
-/// about 2.4 filings per cell: 4 is 1-2.5 % slower, and 5 is 4 % slower).
+/// Runs up to this long are listed by [`SMALL_RUN_PAIRS`] (longer: slower; docs/performance.md).
 const SMALL_RUN: usize = 3;
 
 /// The pairs among a run's first three entries, ordered so that those among the
 /// first k come first for every k.
 const SMALL_RUN_PAIRS: [[usize; 2]; 3] = [[0, 1], [0, 2], [1, 2]];
 
-/// Entries a cell holds in the rebuild's array (more go to an overflow list): at the
-/// goal's gas a cell holds 2.4 on average and more than eight in one in 1400; room for
-/// four was 7 % slower.
+/// Entries a cell holds in the rebuild's array (more go to an overflow list; why eight:
+/// docs/performance.md).
 const CELL_ROOM: usize = 8;
 
 /// A cell's room in the rebuild's array, in one aligned half cache line.

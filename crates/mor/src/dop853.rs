@@ -24,6 +24,9 @@ pub(crate) trait System<const N: usize> {
     fn monitored(&self, _y: &[f64; N]) -> Option<(f64, [f64; N])> {
         None
     }
+
+    /// Called as each trial step begins (before its stages are evaluated).
+    fn trial_started(&self) {}
 }
 
 /// Per-step error control: a step is accepted when the weighted error norm is ≤ 1, with
@@ -77,6 +80,8 @@ pub(crate) struct Dop853<'s, S: System<N>, const N: usize> {
     y0: [f64; N],
     /// Stages of the last accepted step; 12 is f at its end, 13..15 the dense-output stages.
     k: [[f64; N]; 16],
+    /// The safety factor of the step-size control.
+    safety: f64,
     pub counters: Counters,
 }
 
@@ -101,6 +106,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             h0: 0.0,
             y0: y,
             k: [[0.0; N]; 16],
+            safety: SAFETY,
             counters: Counters {
                 evaluations: 1,
                 ..Counters::default()
@@ -121,12 +127,35 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         self.h
     }
 
+    /// Sets the safety factor of the step-size control (Hairer's 0.9 by default): a
+    /// smaller one takes smaller steps but has fewer rejected where the error estimate
+    /// varies from step to step.
+    pub fn set_safety(&mut self, safety: f64) {
+        self.safety = safety;
+    }
+
+    /// Keeps the next step at most `h_max` long.
+    pub fn limit_step(&mut self, h_max: f64) {
+        if h_max > 0.0 {
+            self.h = self.h.min(h_max);
+        }
+    }
+
+    /// Starts again at (t, y) with a first trial step `h` (as [`Self::new`], keeping the
+    /// counters and the tolerances).
+    pub fn restart(&mut self, t: f64, y: [f64; N], h: f64) -> Result<(), StepFailure> {
+        self.f = self.eval(t, &y).ok_or(StepFailure::OutsideDomain { t })?;
+        (self.t, self.y, self.h, self.t0, self.y0) = (t, y, h, t, y);
+        Ok(())
+    }
+
     /// Start time and state of the last accepted step.
     pub fn last_start(&self) -> (f64, &[f64; N]) {
         (self.t0, &self.y0)
     }
 
     /// Takes one accepted step, retrying with smaller steps as the error control demands.
+    #[inline(always)]
     pub fn step(&mut self) -> Result<(), StepFailure> {
         let mut rejected_before = false;
         loop {
@@ -139,7 +168,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
                 rejected_before = true;
                 continue;
             };
-            let fac = err.powf(0.125) / SAFETY;
+            let fac = err.powf(0.125) / self.safety;
             if err <= 1.0 {
                 let Some(f1) = self.eval(self.t + h, &y1) else {
                     self.reject(DOMAIN_SHRINK * h);
@@ -160,6 +189,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     }
 
     /// The 7th-order interpolant of the last accepted step (3 more evaluations of f).
+    #[inline]
     pub fn dense(&mut self) -> Result<Dense<N>, StepFailure> {
         let (t0, h, y0) = (self.t0, self.h0, self.y0);
         for i in 13..16 {
@@ -177,13 +207,17 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             cont[1][n] = dy;
             cont[2][n] = bspl;
             cont[3][n] = dy - h * k[12][n] - bspl;
-            for (i, row) in D.iter().enumerate() {
-                cont[4 + i][n] = h * dot(k, row, n);
+        }
+        for (i, row) in D.iter().enumerate() {
+            let s = weighted(k, row);
+            for n in 0..N {
+                cont[4 + i][n] = h * s[n];
             }
         }
         Ok(Dense { t0, h, cont })
     }
 
+    #[inline(always)]
     fn eval(&mut self, t: f64, y: &[f64; N]) -> Option<[f64; N]> {
         self.counters.evaluations += 1;
         self.sys.rhs(t, y)
@@ -207,7 +241,9 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
 
     /// One trial step of size h: the new state and the error norm (Hairer's `err`), or
     /// `None` if a stage left the domain.
+    #[inline(always)]
     fn trial(&mut self, h: f64) -> Option<([f64; N], f64)> {
+        self.sys.trial_started();
         let (t, y) = (self.t, self.y);
         self.k[0] = self.f;
         // Unrolled, so that each row of the tableau is a compile-time constant.
@@ -218,20 +254,21 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             )*};
         }
         stages!(1 2 3 4 5 6 7 8 9 10 11);
-        let y1 = combine(&y, h, &self.k, A[12]);
+        let b = weighted(&self.k, A[12]);
+        let y1: [f64; N] = std::array::from_fn(|n| y[n] + h * b[n]);
         if y1.iter().any(|v| !v.is_finite()) {
             return Some((y1, f64::INFINITY));
         }
         let (m0, m1) = (self.sys.magnitude(&y), self.sys.magnitude(&y1));
+        let (bhh, e5) = (weighted(&self.k, &BHH), weighted(&self.k, &E5));
         let (mut err5, mut err3) = (0.0, 0.0);
         let (mut e5s, mut e3s) = ([0.0; N], [0.0; N]);
         for n in 0..N {
             // A component that is identically zero (atol 0) must not divide by zero.
             let scale =
                 (self.tol.atol[n] + self.tol.rtol * m0[n].max(m1[n])).max(f64::MIN_POSITIVE);
-            let b = dot(&self.k, A[12], n);
-            e3s[n] = b - dot(&self.k, &BHH, n);
-            e5s[n] = dot(&self.k, &E5, n);
+            e3s[n] = b[n] - bhh[n];
+            e5s[n] = e5[n];
             err5 += (e5s[n] / scale).powi(2);
             err3 += (e3s[n] / scale).powi(2);
         }
@@ -259,12 +296,15 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     }
 }
 
-/// Σ_j a_j k_j for component n (plain loops: with the row a constant they unroll).
+/// Σ_j a_j k_j for every component, summed in the order of the row (components side by
+/// side, so that they vectorise).
 #[inline(always)]
-fn dot<const N: usize>(k: &[[f64; N]; 16], row: &[(usize, f64)], n: usize) -> f64 {
-    let mut sum = 0.0;
+fn weighted<const N: usize>(k: &[[f64; N]; 16], row: &[(usize, f64)]) -> [f64; N] {
+    let mut sum = [0.0; N];
     for &(j, a) in row {
-        sum += a * k[j][n];
+        for n in 0..N {
+            sum[n] += a * k[j][n];
+        }
     }
     sum
 }
@@ -277,11 +317,8 @@ fn combine<const N: usize>(
     k: &[[f64; N]; 16],
     row: &[(usize, f64)],
 ) -> [f64; N] {
-    let mut out = *y;
-    for (n, v) in out.iter_mut().enumerate() {
-        *v += h * dot(k, row, n);
-    }
-    out
+    let sum = weighted(k, row);
+    std::array::from_fn(|n| y[n] + h * sum[n])
 }
 
 /// The 7th-order continuous extension of one step (Hairer's `contd8`).
@@ -294,6 +331,7 @@ pub(crate) struct Dense<const N: usize> {
 
 impl<const N: usize> Dense<N> {
     /// The interpolated state at time t (meant for t in [t0, t0 + h]).
+    #[inline]
     pub fn eval(&self, t: f64) -> [f64; N] {
         let s = (t - self.t0) / self.h;
         let s1 = 1.0 - s;

@@ -5,7 +5,7 @@
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 
-use crate::frictional::{Spinning, solve_frictional};
+use crate::frictional::{Spinning, solve_contact, solve_wall_contact};
 use crate::{Mor, SolveError, SolverOptions, solve};
 use emdstar_contact::vec3::{from_na, to_na};
 use emdstar_contact::{ContactError, HistorySpring, Impact, PairLaw, PairProperties, Vec3, scale};
@@ -151,7 +151,8 @@ pub fn exact_collision(
 }
 
 /// The exact collision of two frictional spheres with radii `radii` and spins `spins`
-/// ([`solve_frictional`]) in eMD*'s events: the E^φ event places the spheres where the
+/// ([`solve_contact`], to the accuracy of `opts`: eMD* uses
+/// [`crate::frictional::CONTACT_OPTIONS`]) in eMD*'s events: the E^φ event places the spheres where the
 /// contact leaves them relative to their centre of mass and gives both its velocity, the
 /// E^v event the post-collision velocities; the spins after the contact come second.
 pub fn frictional_collision(
@@ -172,7 +173,7 @@ pub fn frictional_collision(
     let r0 = b1.position - b2.position;
     let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
     let v0 = b1.velocity - b2.velocity;
-    let end = solve_frictional(
+    let end = solve_contact(
         law,
         friction,
         &spinning,
@@ -200,6 +201,64 @@ pub fn frictional_collision(
         duration: end.duration,
     };
     Ok((outcome, end.spins))
+}
+
+/// The exact collision of a frictional sphere (`body`, radius `radius`, spin `spin`)
+/// with a flat wall at rest of unit normal `normal` (pointing into the sphere's side),
+/// touching it, under the normal law `law` of the sphere–wall pair and the history
+/// spring `spring` ([`solve_wall_contact`]: the wall is the limit of a partner of
+/// infinite mass and radius that does not spin). In eMD*'s events as
+/// [`resolve_wall`] has them: the E^φ event puts the sphere above the point of the
+/// plane it touched, at the height the contact leaves it, moving along the wall at its
+/// mean tangential velocity over the contact (`transient_velocity`), so that it is where
+/// the contact leaves it after τ; the E^v event gives it the velocity after the contact.
+/// Both entries of the outcome's pairs are the sphere's; its spin after the contact
+/// comes second.
+pub fn frictional_wall_collision(
+    law: &PairLaw,
+    spring: &HistorySpring,
+    body: &Body,
+    radius: f64,
+    spin: [f64; 3],
+    normal: &Vec3,
+    opts: &SolverOptions,
+) -> Result<(Outcome, [f64; 3]), SolveError> {
+    let sphere = Spinning {
+        radius,
+        mass: body.mass,
+        spin,
+    };
+    let end = solve_wall_contact(
+        law,
+        spring,
+        &sphere,
+        from_na(normal),
+        from_na(&body.velocity),
+        opts,
+    )?;
+    let n = normal.normalize();
+    // The point of the plane under the centre at touch, and the centre at the end.
+    let plane_point = body.position - n * radius;
+    let separation = to_na(end.separation);
+    let height = separation.dot(&n);
+    let position = plane_point + separation;
+    // The centre's way along the wall over the contact, at a constant pace.
+    let transient_velocity = (separation - n * height) / end.duration;
+    let rotated = plane_point + n * height;
+    let velocity = to_na(end.velocity);
+    let after = Body {
+        position,
+        velocity,
+        mass: body.mass,
+    };
+    let outcome = Outcome {
+        after: [after, after],
+        rotated_positions: [rotated, rotated],
+        transient_velocity,
+        post_velocities: [velocity, velocity],
+        duration: end.duration,
+    };
+    Ok((outcome, end.spins[0]))
 }
 
 /// A sphere against an infinitely heavy flat wall with unit normal `normal` (pointing

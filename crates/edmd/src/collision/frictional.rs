@@ -15,8 +15,9 @@ use super::rule::{Kick, PairImpact, Party, Transient, instant_pair};
 use crate::error::{EngineError, Result};
 use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub};
 use emdstar_contact::{HistorySpring, PairLaw, SOLID_SPHERE_INERTIA};
+use emdstar_mor::SolveError;
+use emdstar_mor::frictional::CONTACT_OPTIONS;
 use emdstar_mor::rule::frictional_collision;
-use emdstar_mor::{SolveError, SolverOptions};
 
 /// The E^φ of the pair `parties` meeting now (the exact contact of `law` with the
 /// history spring `spring`), with the exact impulse as exception (a)'s kick.
@@ -35,7 +36,7 @@ pub(super) fn pair(
         &parties.map(|p| p.body()),
         radii,
         spins,
-        &SolverOptions::default(),
+        &CONTACT_OPTIONS,
     )
     .map_err(unsolved)?;
     let placed = out.rotated_positions.map(|x| from_na(&x));

@@ -1,66 +1,18 @@
-//! The exact two-body contact of frictional soft spheres: the normal force law of
-//! Müller & Pöschel 2013 (Eqs. 40 and 51) with the Cundall–Strack history spring of
-//! `emdstar_contact::tangential` (docs/physics.md, "Friction and rotation"), both
-//! spins, in three dimensions, from first touch to the end of the frictionless solver,
-//! F_n = 0 with the spheres separating (Eq. 10).
-//!
-//! # Equations (relative coordinates r = x₁ − x₂, v = ṙ, n = r/|r|)
-//! - m_eff v̇ = F_n n + F_t, F_n = F(ξ, ξ̇) the pair's law, ξ = l − |r|, ξ̇ = −v·n;
-//! - I_i ω̇_i = −(R_i − ξ/2) n × F_t (both spheres, the lever arm of [`lever_arm`]);
-//! - the slip v_t = v − (v·n)n − (R₁ω₁ + R₂ω₂) × n ([`slip_velocity`]);
-//! - the spring, in the tangent plane, is transported with the normal and grows by the
-//!   slip: ξ̇_t = v_t − (ξ_t·ṅ)n, ṅ = (v − (v·n)n)/|r| (the continuous form of
-//!   [`emdstar_contact::turn_spring`] plus growth);
-//! - sticking: F_t = f = −k_t ξ_t − γ_t v_t while |f| ≤ µF_n;
-//! - sliding: F_t = µF_n f̂, and the spring stays where −k_t ξ_t − γ_t v_t = µF_n f̂
-//!   (MD's reset of the spring onto the cap, in the limit dt → 0):
-//!   ξ̇_t = v_t − (ξ_t·ṅ)n + c f̂ with c = (−k_t f̂·(v_t − (ξ_t·ṅ)n) − γ_t f̂·v̇_t − µḞ_n)/k_t,
-//!   which keeps d|f|/dt = µḞ_n.
-//!
-//! Sticking turns to sliding where µF_n − |f| crosses zero, sliding to sticking where c
-//! does (the cap would let go). Each stretch is one smooth ODE, integrated by DOP853; the
-//! switches and the end are located on the dense output, and the next stretch starts
-//! there. For Hertz, √ξ makes the start non-smooth; as in the frictionless solver the
-//! state carries w = √ξ and the independent variable is σ with dt/dσ = w.
-//!
-//! The pure Coulomb model (F_t = −µF_n v̂_t) has no spring and chatters about v_t = 0;
-//! it is not solved here.
+//! The reference solver of the exact frictional contact: the equations of [`super`] in
+//! the state (r − r_touch, v, ω₁, ω₂, ξ_t, ξ or √ξ, t), integrated by DOP853 to the
+//! tolerance asked for, each stick or slip stretch to its end, through the singular end
+//! of a sliding contact (the force direction turns ever faster as F_n → 0) by ever
+//! smaller steps. Slow (about 10³ evaluations of the right-hand side per contact at
+//! 10⁻¹¹) and plain: the yardstick of [`super::contact`].
 
-use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
+use super::{
+    FrictionalEnd, MAX_SWITCHES, Normal, Spinning, failure, first_crossing, sliding_direction,
+};
+use crate::dop853::{Dop853, System, Tolerances};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{HistorySpring, PairLaw, SOLID_SPHERE_INERTIA, lever_arm, slip_velocity};
-
-/// One sphere of a frictional contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Spinning {
-    pub radius: f64,
-    pub mass: f64,
-    /// Angular velocity in rad/s.
-    pub spin: [f64; 3],
-}
-
-impl Spinning {
-    fn inertia(&self) -> f64 {
-        SOLID_SPHERE_INERTIA * self.mass * self.radius * self.radius
-    }
-}
-
-/// The relative state of a pair at the end of its contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrictionalEnd {
-    /// r = x₁ − x₂ at the end, in m.
-    pub separation: [f64; 3],
-    /// v = v₁ − v₂ at the end, in m/s.
-    pub velocity: [f64; 3],
-    /// ω₁ and ω₂ at the end, in rad/s.
-    pub spins: [[f64; 3]; 2],
-    /// Contact duration τ, in s.
-    pub duration: f64,
-    /// Switches between sticking and sliding.
-    pub switches: usize,
-    pub stats: SolveStats,
-}
+use emdstar_contact::{HistorySpring, PairLaw, lever_arm, slip_velocity};
+use std::cell::Cell;
 
 /// Index of the components of the state.
 const D: usize = 0;
@@ -72,12 +24,6 @@ const SPRING: usize = 12;
 const S: usize = 15;
 const T: usize = 16;
 const N: usize = 17;
-
-/// Samples of a step that bracket an event starting at zero.
-const SAMPLES: usize = 16;
-
-/// Bound on the stick–slip switches of one contact.
-const MAX_SWITCHES: usize = 1000;
 
 /// The contact of `bodies` touching at `separation` (|r| = R₁ + R₂) with relative velocity
 /// `velocity` (approaching), under `law` and the history spring of `friction`.
@@ -104,6 +50,8 @@ pub fn solve_frictional(
         let stretch = Stretch {
             contact: &ode,
             sliding,
+            low: Cell::new(f64::INFINITY),
+            low_end: Cell::new(f64::INFINITY),
         };
         if sliding {
             y = stretch.onto_cap(&y);
@@ -160,6 +108,10 @@ struct Contact {
 struct Stretch<'a> {
     contact: &'a Contact,
     sliding: bool,
+    /// The least switch function, and end function where ξ falls, at the stages of the
+    /// current trial step (an event there and back within a step).
+    low: Cell<f64>,
+    low_end: Cell<f64>,
 }
 
 /// What ends a stretch.
@@ -201,21 +153,9 @@ impl Contact {
         }
         let m_eff = bodies[0].mass * bodies[1].mass / (bodies[0].mass + bodies[1].mass);
         let speed = norm(velocity);
-        let (hertz, elastic, viscous, overlap) = match *law {
-            PairLaw::Linear { stiffness, damping } => (
-                false,
-                stiffness,
-                damping,
-                approach * (m_eff / stiffness).sqrt(),
-            ),
-            PairLaw::Hertz {
-                rho_el,
-                dissipation,
-            } => {
-                let peak = (1.25 * m_eff * approach * approach / rho_el).powf(0.4);
-                (true, rho_el, 1.5 * dissipation, peak)
-            }
-        };
+        let normal = Normal::of(law);
+        let (hertz, elastic, viscous) = (normal.hertz, normal.elastic, normal.viscous);
+        let overlap = normal.peak(m_eff, approach);
         Ok(Self {
             hertz,
             elastic,
@@ -267,48 +207,31 @@ impl Contact {
     /// ξ, dt/dx and the normal force from the overlap coordinate s, and the derivative
     /// of the force times dt/dx given ξ̇ and ξ̈.
     fn normal(&self, s: f64, rate: f64) -> (f64, f64, f64) {
-        if self.hertz {
-            let xi = s * s;
-            (xi, s, self.elastic * s * (xi + self.viscous * rate))
-        } else {
-            (s, 1.0, self.elastic * s + self.viscous * rate)
-        }
+        self.law().force(s, rate)
     }
 
     /// dF_n/dt · dt/dx (finite at ξ = 0 for Hertz).
     fn normal_growth(&self, s: f64, rate: f64, rate_dot: f64) -> f64 {
-        if self.hertz {
-            let xi = s * s;
-            self.elastic
-                * (0.5 * rate * (xi + self.viscous * rate) + xi * (rate + self.viscous * rate_dot))
-        } else {
-            self.elastic * rate + self.viscous * rate_dot
+        self.law().growth(s, rate, rate_dot)
+    }
+
+    fn law(&self) -> Normal {
+        Normal {
+            hertz: self.hertz,
+            elastic: self.elastic,
+            viscous: self.viscous,
         }
     }
 
-    /// Whether the contact slides from its first instant: the trial force −γ_t v_t
-    /// against the cap µF_n(0⁺), and where both vanish their growth.
+    /// Whether the contact slides from its first instant ([`Normal::slides_from_touch`]).
     fn starts_sliding(&self, y: &[f64; N]) -> bool {
-        let v = vec(y, V);
         let n = scale(1.0 / norm(self.touch), self.touch);
-        let slip = self.slip(y, n);
-        let s = norm(slip);
+        let s = norm(self.slip(y, n));
         if s <= 1e-14 * self.speed {
             return false;
         }
-        let approach = -dot(v, n);
-        let (trial, cap) = (self.gamma_t * s, self.mu * self.viscous * approach);
-        let cap = if self.hertz { 0.0 } else { cap };
-        if trial != cap {
-            return trial > cap;
-        }
-        // Both zero: |f| grows as k_t s t; the cap as µ k v_n t (linear), faster than t
-        // (damped Hertz) or slower (elastic Hertz).
-        if self.hertz {
-            self.viscous == 0.0
-        } else {
-            self.k_t * s > self.mu * self.elastic * approach
-        }
+        let spring = (self.mu, self.k_t, self.gamma_t);
+        self.law().slides_from_touch(spring, s, -dot(vec(y, V), n))
     }
 
     fn slip(&self, y: &[f64; N], n: [f64; 3]) -> [f64; 3] {
@@ -412,7 +335,17 @@ impl Contact {
 
 impl System<N> for Stretch<'_> {
     fn rhs(&self, _x: f64, y: &[f64; N]) -> Option<[f64; N]> {
-        self.contact.eval(y, self.sliding).map(|e| e.dy)
+        let e = self.contact.eval(y, self.sliding)?;
+        self.low.set(self.low.get().min(e.mode));
+        if e.rate < 0.0 {
+            self.low_end.set(self.low_end.get().min(e.end));
+        }
+        Some(e.dy)
+    }
+
+    fn trial_started(&self) {
+        self.low.set(f64::INFINITY);
+        self.low_end.set(f64::INFINITY);
     }
 }
 
@@ -446,8 +379,8 @@ impl Stretch<'_> {
         let e_b = c
             .eval(&y_b, self.sliding)
             .ok_or(SolveError::StepSizeUnderflow { t: solver.t() })?;
-        let ends = e_b.end <= 0.0 && e_b.rate < 0.0;
-        let switches = e_b.mode < 0.0;
+        let ends = (e_b.end <= 0.0 && e_b.rate < 0.0) || self.low_end.get() <= 0.0;
+        let switches = e_b.mode < 0.0 || self.low.get() < 0.0;
         if !ends && !switches {
             return Ok(None);
         }
@@ -456,41 +389,34 @@ impl Stretch<'_> {
         let y_a = *y_a;
         let x_b = solver.t();
         let e_a = c.eval(&y_a, self.sliding);
-        let at = |x: f64| c.eval(&dense.eval(x), self.sliding);
         let root = |g: &dyn Fn(&Eval) -> f64, g_a: f64| {
-            let value = |x: f64| at(x).map_or(-1.0, |e| g(&e));
-            let mut from = (x_a, g_a);
-            let mut to = (x_b, g(&e_b));
-            if g_a <= 0.0 {
-                // At the start of a stretch the event is zero: bracket its crossing by
-                // samples of the step, or switch right there if it never rises.
-                let xs: Vec<f64> = (1..SAMPLES)
-                    .map(|i| x_a + (x_b - x_a) * i as f64 / SAMPLES as f64)
-                    .collect();
-                let Some(first) = xs.iter().position(|&x| value(x) > 0.0) else {
-                    return x_a;
-                };
-                from = (xs[first], value(xs[first]));
-                for &x in &xs[first + 1..] {
-                    let g_x = value(x);
-                    if g_x <= 0.0 {
-                        to = (x, g_x);
-                        break;
-                    }
-                    from = (x, g_x);
-                }
-            }
-            illinois(value, from, to)
+            let value = |x: f64| c.eval(&dense.eval(x), self.sliding).map_or(-1.0, |e| g(&e));
+            first_crossing(value, (x_a, g_a), (x_b, g(&e_b)))
         };
-        let x_end = ends.then(|| root(&|e: &Eval| e.end, e_a.as_ref().map_or(1.0, |e| e.end)));
-        let x_switch =
-            switches.then(|| root(&|e: &Eval| e.mode, e_a.as_ref().map_or(1.0, |e| e.mode)));
-        Ok(Some(match (x_end, x_switch) {
-            (Some(x_e), Some(x_s)) if x_s < x_e => Found::Switch(x_s, dense.eval(x_s)),
-            (Some(x_e), _) => Found::End(dense.eval(x_e)),
-            (None, Some(x_s)) => Found::Switch(x_s, dense.eval(x_s)),
-            (None, None) => unreachable!("an event was found"),
-        }))
+        // Only a fall of ξ ends the contact (F_n is zero at touch too).
+        let end = |e: &Eval| {
+            if e.rate < 0.0 {
+                e.end
+            } else {
+                e.end.abs().max(f64::MIN_POSITIVE)
+            }
+        };
+        let x_end = if ends {
+            root(&end, e_a.as_ref().map_or(1.0, end))
+        } else {
+            None
+        };
+        let x_switch = if switches {
+            root(&|e: &Eval| e.mode, e_a.as_ref().map_or(1.0, |e| e.mode))
+        } else {
+            None
+        };
+        Ok(match (x_end, x_switch) {
+            (Some(x_e), Some(x_s)) if x_s < x_e => Some(Found::Switch(x_s, dense.eval(x_s))),
+            (Some(x_e), _) => Some(Found::End(dense.eval(x_e))),
+            (None, Some(x_s)) => Some(Found::Switch(x_s, dense.eval(x_s))),
+            (None, None) => None,
+        })
     }
 }
 
@@ -500,28 +426,4 @@ fn vec(y: &[f64; N], at: usize) -> [f64; 3] {
 
 fn put(y: &mut [f64; N], at: usize, v: [f64; 3]) {
     y[at..at + 3].copy_from_slice(&v);
-}
-
-fn failure(f: StepFailure) -> SolveError {
-    match f {
-        StepFailure::Underflow { t } | StepFailure::OutsideDomain { t } => {
-            SolveError::StepSizeUnderflow { t }
-        }
-    }
-}
-
-/// The direction of the tangential force at the cap: that of the trial force
-/// −k_t ξ_t − γ_t v_t, or against the slip where the trial force vanishes (zero
-/// without slip).
-fn sliding_direction(trial: [f64; 3], slip: [f64; 3]) -> [f64; 3] {
-    let t = norm(trial);
-    if t > 0.0 {
-        return scale(1.0 / t, trial);
-    }
-    let s = norm(slip);
-    if s > 0.0 {
-        scale(-1.0 / s, slip)
-    } else {
-        [0.0; 3]
-    }
 }
