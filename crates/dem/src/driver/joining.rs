@@ -4,7 +4,7 @@
 
 use super::slots::{FrictionalKind, SlotKind, SmoothKind};
 use super::{Members, Verlet};
-use crate::forces::{Accelerations, ContactRecord, ForceKernel, apply_contacts};
+use crate::forces::{Accelerations, ContactRecord, apply_contacts};
 use crate::neighbour::INDEX_MASK;
 use emdstar_system::System;
 
@@ -40,14 +40,7 @@ impl Verlet {
     ) {
         let p = &system.particles;
         let mut contacts = Vec::new();
-        let kernel = ForceKernel {
-            model: super::model(system, &self.opts),
-            list: &self.list,
-            // Not read with h = 0.
-            contact_acc: &self.contact_acc,
-            h: 0.0,
-            slot: K::slot(self.rotation.as_deref(), p),
-        };
+        let kernel = self.kernel::<K>(system, 0.0);
         let mut v2_max = self.v_max * self.v_max;
         for &i in fresh {
             let i = i as usize;

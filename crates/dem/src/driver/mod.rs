@@ -302,13 +302,7 @@ impl Verlet {
         let mut position = std::mem::take(&mut p.position);
         let mut velocity = std::mem::take(&mut p.velocity);
         let mut buffers = std::mem::take(K::chunks(&mut self.buffers));
-        let kernel = ForceKernel {
-            model: model(system, &self.opts),
-            list: &self.list,
-            contact_acc: &self.contact_acc,
-            h,
-            slot: K::slot(self.rotation.as_deref(), &system.particles),
-        };
+        let kernel = self.kernel::<K>(system, h);
         let start = &self.list.start;
         let walls = !system.domain.walls.is_empty();
         let mut v2_max: f64 = 0.0;
@@ -359,13 +353,7 @@ impl Verlet {
         h: f64,
     ) {
         let mut buffers = std::mem::take(K::chunks(&mut self.buffers));
-        let kernel = ForceKernel {
-            model: model(system, &self.opts),
-            list: &self.list,
-            contact_acc: &self.contact_acc,
-            h,
-            slot: K::slot(self.rotation.as_deref(), &system.particles),
-        };
+        let kernel = self.kernel::<K>(system, h);
         let (position, velocity) = (&system.particles.position, &system.particles.velocity);
         let n = position.len();
         let (start, walls) = (&self.list.start, !system.domain.walls.is_empty());
@@ -385,6 +373,23 @@ impl Verlet {
         });
         drop(kernel);
         *K::chunks(&mut self.buffers) = buffers;
+    }
+
+    /// The force kernel over `system`'s particles with the driver's contact
+    /// accelerations and the slot of kind `K`, predicting over `h` (0: the velocities
+    /// as they are).
+    pub(crate) fn kernel<'a, K: SlotKind>(
+        &'a self,
+        system: &'a System,
+        h: f64,
+    ) -> ForceKernel<'a, K::Slot<'a>> {
+        ForceKernel {
+            model: model(system, &self.opts),
+            list: &self.list,
+            contact_acc: &self.contact_acc,
+            h,
+            slot: K::slot(self.rotation.as_deref(), &system.particles),
+        }
     }
 
     /// Replaces the contact accelerations (and angular accelerations and springs, with

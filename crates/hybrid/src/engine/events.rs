@@ -176,7 +176,7 @@ impl Hybrid {
         for i in std::mem::take(&mut self.book.deferred) {
             let i = i as usize;
             if self.modes.of(i) == Mode::Event {
-                self.to_time(i);
+                self.switch_to_time(i);
                 self.stats.budget_conversions += 1;
             }
         }

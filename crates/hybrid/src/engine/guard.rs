@@ -60,7 +60,7 @@ impl Hybrid {
                     in_step = true;
                 }
                 let partner = self.ed.transient_partner(j);
-                self.to_time(j);
+                self.switch_to_time(j);
                 self.stats.guard_conversions += 1;
                 stack.push(j as u32);
                 if let Some(k) = partner.map(|k| k as usize)

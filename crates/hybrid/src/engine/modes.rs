@@ -140,9 +140,9 @@ impl Hybrid {
         }
         self.in_step(t)?;
         for i in to_time {
-            self.to_time(i);
+            self.switch_to_time(i);
         }
-        self.to_event(&to_event);
+        self.switch_to_event(&to_event);
         Ok(())
     }
 
@@ -198,7 +198,7 @@ impl Hybrid {
     /// its state now. A transient is ended first, for both partners, and a partner
     /// particle switches too (crate docs, "Switching without jumps"). Its forces come
     /// in with [`Hybrid::add_fresh_forces`].
-    pub(super) fn to_time(&mut self, i: usize) {
+    pub(super) fn switch_to_time(&mut self, i: usize) {
         if self.modes.of(i) != Mode::Event {
             return;
         }
@@ -236,7 +236,7 @@ impl Hybrid {
 
     /// TD → ED now for particles `ids` without contacts (no force acts on them; the TD
     /// velocities in step): they join the event core.
-    pub(super) fn to_event(&mut self, ids: &[u32]) {
+    pub(super) fn switch_to_event(&mut self, ids: &[u32]) {
         if ids.is_empty() {
             return;
         }
@@ -254,7 +254,7 @@ impl Hybrid {
     /// transient it shares is finished for both partners first).
     pub(super) fn remove(&mut self, i: usize) {
         if self.modes.of(i) == Mode::Event {
-            self.to_time(i);
+            self.switch_to_time(i);
             self.scratch.fresh.retain(|&f| f as usize != i);
         }
         self.td.release(&[i as u32]);
@@ -308,8 +308,8 @@ impl Hybrid {
         }
         self.in_step(t)?;
         match mode {
-            Mode::Time => self.to_time(i),
-            _ => self.to_event(&[i as u32]),
+            Mode::Time => self.switch_to_time(i),
+            _ => self.switch_to_event(&[i as u32]),
         }
         // A mixed state lives on the list, with every neighbour known.
         self.rebuild(false)?;

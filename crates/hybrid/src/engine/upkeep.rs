@@ -23,9 +23,10 @@ pub(crate) struct Upkeep {
 
 impl Upkeep {
     /// Whether a mode check is due before a step of `dt` at ED speeds up to `v_ed`,
-    /// after jumps of up to `jump` (written so that NaN, a blow-up, says yes).
+    /// after jumps of up to `jump` (NaN, a blow-up, makes it due).
     pub fn check_due(&self, v_ed: f64, jump: f64, dt: f64) -> bool {
-        !(self.ed_drift + jump + v_ed * dt <= self.event_skin)
+        let reach = self.ed_drift + jump + v_ed * dt;
+        reach.is_nan() || reach > self.event_skin
     }
 }
 

@@ -5,7 +5,7 @@
 //! frictional), with the same counts of collisions, exceptions and exact frictional
 //! solves.
 
-use crate::common::{emdstar_reference, hybrid_with, md, steps_to, system};
+use crate::common::{emdstar_reference, gas_under_gravity, hybrid_with, md, steps_to, system};
 use emdstar_edmd::Stats;
 use emdstar_hybrid::{EventRule, HybridOptions, Mode};
 use emdstar_system::{Particles, System};
@@ -162,32 +162,7 @@ point = [0.0, 0.0, 2.0]
 #[test]
 fn every_particle_event_driven_is_the_emdstar_engine_to_the_bit_with_walls_and_gravity() {
     // Elastic spheres under gravity between a floor and a lid, periodic sideways.
-    let sys = system(
-        r#"
-t_end = 0.6
-gravity = [0.0, 0.0, -9.81]
-[material]
-model = "linear"
-stiffness = 2e5
-damping = 0.0
-density = 1140.0
-[gas]
-count = 150
-radius = 0.05
-arrangement = "random"
-rms_speed = 2.0
-seed = 4
-[box]
-size = [3.0, 3.0, 3.0]
-periodic = [true, true, false]
-[[walls]]
-normal = [0.0, 0.0, 1.0]
-point = [0.0, 0.0, 0.0]
-[[walls]]
-normal = [0.0, 0.0, -1.0]
-point = [0.0, 0.0, 3.0]
-"#,
-    );
+    let sys = gas_under_gravity(0.0);
     let s = event_driven_against_emdstar(&sys, 0.6);
     assert!(s.wall_collisions > 50 && s.pair_collisions > 20, "{s:?}");
 }

@@ -3,7 +3,7 @@
 //! particles → events again) and bounces apart, against the MD engine of emdstar-dem;
 //! particles settling on a floor, handed to MD by the event budget.
 
-use crate::common::{elastic_spheres, hybrid_with, max_difference, md, step, system};
+use crate::common::{elastic_spheres, gas_under_gravity, hybrid_with, max_difference, md, step};
 use emdstar_hybrid::{HybridOptions, Mode};
 use emdstar_system::System;
 
@@ -69,38 +69,6 @@ fn a_cloud_contracting_into_a_cluster_leaves_the_cell_path_and_matches_md() {
     for k in 0..3 {
         assert!((p1[k] - p0[k]).abs() < 1e-13 * scale, "{p0:?} {p1:?}");
     }
-}
-
-/// An elastic gas under gravity between a floor and a lid (periodic sideways; with
-/// dissipation, particles come to rest on the floor and the event budget hands them
-/// to TD).
-fn gas_under_gravity(damping: f64) -> System {
-    system(&format!(
-        r#"
-t_end = 0.6
-gravity = [0.0, 0.0, -9.81]
-[material]
-model = "linear"
-stiffness = 2e5
-damping = {damping}
-density = 1140.0
-[gas]
-count = 150
-radius = 0.05
-arrangement = "random"
-rms_speed = 2.0
-seed = 4
-[box]
-size = [3.0, 3.0, 3.0]
-periodic = [true, true, false]
-[[walls]]
-normal = [0.0, 0.0, 1.0]
-point = [0.0, 0.0, 0.0]
-[[walls]]
-normal = [0.0, 0.0, -1.0]
-point = [0.0, 0.0, 3.0]
-"#
-    ))
 }
 
 #[test]

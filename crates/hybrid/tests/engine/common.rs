@@ -87,3 +87,35 @@ pub fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f6
     }
     (dx, dv)
 }
+
+/// An elastic gas under gravity between a floor and a lid (periodic sideways; with
+/// dissipation, particles come to rest on the floor and the event budget hands them
+/// to TD).
+pub fn gas_under_gravity(damping: f64) -> System {
+    system(&format!(
+        r#"
+t_end = 0.6
+gravity = [0.0, 0.0, -9.81]
+[material]
+model = "linear"
+stiffness = 2e5
+damping = {damping}
+density = 1140.0
+[gas]
+count = 150
+radius = 0.05
+arrangement = "random"
+rms_speed = 2.0
+seed = 4
+[box]
+size = [3.0, 3.0, 3.0]
+periodic = [true, true, false]
+[[walls]]
+normal = [0.0, 0.0, 1.0]
+point = [0.0, 0.0, 0.0]
+[[walls]]
+normal = [0.0, 0.0, -1.0]
+point = [0.0, 0.0, 3.0]
+"#
+    ))
+}
