@@ -367,6 +367,12 @@ fn main() {
             other => panic!("unknown option {other}; see the doc comment of main.rs"),
         }
     }
+    // One thread, as HAET's comparison (single-core; the CPU times below are the
+    // process's).
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build_global()
+        .expect("a thread pool");
     std::fs::create_dir_all(&out).expect("output directory");
     let both = engines.len() == 2;
     match &font {

@@ -34,6 +34,7 @@
 //!    neighbouring cells over their volume (HAET, Sec. 5 and 6). With hysteresis: a
 //!    particle becomes TD when φ ≥ `phi_time`, and returns to ED only when φ <
 //!    `phi_event` < `phi_time`, so it does not flicker at the boundary of a dense region.
+//!    (The first decision, at the start, has no previous mode: TD from `phi_time` on.)
 //! 2. **Contacts (HAET (6.1)–(6.2)).** A TD particle that touches any particle or wall
 //!    (centre distance below the contact distance, so also a contact whose force has
 //!    already dropped to zero) stays TD: an ED particle never starts overlapped, and

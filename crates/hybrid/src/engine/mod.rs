@@ -115,13 +115,13 @@ impl Hybrid {
             }
         };
         // Every particle event-driven from the start if none is dense (no particle
-        // overlaps another or a wall in a valid state, so none is in contact): as the
-        // event engine starts, in config order.
+        // overlaps another or a wall in a valid state, so none is in contact; the first
+        // decision has no hysteresis): as the event engine starts, in config order.
         let p = &system.particles;
         let min_cell = 2.0 * system.max_radius() + skin;
         let area = region(&p.position, system.domain.sim_box.as_ref());
         let phi = local_volume_fractions(&p.position, &p.radius, area, min_cell);
-        let all_events = opts.adaptive && phi.iter().all(|&f| f < opts.phi_event);
+        let all_events = opts.adaptive && phi.iter().all(|&f| f < opts.phi_time);
         let ed = EventEngine::over_members(p, &system.domain, physics, |_| all_events)?;
         let md = MdOptions {
             dt: opts.dt,

@@ -12,9 +12,13 @@ pub(crate) struct Modes {
     mode: Vec<Mode>,
     time_driven: Vec<bool>,
     counts: [usize; 3],
+    /// Whether the modes have been decided once (before, there is no hysteresis: every
+    /// particle is TD from `phi_time` on, ED below).
+    decided: bool,
 }
 
 impl Modes {
+    /// `n` particles in `mode`, decided already if they are ED.
     pub(crate) fn new(n: usize, mode: Mode) -> Self {
         let mut counts = [0; 3];
         counts[mode as usize] = n;
@@ -22,6 +26,7 @@ impl Modes {
             mode: vec![mode; n],
             time_driven: vec![mode == Mode::Time; n],
             counts,
+            decided: mode == Mode::Event,
         }
     }
 
@@ -80,7 +85,8 @@ impl Modes {
 impl Hybrid {
     /// The mode rule of the crate docs (volume fraction with hysteresis, contacts,
     /// buffer), applied at a rebuild at time `t` (the list just built, every particle's
-    /// entry holding its state now).
+    /// entry holding its state now). The first decision has no hysteresis: the particles
+    /// start TD, and those below `phi_time` become ED.
     pub(super) fn decide_modes(&mut self, t: f64) -> Result<(), HybridError> {
         let p = &self.system.particles;
         let n = p.len();
@@ -92,7 +98,12 @@ impl Hybrid {
         let area = region(&p.position, self.system.domain.sim_box.as_ref());
         let mut scratch = std::mem::take(&mut self.scratch.phi);
         let phi = volume_fractions(&p.position, &radius, area, min_cell, &mut scratch);
-        let sparse = |i: usize| self.modes.of(i) == Mode::Time && phi[i] < self.opts.phi_event;
+        let leave_below = match self.modes.decided {
+            true => self.opts.phi_event,
+            false => self.opts.phi_time,
+        };
+        self.modes.decided = true;
+        let sparse = |i: usize| self.modes.of(i) == Mode::Time && phi[i] < leave_below;
         // Contacts only matter for TD particles sparse enough to become ED.
         let touching = if (0..n).any(sparse) {
             self.touching(&radius)
