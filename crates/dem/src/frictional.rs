@@ -12,9 +12,11 @@
 //!   spins, with the normal at mid-step), projected onto the new tangent plane;
 //! - the dashpot uses the predicted slip (velocities and spins v + (dt/2)·a, as the
 //!   normal dashpot);
-//! - in the first step of a contact the spring grows only over the part of the step
-//!   after touch, and a tangential force that jumps on at touch (a linear dashpot's) is
-//!   corrected like the normal force ([`crate::touch_correction`]).
+//! - in the first step of a contact the spring starts where the law puts it at touch
+//!   (zero, or on the cap µF_n(0⁺) where the dashpot's force exceeds it: the contact
+//!   slides from touch), grows only over the part of the step after touch, and a
+//!   tangential force that jumps on at touch (a dashpot's) is corrected like the normal
+//!   force ([`crate::touch_correction`]).
 
 use crate::forces::{
     Accelerations, ContactKey, ContactRecord, ForceKernel, TangentialSlot, Touch, WALL,
@@ -273,7 +275,16 @@ impl TangentialSlot for Frictional<'_> {
         } else {
             1.0
         };
-        let spring = scale(sign, self.springs.get(key));
+        // The law at touch (zero overlap): F_n(0⁺), and the tangential force and spring
+        // there, which a contact sliding from touch sets at once (the cap below the
+        // dashpot: the spring jumps to −(F_t + γ_t v_t)/k_t, as in the exact contact).
+        let first = overlap_prev < 0.0;
+        let jump = law.normal_force(f64::MIN_POSITIVE, t.rate);
+        let at_touch = first.then(|| tangential_law.force(jump, slip, [0.0; 3]));
+        let spring = match at_touch {
+            Some(touch) => touch.spring,
+            None => scale(sign, self.springs.get(key)),
+        };
         let grown = add_scaled(
             turn_spring(spring, n_prev, n),
             in_contact * dt,
@@ -283,13 +294,11 @@ impl TangentialSlot for Frictional<'_> {
         // spring's state for the next step), ...
         let f = tangential_law.force(normal, slip, grown);
         let mut tangential = f.force;
-        if correction != 0.0 {
+        if let (true, Some(touch)) = (correction != 0.0, at_touch) {
             // ... and the impulse of the tangential force at touch, F_t(0⁺), misplaced
             // as the normal one is: corrected once, like it (F_t(0⁺) is capped by µF(0⁺)
             // itself).
-            let jump = law.normal_force(f64::MIN_POSITIVE, t.rate);
-            let at_touch = tangential_law.force(jump, slip, [0.0; 3]).force;
-            tangential = add_scaled(tangential, correction / jump, at_touch);
+            tangential = add_scaled(tangential, correction / jump, touch.force);
         }
         let keeps = matches!(tangential_law, Tangential::History(_));
         Some(ContactForce {

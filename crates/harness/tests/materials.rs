@@ -7,7 +7,9 @@
 use emdstar_contact::vec3::{add_scaled, dot, norm, scale};
 use emdstar_contact::{Impact, scale as scale_impact};
 use emdstar_harness::engines::{EventKind, event_engine, event_state, md_engine};
-use emdstar_mor::rule::{Body, exact_collision, frictional_collision, resolve_wall};
+use emdstar_mor::rule::{
+    Body, exact_collision, frictional_collision, frictional_wall_collision, resolve_wall,
+};
 use emdstar_mor::{SolverOptions, solve};
 use emdstar_system::{Config, Simulation, System};
 use rand::{RngExt, SeedableRng};
@@ -19,7 +21,6 @@ const DENSITIES: [f64; 2] = [1140.0, 2500.0];
 /// one sphere and the wall) and their motion.
 struct Draw {
     hertz: bool,
-    frictional: bool,
     materials: [String; 2],
     entry: String,
     radii: [f64; 2],
@@ -101,7 +102,6 @@ fn draw(rng: &mut ChaCha8Rng, hertz: bool, frictional: bool) -> Draw {
     };
     Draw {
         hertz,
-        frictional,
         materials,
         entry,
         radii,
@@ -185,10 +185,25 @@ fn exact(d: &Draw, wall: bool, lead: f64, t_obs: f64) -> (Vec<f64>, f64) {
     };
     if wall {
         let contact = system.interactions().wall(0, 0);
-        assert!(
-            !d.frictional,
-            "frictional walls are checked where eMD* solves them"
-        );
+        if let emdstar_contact::Tangential::History(spring) = contact.tangential() {
+            let (out, spin) = frictional_wall_collision(
+                contact.law(),
+                spring,
+                &at_touch(0),
+                d.radii[0],
+                d.spins[0],
+                &d.normal.into(),
+                &SolverOptions::default(),
+            )
+            .unwrap();
+            let after = out.after[0];
+            let rest = t_obs - lead - out.duration;
+            let x = add_scaled(after.position.into(), rest, after.velocity.into());
+            return (
+                scaled(d, &[x], &[after.velocity.into()], &[spin]),
+                out.duration,
+            );
+        }
         let v_n = -dot(d.velocity, d.normal);
         let impact = Impact {
             normal_speed: v_n,
@@ -312,4 +327,9 @@ fn unlike_frictional_pairs_agree_with_the_exact_contact() {
 #[test]
 fn smooth_wall_impacts_of_another_material_agree_with_the_exact_collision() {
     check(true, false, 8, 3);
+}
+
+#[test]
+fn frictional_wall_impacts_of_another_material_agree_with_the_exact_contact() {
+    check(true, true, 8, 4);
 }

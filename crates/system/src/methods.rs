@@ -36,9 +36,8 @@ impl Method {
     }
 }
 
-/// Why `method` cannot run the contact `i` (with a wall if `wall`), or `None` if it
-/// can.
-fn refusal(method: Method, i: &Interaction, wall: bool) -> Option<&'static str> {
+/// Why `method` cannot run the contact `i`, or `None` if it can.
+fn refusal(method: Method, i: &Interaction) -> Option<&'static str> {
     let walton = "tangential_restitution (Walton's rule) is the friction of the \
                   event-driven engines (--engine emd); MD's friction is a tangential spring: \
                   give tangential_stiffness (and tangential_damping), or tangential = \
@@ -53,10 +52,6 @@ fn refusal(method: Method, i: &Interaction, wall: bool) -> Option<&'static str> 
              tangential restitution β₀ ∈ [-1, 1] of sticking impacts (-1 smooth, 1 perfectly \
              rough), instead of MD's tangential_stiffness, tangential_damping and tangential; \
              or run --engine md or emdstar",
-        ),
-        (Method::EmdStar, Tangential::History(_)) if wall => Some(
-            "eMD* has no frictional wall contact yet: give the walls' contacts no friction, \
-             or run friction with walls on --engine md",
         ),
         (Method::EmdStar, Tangential::History(_)) => None,
         (Method::EmdStar, Tangential::Coulomb { .. }) => Some(
@@ -97,12 +92,11 @@ impl Interactions {
     /// with `walls` > 0 walls), naming the first material (or pair) it cannot run and
     /// what to do.
     pub fn check_runs_on(&self, method: Method, walls: usize) -> Result<()> {
-        let pairs = self.distinct_pairs().map(|i| (i, false));
         let walls = self
             .wall_contacts()
             .take(if walls > 0 { usize::MAX } else { 0 });
-        for (i, wall) in pairs.chain(walls.map(|i| (i, true))) {
-            if let Some(why) = refusal(method, i, wall) {
+        for i in self.distinct_pairs().chain(walls) {
+            if let Some(why) = refusal(method, i) {
                 return Err(SystemError::Invalid(format!(
                     "{} has friction = {} with the tangential law \"{}\", which --engine {} \
                      cannot run: {why}",

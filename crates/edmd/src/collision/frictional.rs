@@ -9,15 +9,17 @@
 //! exact contact without friction, the frictional collision falls back on the impulse of
 //! the exact contact, J = m_eff (v_after − v_before), applied at touch: its normal part
 //! on the velocities, its tangential part also on the spins through the lever arms R_i,
-//! which keeps the total angular momentum (|r| = R_i + R_j at touch).
+//! which keeps the total angular momentum (|r| = R_i + R_j at touch). A wall is the
+//! partner of infinite mass and radius that does not spin, with the same events and the
+//! same fallback.
 
-use super::rule::{Kick, PairImpact, Party, Transient, instant_pair};
+use super::rule::{Kick, PairImpact, Party, Transient, instant_pair, instant_wall};
 use crate::error::{EngineError, Result};
-use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub};
+use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, to_na};
 use emdstar_contact::{HistorySpring, PairLaw, SOLID_SPHERE_INERTIA};
 use emdstar_mor::SolveError;
 use emdstar_mor::frictional::CONTACT_OPTIONS;
-use emdstar_mor::rule::frictional_collision;
+use emdstar_mor::rule::{frictional_collision, frictional_wall_collision};
 
 /// The E^φ of the pair `parties` meeting now (the exact contact of `law` with the
 /// history spring `spring`), with the exact impulse as exception (a)'s kick.
@@ -59,17 +61,64 @@ pub(super) fn pair(
     })
 }
 
-/// The frictional contact of a sphere with a wall: refused until it is solved (the
-/// method's compatibility check keeps frictional walls from eMD*).
+/// The E^φ of `party` (its position relative to a point of the wall) meeting a wall of
+/// unit normal `n` now: the exact contact with the infinitely heavy partner that does not
+/// spin (`emdstar_mor::rule::frictional_wall_collision`), with the exact impulse as
+/// exception (a)'s kick.
 pub(super) fn wall(
-    _law: &PairLaw,
-    _spring: &HistorySpring,
-    _party: &Party,
-    _n: &[f64; 3],
+    law: &PairLaw,
+    spring: &HistorySpring,
+    party: &Party,
+    n: &[f64; 3],
 ) -> Result<Transient> {
-    Err(EngineError::Invalid(
-        "eMD* has no frictional wall contact; run friction with walls on --engine md".into(),
-    ))
+    let (out, spin) = frictional_wall_collision(
+        law,
+        spring,
+        &party.body(),
+        party.radius,
+        party.spin,
+        &to_na(*n),
+        &CONTACT_OPTIONS,
+    )
+    .map_err(unsolved)?;
+    let placed = from_na(&out.rotated_positions[0]);
+    let after = from_na(&out.post_velocities[0]);
+    let v = party.velocity;
+    let restitution = dot(after, *n) / -dot(v, *n);
+    let impulse = scale(party.mass, sub(after, v));
+    Ok(Transient {
+        placed: [placed; 2],
+        moving: from_na(&out.transient_velocity),
+        after: [after; 2],
+        spin: Some([spin; 2]),
+        duration: out.duration,
+        overlap_left: 0.0,
+        fallback: wall_impulse_kick(party, *n, impulse, restitution),
+    })
+}
+
+/// Exception (a) of a frictional wall collision: the exact impulse `impulse` at touch,
+/// its tangential part also on the spin (Δω = −(R/I) n × J_t); should it not take the
+/// sphere off the wall, eMD's kick of restitution `restitution` without friction
+/// instead (counted where it is applied).
+fn wall_impulse_kick(party: &Party, n: [f64; 3], impulse: [f64; 3], restitution: f64) -> Kick {
+    let v = add_scaled(party.velocity, 1.0 / party.mass, impulse);
+    if dot(v, n) <= 0.0 {
+        let vn = dot(party.velocity, n);
+        return Kick {
+            spin: Some([party.spin; 2]),
+            substitute: true,
+            ..instant_wall(party, n, vn, restitution, None)
+        };
+    }
+    let tangential = add_scaled(impulse, -dot(impulse, n), n);
+    let inertia = SOLID_SPHERE_INERTIA * party.mass * party.radius * party.radius;
+    let spin = add_scaled(party.spin, -party.radius / inertia, cross(n, tangential));
+    Kick {
+        velocity: [v; 2],
+        spin: Some([spin; 2]),
+        substitute: false,
+    }
 }
 
 /// Why the exact frictional contact failed, for the user.
