@@ -76,7 +76,7 @@ fn refusal(method: Method, i: &Interaction) -> Option<&'static str> {
              tangential_stiffness (and tangential_damping), or run its events by Walton's \
              rule with --events emd",
         ),
-        (Method::Hybrid, Tangential::History(_)) => refusal(Method::EmdStar, i, wall),
+        (Method::Hybrid, Tangential::History(_)) => None,
         (Method::HybridEmd, _) if matches!(i.law(), PairLaw::Hertz { .. }) => Some(
             "the hybrid's eMD events (--events emd) run friction with the linear law only, \
              not with model = \"hertz\": the tangential restitution β₀ of Walton's rule is \
