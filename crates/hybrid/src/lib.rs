@@ -117,10 +117,9 @@
 //! A material with friction (µ > 0) runs MD's tangential law in the TD part and, by
 //! default ([`EventRule::EmdStar`]), eMD*'s exact frictional contact in the ED part,
 //! as the eMD* engine does: the history spring of MD's law solved exactly per
-//! collision, for the linear and the Hertz law (and at walls where eMD* has frictional
-//! walls). Each TD contact keeps its spring (saved in checkpoints); a spring ends when
-//! its contact ends or one of its particles leaves the TD set. Spins are kept through
-//! every switch. Pure Coulomb sliding has no exact solve: it runs with
+//! collision, for the linear and the Hertz law, walls included. Each TD contact keeps
+//! its spring (saved in checkpoints); a spring ends when its contact ends or one of its
+//! particles leaves the TD set. Spins are kept through every switch. Pure Coulomb sliding has no exact solve: it runs with
 //! [`EventRule::Emd`], HAET's instantaneous collisions (Eqs. 1.1a-b: eMD's central
 //! restitution with Walton's rule, β₀ derived from the TD law for each pair of species
 //! and each species against a wall, [`emdstar_contact::sticking_restitution`]; linear

@@ -148,8 +148,7 @@ point = [0.0, 0.0, 2.0]
     for (i, w) in sys.particles.angular_velocity.iter_mut().enumerate() {
         *w = [(i % 3) as f64 - 1.0, 2.0 - (i % 5) as f64, 0.5];
     }
-    // Friction at walls is not eMD*'s: the events (of which none runs) are eMD's.
-    let end = time_driven_against_md(&sys, 0.2, false, EventRule::Emd);
+    let end = time_driven_against_md(&sys, 0.2, false, EventRule::EmdStar);
     let turned = (0..end.len())
         .filter(|&i| {
             let (a, b) = (end.angular_velocity[i], sys.particles.angular_velocity[i]);
@@ -167,34 +166,50 @@ fn every_particle_event_driven_is_the_emdstar_engine_to_the_bit_with_walls_and_g
     assert!(s.wall_collisions > 50 && s.pair_collisions > 20, "{s:?}");
 }
 
-#[test]
-fn every_particle_event_driven_is_the_frictional_emdstar_engine_to_the_bit() {
-    // A dilute frictional gas of spinning spheres: every collision an exact
-    // frictional solve.
-    let mut sys = system(
-        r#"
-t_end = 3.0
-[material]
-model = "linear"
-stiffness = 2000.0
-damping = 1.0
-density = 1140.0
-friction = 0.3
-tangential_stiffness = 571.0
-tangential_damping = 0.3
-[gas]
-count = 125
-radius = 0.1
-arrangement = "random"
-packing_fraction = 0.02
-rms_speed = 1.0
-seed = 7
-"#,
-    );
+/// A dilute frictional gas of spinning spheres (linear law, or Hertz), periodic, or
+/// `walls` between a floor and a lid under gravity (stiff enough that gravity changes
+/// a speed little over a contact, g·τ ≈ 0.1 m/s: eMD*'s condition).
+fn frictional_gas(hertz: bool, walls: bool) -> System {
+    let law = if hertz {
+        "model = \"hertz\"\nyoung = 1e9\npoisson = 0.3\ndissipation = 2e-5\n\
+         tangential_stiffness = 50000.0\ntangential_damping = 3.0\n"
+    } else {
+        "model = \"linear\"\nstiffness = 2e5\ndamping = 10.0\n\
+         tangential_stiffness = 57000.0\ntangential_damping = 3.0\n"
+    };
+    // η = 0.02 periodic; between the walls η = 0.016 in a box of 3 m.
+    let (domain, size) = if walls {
+        (
+            "gravity = [0.0, 0.0, -9.81]\n[box]\nsize = [3.0, 3.0, 3.0]\n\
+             periodic = [true, true, false]\n[[walls]]\nnormal = [0.0, 0.0, 1.0]\n\
+             point = [0.0, 0.0, 0.0]\n[[walls]]\nnormal = [0.0, 0.0, -1.0]\n\
+             point = [0.0, 0.0, 3.0]\n",
+            "count = 100\n",
+        )
+    } else {
+        ("", "count = 125\npacking_fraction = 0.02\n")
+    };
+    let mut sys = system(&format!(
+        "t_end = 2.0\n{domain}[material]\n{law}density = 1140.0\nfriction = 0.3\n\
+         [gas]\n{size}radius = 0.1\narrangement = \"random\"\nrms_speed = 1.0\nseed = 7\n"
+    ));
     for (i, w) in sys.particles.angular_velocity.iter_mut().enumerate() {
         *w = [(i % 3) as f64 - 1.0, 2.0 - (i % 5) as f64, 0.5];
     }
-    let s = event_driven_against_emdstar(&sys, 3.0);
-    assert!(s.pair_collisions > 30, "too few collisions to test: {s:?}");
-    assert_eq!(s.frictional_solves, s.pair_collisions);
+    sys
+}
+
+#[test]
+fn every_particle_event_driven_is_the_frictional_emdstar_engine_to_the_bit() {
+    // Every collision an exact frictional solve, with pairs and with walls.
+    for hertz in [false, true] {
+        let s = event_driven_against_emdstar(&frictional_gas(hertz, false), 2.0);
+        assert!(s.pair_collisions > 20, "too few collisions to test: {s:?}");
+        assert_eq!(s.frictional_solves, s.pair_collisions);
+        // Long enough for hundreds of wall collisions, too short for a sphere to come
+        // to rest on the floor (which the event budget would hand to MD).
+        let s = event_driven_against_emdstar(&frictional_gas(hertz, true), 0.8);
+        assert!(s.pair_collisions > 20 && s.wall_collisions > 50, "{s:?}");
+        assert_eq!(s.frictional_solves, s.pair_collisions + s.wall_collisions);
+    }
 }
