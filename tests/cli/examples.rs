@@ -8,8 +8,9 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The configs these tests cover; a new example must be added here (and tested).
-const EXAMPLES: [&str; 6] = [
+const EXAMPLES: [&str; 7] = [
     "cooling_hertz_gas.toml",
+    "frictional_gas_walls.toml",
     "glass_beads_steel_box.toml",
     "oblique_collision.toml",
     "polydisperse_mixture.toml",
@@ -121,6 +122,33 @@ fn glass_beads_in_a_steel_box_cool_alike_in_md_emdstar_and_the_hybrid() {
         star["stats"]["wall_collisions"].as_u64().unwrap() > 50,
         "{star}"
     );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn a_frictional_gas_between_walls_is_the_same_run_in_emdstar_and_the_hybrid() {
+    let (dir, config) = short_copy("frictional_gas_walls.toml", 0.1);
+    let star = run(&dir, &config, "emdstar");
+    let hybrid = run(&dir, &config, "hybrid");
+    let md = run(&dir, &config, "md");
+    // Every bead stays event-driven in the hybrid: its events are the eMD* engine's.
+    assert_eq!(hybrid["stats"]["time_driven_particle_steps"], 0, "{hybrid}");
+    for key in ["collisions", "wall_collisions", "frictional_solves"] {
+        assert_eq!(star["stats"][key], hybrid["stats"][key], "{key}");
+    }
+    for key in ["interference", "rotation_impossible"] {
+        let (a, b) = (&star["stats"]["exceptions"], &hybrid["stats"]["exceptions"]);
+        assert_eq!(a[key], b[key], "{key}");
+    }
+    let solves = star["stats"]["frictional_solves"].as_u64().unwrap();
+    let collisions = star["stats"]["collisions"].as_u64().unwrap();
+    let walls = star["stats"]["wall_collisions"].as_u64().unwrap();
+    assert!(collisions > 50 && walls > 50, "{star}");
+    assert_eq!(solves, collisions + walls, "every collision is an exact solve");
+    let t = |v: &Value| num(v, "granular_temperature_final");
+    assert_eq!(t(&star), t(&hybrid));
+    // MD runs the same contacts by time steps: the same cooling, to the chaos of 0.1 s.
+    assert!(relative(t(&md), t(&star)) < 0.02, "T: MD {md}\neMD* {star}");
     std::fs::remove_dir_all(dir).unwrap();
 }
 
