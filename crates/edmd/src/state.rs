@@ -163,7 +163,8 @@ pub struct State<Q: EventQueue> {
     #[serde(skip)]
     pub(crate) hertz: HertzRestitution,
     pub(crate) stats: Stats,
-    /// Consecutive events at one instant (an inelastic collapse never ends).
+    /// Consecutive events with time advancing by round-off at most (an inelastic
+    /// collapse never ends).
     pub(crate) zero_streak: u64,
     /// eMD*: exception (a) of the E^φ being executed, checked by the predictions
     /// (none between events).

@@ -12,7 +12,8 @@
 //! - [`CellGrid`] for neighbour searches;
 //! - [`Simulation`], the one interface of every engine, and [`Checkpoint`] files of
 //!   their saved states;
-//! - writers: extended XYZ trajectories for OVITO and a thermo log.
+//! - writers: extended XYZ trajectories for OVITO and a thermo log;
+//! - [`stop`]: the request to stop a run that every engine reads at each event or step.
 
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
@@ -29,6 +30,7 @@ mod interactions;
 mod parse;
 mod simulation;
 mod state;
+pub mod stop;
 mod system;
 mod tail;
 mod writers;
