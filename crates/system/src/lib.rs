@@ -22,6 +22,7 @@ mod checkpoint;
 mod config;
 mod domain;
 mod error;
+mod files;
 mod gas;
 mod geometry;
 pub mod gsd;
@@ -35,12 +36,13 @@ mod system;
 mod tail;
 mod writers;
 
-pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, write_atomically};
+pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
 pub use config::{
     BoxConfig, Config, MaterialConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
 };
 pub use domain::Domain;
 pub use error::{Result, SystemError};
+pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
 pub use geometry::{
     CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
@@ -50,5 +52,5 @@ pub use interactions::{Interaction, Interactions};
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
 pub use system::System;
-pub use tail::Cut;
+pub use tail::{Cut, KeepUntil};
 pub use writers::{Thermo, ThermoLog, XyzWriter};
