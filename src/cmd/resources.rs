@@ -3,7 +3,7 @@
 //! of the disks they go to. `--force` runs anyway.
 
 use anyhow::{Result, bail};
-use emdstar_engines::run::{Estimate, gigabytes};
+use emdstar_engines::run::{Estimate, MAX_CHECKPOINTS, gigabytes};
 use emdstar_system::Config;
 use std::path::Path;
 
@@ -59,24 +59,40 @@ pub fn check_outputs(estimates: &[Estimate], force: bool) -> Result<()> {
         return Ok(());
     }
     for e in estimates {
+        if e.what == "checkpoint" && e.records > MAX_CHECKPOINTS {
+            bail!(
+                "output.restart_interval writes about {:.1e} checkpoints to {}, each synced to \
+                 the disk (a millisecond or more): more than {MAX_CHECKPOINTS:.0e}, which take \
+                 a day; raise restart_interval, or give --force to start anyway",
+                e.records,
+                e.path.display()
+            );
+        }
         let Some(free) = free_disk_space(&e.path) else {
             continue;
         };
-        let together: f64 = estimates
+        // The outputs in the same directory share its disk: the largest is named.
+        let together: Vec<&Estimate> = estimates
             .iter()
             .filter(|o| o.path.parent() == e.path.parent())
-            .map(|o| o.bytes)
-            .sum();
-        if e.bytes > free as f64 || together > free as f64 {
+            .collect();
+        let total: f64 = together.iter().map(|o| o.bytes).sum();
+        let largest = together
+            .iter()
+            .copied()
+            .max_by(|a, b| a.bytes.total_cmp(&b.bytes))
+            .is_some_and(|l| std::ptr::eq(l, e));
+        if e.bytes > free as f64 || (total > free as f64 && largest) {
             let advice = match e.what {
                 "log" => "write lines less often (output.log_interval)",
+                "checkpoint" => "write the checkpoint elsewhere (--checkpoint)",
                 _ => {
                     "write frames less often (output.trajectory_interval), write a .gsd file \
                      (a fifth of the size), no trajectory (--trajectory none)"
                 }
             };
-            let others = if together > e.bytes {
-                format!(" ({} with the other outputs there)", gigabytes(together))
+            let others = if total > e.bytes {
+                format!(" ({} with the other outputs there)", gigabytes(total))
             } else {
                 String::new()
             };

@@ -205,7 +205,7 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         eprintln!("note: {note}");
     }
     super::resources::check_outputs(run.estimates(), args.force)?;
-    for e in run.estimates() {
+    for e in run.estimates().iter().filter(|e| e.what != "checkpoint") {
         if n >= 100_000 || e.bytes > 1e8 {
             let advice = match e.what {
                 "trajectory" if TrajectoryFormat::of(&e.path) == TrajectoryFormat::Xyz => {

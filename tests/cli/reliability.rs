@@ -323,3 +323,127 @@ fn a_reader_that_leaves_early_ends_the_output_without_a_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(stderr.is_empty(), "{stderr}");
 }
+
+/// A bed that settles on a floor is an inelastic collapse for the event engines: eMD
+/// (which ran for ever, its flights shrinking to one ulp) and eMD* stop with the same
+/// error, which names the hybrid.
+#[test]
+fn a_bed_settling_on_a_floor_stops_every_event_engine_naming_the_hybrid() {
+    let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/configs/walls_gravity.toml");
+    let dir = scratch("settles");
+    for engine in ["emd", "emdstar"] {
+        let start = Instant::now();
+        let err = error_in(
+            &dir,
+            &[
+                "run",
+                config.to_str().unwrap(),
+                "--engine",
+                engine,
+                "--quiet",
+                "--trajectory",
+                "none",
+                "--log",
+                "none",
+            ],
+        );
+        assert!(
+            err.contains("inelastic collapse") && err.contains("--engine hybrid"),
+            "{engine}: {err}"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "{engine} took {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+/// A stop request is seen at the next event or step, not at the next output: with no
+/// output due for the whole run, SIGINT still ends every engine within a second.
+#[test]
+fn a_signal_stops_every_engine_within_a_second_whatever_the_output_intervals() {
+    let dir = scratch("prompt");
+    let config = write(
+        &dir,
+        "gas.toml",
+        &gas(
+            "1.0",
+            500,
+            "[output]\ntrajectory_interval = 1e4\nlog_interval = 1e4\n",
+        )
+        .replace("t_end = 1.0", "t_end = 1e4"),
+    );
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_emdstar"))
+            .current_dir(&dir)
+            .args(["run", &config, "--engine", engine, "--quiet"])
+            .args(["--trajectory", "none", "--log", &format!("{engine}.log")])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The run has started once its log holds the line of t = 0.
+        let start = Instant::now();
+        while std::fs::read_to_string(dir.join(format!("{engine}.log")))
+            .map_or(0, |t| t.lines().count())
+            < 2
+        {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "{engine} did not start"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::thread::sleep(Duration::from_millis(500));
+        let sent = Instant::now();
+        // SAFETY: a signal to the child started above.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+        let out = child.wait_with_output().unwrap();
+        let took = sent.elapsed();
+        assert_eq!(
+            out.status.code(),
+            Some(130),
+            "{engine}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            took < Duration::from_secs(1),
+            "{engine} took {took:?} to stop"
+        );
+        eprintln!("{engine}: stopped {took:?} after SIGINT");
+    }
+}
+
+/// A box axis that is closed without a wall at each end lets particles out: every
+/// engine refuses it before the start, and writes nothing.
+#[test]
+fn a_closed_axis_without_walls_is_refused_by_every_engine_before_the_start() {
+    let dir = scratch("closed");
+    let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/md/configs/bad/closed_axis_without_walls.toml");
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
+        let start = Instant::now();
+        let err = error_in(
+            &dir,
+            &[
+                "run",
+                config.to_str().unwrap(),
+                "--engine",
+                engine,
+                "--quiet",
+            ],
+        );
+        assert!(
+            err.contains("no wall holds the particles at its high end")
+                && err.contains("normal = [0.0, 0.0, -1.0]"),
+            "{engine}: {err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(2), "{engine}");
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "files were written"
+    );
+}

@@ -232,15 +232,22 @@ fn lock(_file: &File) -> std::io::Result<bool> {
 /// directory could be endless or block; `what` names the input in the message: "config",
 /// "checkpoint"). Returns it with its size.
 pub fn open_input(path: &Path, what: &str) -> Result<(File, u64)> {
+    let regular = |meta: &std::fs::Metadata| {
+        if meta.is_file() {
+            Ok(())
+        } else {
+            Err(refused(format!(
+                "{} is {}: a {what} is read only from a regular file",
+                path.display(),
+                kind_of(meta)
+            )))
+        }
+    };
+    // Looked at before it is opened: opening a pipe blocks until someone writes to it.
+    regular(&std::fs::metadata(path).map_err(io_error(path))?)?;
     let file = File::open(path).map_err(io_error(path))?;
     let meta = file.metadata().map_err(io_error(path))?;
-    if !meta.is_file() {
-        return Err(refused(format!(
-            "{} is {}: a {what} is read only from a regular file",
-            path.display(),
-            kind_of(&meta)
-        )));
-    }
+    regular(&meta)?;
     Ok((file, meta.len()))
 }
 

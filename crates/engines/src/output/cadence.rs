@@ -122,14 +122,14 @@ mod tests {
 
     #[test]
     fn an_event_engine_ticks_exactly() {
-        // 37 × 0.01 is 0.37000000000000005: a run stopped at 0.37 has its next tick
+        // 3 × 0.1 is 0.30000000000000004: a run stopped at 0.3 has its next tick
         // there, 1 ulp later, where a run that went through writes it.
-        let mut c = Cadence::new(0.01, None);
-        c.start_at(0.37, false);
-        assert_eq!(c.time(), 37.0 * 0.01);
-        assert!(c.time() > 0.37 && !c.is_tick(0.37));
-        c.start_at(0.38, false);
-        assert_eq!(c.time(), 39.0 * 0.01);
-        assert!(c.is_tick(38.0 * 0.01));
+        let mut c = Cadence::new(0.1, None);
+        c.start_at(0.3, false);
+        assert_eq!(c.time(), 3.0 * 0.1);
+        assert!(c.time() > 0.3 && !c.is_tick(0.3));
+        c.start_at(0.5, false);
+        assert_eq!(c.time(), 6.0 * 0.1);
+        assert!(c.is_tick(5.0 * 0.1));
     }
 }

@@ -12,24 +12,30 @@ pub const MAX_STEPS: f64 = 1e13;
 /// Checkpoints above which a run is told they may cost more than the simulation.
 pub const MANY_CHECKPOINTS: f64 = 1e4;
 
+/// Checkpoints above which a run is refused (unless forced): each is synced to the
+/// disk, about a millisecond at best, so that these take a day.
+pub const MAX_CHECKPOINTS: f64 = 1e8;
+
 /// A file a run will write and its size, about.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Estimate {
-    /// "trajectory" or "log".
+    /// "trajectory", "log" or "checkpoint".
     pub what: &'static str,
     pub path: PathBuf,
-    /// Frames or lines.
+    /// Frames, lines or checkpoints.
     pub records: f64,
+    /// The bytes on the disk at the end (a checkpoint replaces the one before, through
+    /// a temporary file: twice its size).
     pub bytes: f64,
 }
 
 impl Estimate {
-    /// A line for the user, with the advice of `what` ("trajectory", "log").
+    /// A line for the user.
     pub fn describe(&self) -> String {
-        let unit = if self.what == "log" {
-            "lines"
-        } else {
-            "frames"
+        let unit = match self.what {
+            "log" => "lines",
+            "checkpoint" => "checkpoints",
+            _ => "frames",
         };
         format!(
             "{} {}: about {:.0} {unit}, {}",
@@ -137,22 +143,34 @@ pub fn size(bytes: f64) -> String {
     }
 }
 
-/// The note for checkpoints every `interval` from `now` to `t_end`, each of
-/// `state_bytes`, if there are more than [`MANY_CHECKPOINTS`].
-pub fn checkpoints_note(
+/// The checkpoints every `cadence` from `now` to `t_end`, each of `state_bytes`, at
+/// `path`.
+pub fn checkpoints(
+    path: &Path,
     cadence: &Cadence,
     now: f64,
     t_end: f64,
     state_bytes: usize,
-) -> Option<String> {
-    let count = cadence.ticks_between(now, t_end);
-    (count > MANY_CHECKPOINTS).then(|| {
+) -> Estimate {
+    Estimate {
+        what: "checkpoint",
+        path: path.to_path_buf(),
+        records: cadence.ticks_between(now, t_end),
+        bytes: 2.0 * state_bytes as f64,
+    }
+}
+
+/// The note for checkpoints every `cadence` (the estimate `e`), if there are more than
+/// [`MANY_CHECKPOINTS`].
+pub fn checkpoints_note(cadence: &Cadence, e: &Estimate) -> Option<String> {
+    (e.records > MANY_CHECKPOINTS).then(|| {
         format!(
-            "output.restart_interval = {:e} s writes about {count:.1e} checkpoints of {} each, \
+            "output.restart_interval = {:e} s writes about {:.1e} checkpoints of {} each, \
              every one synced to the disk: writing them may take longer than the simulation; \
              raise restart_interval",
             cadence.interval(),
-            size(state_bytes as f64)
+            e.records,
+            size(e.bytes / 2.0)
         )
     })
 }

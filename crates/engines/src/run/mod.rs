@@ -13,7 +13,7 @@ mod budget;
 mod files;
 mod restore;
 
-pub use budget::{Estimate, gigabytes, size};
+pub use budget::{Estimate, MAX_CHECKPOINTS, gigabytes, size};
 pub use files::RunFiles;
 
 use crate::AnyEngine;
@@ -160,7 +160,9 @@ impl Run {
         }
         if let Some(c) = &restart {
             let state = engine.sim().save_state().len();
-            notes.extend(budget::checkpoints_note(c, now, stop_at, state));
+            let e = budget::checkpoints(files.checkpoint_path(), c, now, stop_at, state);
+            notes.extend(budget::checkpoints_note(c, &e));
+            estimates.push(e);
         }
         files.check(inputs, resume)?;
         let claim = |path: &Path| {
