@@ -11,7 +11,7 @@
 mod plot;
 
 use emdstar_contact::{
-    ForceLaw, Friction, LinearDashpot, PairProperties, Sphere, TangentialModel,
+    ForceLaw, HistorySpring, LinearDashpot, PairProperties, Sphere, Tangential,
     sticking_restitution,
 };
 use emdstar_edmd::rules::TableMorSource;
@@ -72,14 +72,15 @@ fn sphere() -> Sphere {
 
 /// The friction of the hopper's material with the normal law `law`: µ = 0.2, a history
 /// spring and dashpot of 2/7 of the normal ones.
-fn friction(law: &LinearDashpot) -> Friction {
-    Friction::new(
-        FRICTION,
-        TANGENTIAL_RATIO * law.stiffness,
-        TANGENTIAL_RATIO * law.damping,
-        TangentialModel::History,
+fn friction(law: &LinearDashpot) -> Tangential {
+    Tangential::History(
+        HistorySpring::new(
+            FRICTION,
+            TANGENTIAL_RATIO * law.stiffness,
+            TANGENTIAL_RATIO * law.damping,
+        )
+        .expect("valid friction"),
     )
-    .expect("valid friction")
 }
 
 /// The hopper: side walls, two 45° funnel walls meeting the outlet at y = 0, a lid,
@@ -87,10 +88,7 @@ fn friction(law: &LinearDashpot) -> Friction {
 /// friction unless `frictionless`.
 fn hopper(seed: u64, frictionless: bool) -> System {
     let sphere = sphere();
-    let species = vec![Species {
-        radius: RADIUS,
-        mass: sphere.mass,
-    }];
+    let species = vec![Species::new(RADIUS, sphere.mass)];
     let m_eff = PairProperties::spheres(&sphere, &sphere).m_eff;
     let s = std::f64::consts::FRAC_1_SQRT_2;
     let (left, right) = (0.5 * (WIDTH - OUTLET), 0.5 * (WIDTH + OUTLET));
@@ -123,25 +121,28 @@ fn hopper(seed: u64, frictionless: bool) -> System {
         }
     }
     let law = material(m_eff);
-    System {
+    let tangential = if frictionless {
+        Tangential::None
+    } else {
+        friction(&law)
+    };
+    let domain = Domain {
+        sim_box: Some(SimBox {
+            lo: [0.0, -0.01, 0.0],
+            size: [WIDTH, HEIGHT + 0.02, THICKNESS],
+            periodic: [false; 3],
+        }),
+        walls,
+        gravity: [0.0, -9.81, 0.0],
+    };
+    System::one_material(
         particles,
         species,
-        material: ForceLaw::Linear(law),
-        friction: if frictionless {
-            Friction::NONE
-        } else {
-            friction(&law)
-        },
-        domain: Domain {
-            sim_box: Some(SimBox {
-                lo: [0.0, -0.01, 0.0],
-                size: [WIDTH, HEIGHT + 0.02, THICKNESS],
-                periodic: [false; 3],
-            }),
-            walls,
-            gravity: [0.0, -9.81, 0.0],
-        },
-    }
+        &ForceLaw::Linear(law),
+        tangential,
+        domain,
+    )
+    .expect("the hopper's system")
 }
 
 /// CPU time of this process in s (user + system, from /proc/self/stat, in clock
@@ -199,7 +200,7 @@ fn run(seed: u64, md: bool, frictionless: bool, t_end: f64, window: (f64, f64)) 
         (opts.phi_time, opts.phi_event) = (0.0, 0.0);
     }
     let mor = TableMorSource::new(
-        emdstar_table::default_table(system.material.model()).expect("table"),
+        emdstar_table::default_table(emdstar_contact::Model::Linear).expect("table"),
         true,
     );
     let mut h = Hybrid::new(system, opts, Box::new(mor), t_end).expect("hopper set-up");

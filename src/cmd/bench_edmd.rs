@@ -3,13 +3,14 @@
 use super::engine::progress_bar;
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
+use emdstar_contact::Tangential;
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
 use emdstar_edmd::{
-    BroadPhaseKind, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Materials,
-    Physics,
+    BroadPhaseKind, CalendarQueue, Engine, EventQueue, IndexedHeap, Interference, Physics,
 };
 use emdstar_engines::BroadPhaseChoice;
+use emdstar_system::Interactions;
 use emdstar_system::{Domain, Particles, fcc_gas};
 use indicatif::ProgressBar;
 use serde_json::{Value, json};
@@ -173,7 +174,7 @@ fn hard_spheres(cells: usize, eta: f64, per_particle: f64, build: Build) -> Resu
     // σ = 1, m = 1, kT = 1: rms speed √3.
     let setup = fcc_gas(cells, eta, 0.5, 1.0, 3f64.sqrt(), 1)?;
     let n = setup.0.len() as f64;
-    let physics = Physics::HardSpheres { restitution: 1.0 };
+    let physics = Physics::hard_spheres(1.0);
     let count = (per_particle * n * 0.5) as u64;
     build.time(setup, physics, count, count)
 }
@@ -214,7 +215,7 @@ fn emdstar_gas(
     let n = setup.0.len() as f64;
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.4, 0.0)?);
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[sphere])?,
+        interactions: Interactions::of_spheres(&law, Tangential::None, &[sphere])?,
         mor,
         interference: Interference::HitOnly,
     };

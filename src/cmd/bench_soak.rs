@@ -5,9 +5,11 @@ use super::cpu_time::thread_seconds;
 use super::engine::progress_bar;
 use anyhow::{Result, bail};
 use clap::{Args, ValueEnum};
+use emdstar_contact::Tangential;
 use emdstar_contact::{ForceLaw, Model, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Stats};
+use emdstar_edmd::{Engine, Interference, Physics, Stats};
+use emdstar_system::Interactions;
 use emdstar_system::{Domain, Particles, fcc_gas};
 use serde_json::{Value, json};
 use std::time::Instant;
@@ -71,9 +73,7 @@ pub fn run(a: &BenchSoakArgs, json_out: bool) -> Result<()> {
         // σ = 1, m = 1, kT = 1 (rms speed √3); η = ρσ³·π/6.
         let eta = a.soak_density * std::f64::consts::PI / 6.0;
         let gas = fcc_gas(a.soak_cells, eta, 0.5, 1.0, 3f64.sqrt(), 1)?;
-        let physics = Physics::HardSpheres {
-            restitution: a.soak_restitution,
-        };
+        let physics = Physics::hard_spheres(a.soak_restitution);
         let title = format!(
             "inelastic hard spheres, ε = {}, ρσ³ = {}",
             a.soak_restitution, a.soak_density
@@ -85,7 +85,7 @@ pub fn run(a: &BenchSoakArgs, json_out: bool) -> Result<()> {
         let gas = fcc_gas(a.soak_cells, 0.01, 0.1, sphere.mass, 2.0, 1)?;
         let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e9, 0.4, a.soak_dissipation)?);
         let physics = Physics::EmdStar {
-            materials: Materials::of_spheres(&law, &[sphere])?,
+            interactions: Interactions::of_spheres(&law, Tangential::None, &[sphere])?,
             mor: Box::new(TableMorSource::new(
                 emdstar_table::default_table(Model::Hertz)?,
                 true,

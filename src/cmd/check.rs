@@ -133,13 +133,7 @@ fn inelastic(a: &InelasticArgs) -> Result<()> {
     let eta = a.density * std::f64::consts::PI / 6.0;
     let (particles, domain) = fcc_gas(a.cells, eta, 0.5, 1.0, 3f64.sqrt(), a.seed)?;
     let n = particles.len();
-    let mut e: Engine = Engine::new(
-        &particles,
-        &domain,
-        Physics::HardSpheres {
-            restitution: a.restitution,
-        },
-    )?;
+    let mut e: Engine = Engine::new(&particles, &domain, Physics::hard_spheres(a.restitution))?;
     let start = std::time::Instant::now();
     e.run_collisions(a.collisions)?;
     let wall = start.elapsed().as_secs_f64();

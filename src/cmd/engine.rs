@@ -20,11 +20,7 @@ pub fn load(path: &Path, force: bool) -> Result<(Config, System)> {
     let system = config
         .build()
         .with_context(|| format!("in {}", path.display()))?;
-    if let Some(reference) = system.species.first()
-        && let Some(note) = config
-            .material
-            .restitution_note(&system.material, reference)
-    {
+    for note in system.interactions().notes() {
         eprintln!("{note}");
     }
     for warning in system.warnings() {

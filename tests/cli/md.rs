@@ -1,7 +1,7 @@
 //! End-to-end tests of `emdstar pair|run|bench --engine md` and of the example configs.
 
 use super::{emdstar, emdstar_json};
-use emdstar_contact::{PairLaw, PairProperties, Sphere, Vec3};
+use emdstar_contact::{PairProperties, Sphere, Vec3};
 use emdstar_mor::rule::{Body, exact_collision};
 use emdstar_system::Config;
 use std::path::{Path, PathBuf};
@@ -27,7 +27,7 @@ fn exact_pair(path: &str) -> (Vec<(Vec3, Vec3)>, f64, f64) {
         Sphere::new(p.radius[1], p.mass[1]).unwrap(),
     );
     let pair = PairProperties::spheres(&s1, &s2);
-    let law = PairLaw::same_material(&system.material, pair.r_eff).unwrap();
+    let law = *system.interactions().pair(p.species[0], p.species[1]).law();
     // |r + v t| = l: the first root of a quadratic.
     let (r, v) = (x1 - x2, v1 - v2);
     let (a, b, c) = (v.dot(&v), 2.0 * r.dot(&v), r.dot(&r) - pair.l * pair.l);

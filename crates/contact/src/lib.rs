@@ -11,8 +11,9 @@
 //! - [`Mor`]: the matrix of restitution of one collision, as the solver and the tables
 //!   return it;
 //! - [`scale`]: the dimensionless collision parameters (l̃, c_φ, c_dis) and scales T, X;
-//! - [`Friction`]: the tangential force of a contact (Cundall–Strack history spring or
-//!   pure Coulomb sliding), the slip velocity, the spring's turning and the torques;
+//! - [`ContactModel`]: the normal law and the [`Tangential`] sub-model of one kind of
+//!   contact (none, the Cundall–Strack [`HistorySpring`], pure Coulomb sliding or
+//!   Walton's rule), with the slip velocity, the spring's turning and the torques;
 //! - [`Walton`]: Walton's three-parameter rule for instantaneous collisions of rough
 //!   spheres (e, µ, β₀), [`rough_pair`] and [`rough_wall`];
 //! - [`vec3`]: the `[f64; 3]` operations the engines share;
@@ -33,6 +34,7 @@
 mod error;
 mod impact;
 mod law;
+mod model;
 mod mor;
 mod pair;
 mod rect;
@@ -48,14 +50,15 @@ pub use law::{
     CentralImpact, ForceLaw, LinearDashpot, Model, PairLaw, ViscoelasticHertz,
     hertz_elastic_scaled_duration,
 };
+pub use model::ContactModel;
 pub use mor::Mor;
 pub use pair::{PairProperties, Sphere};
 pub use rect::{HertzBox, LinearBox, ParameterBox, Range, RectBounds, RectCoords};
 pub use scaled::{ScaledImpact, ScaledParams, l_tilde_exponent, scale};
 pub use sticking::sticking_restitution;
 pub use tangential::{
-    Friction, SOLID_SPHERE_INERTIA, Tangential, TangentialModel, lever_arm, slip_velocity, torque,
-    turn_spring,
+    HistorySpring, SOLID_SPHERE_INERTIA, Tangential, TangentialForce, lever_arm, slip_velocity,
+    torque, turn_spring,
 };
 pub use walton::{Rough, RoughOutcome, Walton, rough_pair, rough_wall};
 

@@ -1,5 +1,5 @@
 //! The tangential restitution β₀ of a sticking impact under force-based MD's tangential
-//! law ([`Friction`]): the parameter of Walton's rule ([`crate::Walton`]) that ties an
+//! law ([`Tangential`]): the parameter of Walton's rule ([`crate::Walton`]) that ties an
 //! event-driven collision to MD's contact, as HAET's Eqs. 1.1a-b tie the two methods
 //! through a normal and a tangential coefficient of restitution (Huang & Nydal, cited
 //! in docs/physics.md, "Walton's rule").
@@ -15,18 +15,26 @@
 //! - over-damped: β₀ = −e^{−ζt_c}[cosh Ωt_c − (ζ/Ω) sinh Ωt_c], Ω = √(ζ² − ω₀²).
 //!
 //! The energy of the oscillator only falls, so |β₀| ≤ 1. Pure Coulomb sliding
-//! ([`TangentialModel::Coulomb`]) has no spring: it slows the slip down to zero and
+//! ([`Tangential::Coulomb`]) has no spring: it slows the slip down to zero and
 //! never reverses it, β₀ = 0. Walton's rule then takes β = min(β₀, β_slide), which
 //! brings back Coulomb's bound for the actual µ.
 
-use crate::tangential::{Friction, SOLID_SPHERE_INERTIA, TangentialModel};
+use crate::tangential::{HistorySpring, SOLID_SPHERE_INERTIA, Tangential};
 
-/// β₀ of `friction`'s tangential law for a pair of effective mass `m_eff` (a sphere's
-/// mass against a wall) whose normal contact lasts `contact_time` (see the module docs).
-pub fn sticking_restitution(friction: &Friction, m_eff: f64, contact_time: f64) -> f64 {
-    if friction.model == TangentialModel::Coulomb {
-        return 0.0;
+/// β₀ of the tangential law `tangential` for a pair of effective mass `m_eff` (a
+/// sphere's mass against a wall) whose normal contact lasts `contact_time` (see the
+/// module docs): −1 for smooth spheres (the slip is kept), Walton's own β₀ for his rule.
+pub fn sticking_restitution(tangential: &Tangential, m_eff: f64, contact_time: f64) -> f64 {
+    match tangential {
+        Tangential::None => -1.0,
+        Tangential::Coulomb { .. } => 0.0,
+        Tangential::Walton(w) => w.tangential_restitution,
+        Tangential::History(spring) => spring_restitution(spring, m_eff, contact_time),
     }
+}
+
+/// β₀ of the sticking oscillator of a history spring (the module docs).
+fn spring_restitution(friction: &HistorySpring, m_eff: f64, contact_time: f64) -> f64 {
     let q = SOLID_SPHERE_INERTIA;
     let m_t = m_eff * q / (1.0 + q);
     let zeta = friction.damping / (2.0 * m_t);
@@ -58,12 +66,15 @@ pub fn sticking_restitution(friction: &Friction, m_eff: f64, contact_time: f64) 
 mod tests {
     use super::*;
 
-    fn history(stiffness: f64, damping: f64) -> Friction {
-        Friction::new(0.5, stiffness, damping, TangentialModel::History).unwrap()
+    fn history(stiffness: f64, damping: f64) -> Tangential {
+        Tangential::History(HistorySpring::new(0.5, stiffness, damping).unwrap())
     }
 
     /// A plain explicit integration of the sticking oscillator (fine steps, RK4).
-    fn integrated(f: &Friction, m_eff: f64, t_c: f64) -> f64 {
+    fn integrated(f: &Tangential, m_eff: f64, t_c: f64) -> f64 {
+        let Tangential::History(f) = f else {
+            panic!("a history spring")
+        };
         let m_t = m_eff * SOLID_SPHERE_INERTIA / (1.0 + SOLID_SPHERE_INERTIA);
         let rhs = |x: f64, v: f64| (v, -(f.stiffness * x + f.damping * v) / m_t);
         let steps = 20_000;
@@ -131,7 +142,7 @@ mod tests {
 
     #[test]
     fn coulomb_sliding_never_reverses_the_slip() {
-        let f = Friction::new(0.3, 0.0, 0.0, TangentialModel::Coulomb).unwrap();
+        let f = Tangential::Coulomb { friction: 0.3 };
         assert_eq!(sticking_restitution(&f, 1.0, 1.0), 0.0);
     }
 }

@@ -15,7 +15,7 @@
 //!   and grows by **v**_t·dt;
 //! - **F**_t = −k_t **ξ**_t − γ_t **v**_t on i (−**F**_t on j), capped at µF_n with F_n
 //!   the clipped total normal force; at the cap **ξ**_t = −(**F**_t + γ_t **v**_t)/k_t
-//!   ([`Friction::force`]);
+//!   ([`HistorySpring::force`]);
 //! - torques **τ**_i = −(R_i − ξ/2) **n** × **F**_t and **τ**_j = −(R_j − ξ/2) **n** × **F**_t,
 //!   ξ the normal overlap ([`lever_arm`]): the orbital and spin torques cancel exactly,
 //!   so the total angular momentum is conserved.
@@ -26,78 +26,27 @@ use crate::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
 /// The moment of inertia of a solid sphere in units of m R²: I = (2/5) m R².
 pub const SOLID_SPHERE_INERTIA: f64 = 0.4;
 
-/// Which tangential force law a material uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum TangentialModel {
-    /// The Cundall–Strack history spring with a dashpot, capped by Coulomb's law.
-    History,
-    /// Pure Coulomb sliding: |F_t| = µF_n against the slip (Huang & Nydal, Sec. 2).
-    Coulomb,
-}
-
-impl std::str::FromStr for TangentialModel {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        match s {
-            "history" => Ok(Self::History),
-            "coulomb" => Ok(Self::Coulomb),
-            _ => Err(format!(
-                "unknown tangential model \"{s}\": use \"history\" (Cundall-Strack spring, \
-                 the default) or \"coulomb\" (pure sliding friction)"
-            )),
-        }
-    }
-}
-
-/// The friction of a material: Coulomb's µ and the tangential spring and dashpot.
+/// The Cundall–Strack history spring with a dashpot, capped by Coulomb's law
+/// (Cundall & Strack 1979; LAMMPS's `tangential linear_history` with `limit_damping`).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Friction {
-    /// Coulomb's coefficient µ ≥ 0 (0: frictionless).
+pub struct HistorySpring {
+    /// Coulomb's coefficient µ > 0.
     pub friction: f64,
-    /// k_t in N/m (history model).
+    /// k_t in N/m (> 0: the cap resets the spring through 1/k_t).
     pub stiffness: f64,
-    /// γ_t in kg/s (history model).
+    /// γ_t in kg/s.
     pub damping: f64,
-    pub model: TangentialModel,
-    /// β₀ of Walton's rule for the event-driven engines ([`crate::Walton`]); `None` for a
-    /// material of force-based MD. A material has one or the other: with β₀ it has no
-    /// spring (k_t = 0) and MD refuses it.
-    #[serde(default)]
-    pub tangential_restitution: Option<f64>,
 }
 
-impl Default for Friction {
-    fn default() -> Self {
-        Self::NONE
-    }
-}
-
-impl Friction {
-    /// No friction: spheres exchange no tangential force and keep their spins.
-    pub const NONE: Self = Self {
-        friction: 0.0,
-        stiffness: 0.0,
-        damping: 0.0,
-        model: TangentialModel::History,
-        tangential_restitution: None,
-    };
-
-    /// Checks the parameters: µ, k_t and γ_t finite and not negative, and a history
-    /// spring with friction needs k_t > 0 (the cap resets the spring through 1/k_t).
-    pub fn new(
-        friction: f64,
-        stiffness: f64,
-        damping: f64,
-        model: TangentialModel,
-    ) -> Result<Self> {
-        let f = Self {
+impl HistorySpring {
+    /// Checks µ, k_t and γ_t finite and not negative, and k_t > 0.
+    pub fn new(friction: f64, stiffness: f64, damping: f64) -> Result<Self> {
+        let spring = Self {
             friction: non_negative("friction", friction)?,
             stiffness: non_negative("tangential_stiffness", stiffness)?,
             damping: non_negative("tangential_damping", damping)?,
-            model,
-            tangential_restitution: None,
         };
-        if f.friction > 0.0 && model == TangentialModel::History && f.stiffness == 0.0 {
+        if spring.stiffness == 0.0 {
             return Err(ContactError::OutOfRange {
                 name: "tangential_stiffness",
                 value: 0.0,
@@ -106,81 +55,131 @@ impl Friction {
                           tangential_restitution for Walton's rule of the event engines)",
             });
         }
-        Ok(f)
-    }
-
-    /// The friction of Walton's rule (event-driven engines): Coulomb's µ and the
-    /// tangential restitution β₀ ∈ [−1, 1] of sticking impacts, no spring.
-    pub fn walton(friction: f64, tangential_restitution: f64) -> Result<Self> {
-        let w = crate::Walton::new(friction, tangential_restitution)?;
-        Ok(Self {
-            friction: w.friction,
-            tangential_restitution: Some(w.tangential_restitution),
-            ..Self::NONE
-        })
-    }
-
-    /// Walton's rule of this material, if it has β₀ and friction (µ > 0).
-    pub fn walton_rule(&self) -> Option<crate::Walton> {
-        let b = self.tangential_restitution?;
-        self.is_active().then_some(crate::Walton {
-            friction: self.friction,
-            tangential_restitution: b,
-        })
-    }
-
-    /// True if contacts exchange tangential forces.
-    pub fn is_active(&self) -> bool {
-        self.friction > 0.0
+        Ok(spring)
     }
 
     /// The tangential force on i and the spring afterwards, given the spring `spring`
     /// already turned and grown for this step, the slip velocity `slip` and the clipped
-    /// total normal force `normal_force` ≥ 0 (Cundall & Strack 1979; LAMMPS's
-    /// `linear_history` with `limit_damping`; for [`TangentialModel::Coulomb`], Huang &
-    /// Nydal Sec. 2, whose spring stays zero).
+    /// total normal force `normal_force` ≥ 0: F_t = −k_t ξ_t − γ_t v_t while
+    /// |F_t| ≤ µF_n, else scaled onto the cap with ξ_t = −(F_t + γ_t v_t)/k_t.
     #[inline]
-    pub fn force(&self, normal_force: f64, slip: [f64; 3], spring: [f64; 3]) -> Tangential {
+    pub fn force(&self, normal_force: f64, slip: [f64; 3], spring: [f64; 3]) -> TangentialForce {
         let cap = self.friction * normal_force.max(0.0);
-        match self.model {
-            TangentialModel::Coulomb => {
+        let (k, g) = (self.stiffness, self.damping);
+        let force = add_scaled(scale(-k, spring), -g, slip);
+        let f = norm(force);
+        if f <= cap {
+            return TangentialForce {
+                force,
+                spring,
+                sliding: false,
+            };
+        }
+        let force = scale(cap / f, force);
+        TangentialForce {
+            force,
+            spring: scale(-1.0 / k, add_scaled(force, g, slip)),
+            sliding: true,
+        }
+    }
+}
+
+/// The tangential sub-model of a contact: the slot of [`crate::ContactModel`] that
+/// LAMMPS's `GranularModel` calls `tangential`. Frictionless contacts have
+/// [`Tangential::None`], never a variant with µ = 0 ([`Tangential::normalised`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Tangential {
+    /// Smooth spheres: no tangential force, spins never change.
+    #[default]
+    None,
+    /// The history spring (MD; eMD* solves it exactly per collision).
+    History(HistorySpring),
+    /// Pure Coulomb sliding, |F_t| = µF_n against the slip (Huang & Nydal, Sec. 2; MD).
+    Coulomb {
+        /// µ > 0.
+        friction: f64,
+    },
+    /// Walton's instantaneous rule (µ, β₀) of the event-driven engines.
+    Walton(crate::Walton),
+}
+
+impl Tangential {
+    /// Coulomb's µ (0 without friction).
+    pub fn friction(&self) -> f64 {
+        match self {
+            Self::None => 0.0,
+            Self::History(h) => h.friction,
+            Self::Coulomb { friction } => *friction,
+            Self::Walton(w) => w.friction,
+        }
+    }
+
+    /// True if contacts exchange tangential forces (µ > 0).
+    pub fn is_frictional(&self) -> bool {
+        self.friction() > 0.0
+    }
+
+    /// The same law, or [`Tangential::None`] where µ = 0 (a frictionless contact is run
+    /// by the frictionless code, bit for bit).
+    pub fn normalised(self) -> Self {
+        if self.is_frictional() {
+            self
+        } else {
+            Self::None
+        }
+    }
+
+    /// The name of the sub-model, as the config and the messages give it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::None => "none",
+            Self::History(_) => "history",
+            Self::Coulomb { .. } => "coulomb",
+            Self::Walton(_) => "walton",
+        }
+    }
+
+    /// The tangential force of MD's laws ([`HistorySpring::force`]; for
+    /// [`Tangential::Coulomb`] −µF_n v̂_t with the spring kept at zero). Zero for
+    /// smooth contacts and for Walton's rule, which is instantaneous and has no force.
+    #[inline]
+    pub fn force(&self, normal_force: f64, slip: [f64; 3], spring: [f64; 3]) -> TangentialForce {
+        match self {
+            Self::History(h) => h.force(normal_force, slip, spring),
+            Self::Coulomb { friction } => {
+                let cap = friction * normal_force.max(0.0);
                 let s = norm(slip);
                 let force = if s > 0.0 {
                     scale(-cap / s, slip)
                 } else {
                     [0.0; 3]
                 };
-                Tangential {
+                TangentialForce {
                     force,
                     spring: [0.0; 3],
                     sliding: s > 0.0,
                 }
             }
-            TangentialModel::History => {
-                let (k, g) = (self.stiffness, self.damping);
-                let force = add_scaled(scale(-k, spring), -g, slip);
-                let f = norm(force);
-                if f <= cap {
-                    return Tangential {
-                        force,
-                        spring,
-                        sliding: false,
-                    };
-                }
-                let force = scale(cap / f, force);
-                Tangential {
-                    force,
-                    spring: scale(-1.0 / k, add_scaled(force, g, slip)),
-                    sliding: true,
-                }
-            }
+            Self::None | Self::Walton(_) => TangentialForce {
+                force: [0.0; 3],
+                spring: [0.0; 3],
+                sliding: false,
+            },
+        }
+    }
+
+    /// The elastic energy ½ k_t |ξ_t|² of a contact's spring (zero without one).
+    pub fn spring_energy(&self, spring: [f64; 3]) -> f64 {
+        match self {
+            Self::History(h) => 0.5 * h.stiffness * dot(spring, spring),
+            _ => 0.0,
         }
     }
 }
 
-/// What [`Friction::force`] gives.
+/// What [`Tangential::force`] gives.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tangential {
+pub struct TangentialForce {
     /// F_t on i in N.
     pub force: [f64; 3],
     /// The spring ξ_t after the step, in m.
@@ -244,8 +243,8 @@ pub fn torque(arm: f64, n: [f64; 3], force: [f64; 3]) -> [f64; 3] {
 mod tests {
     use super::*;
 
-    fn history(mu: f64) -> Friction {
-        Friction::new(mu, 1000.0, 2.0, TangentialModel::History).unwrap()
+    fn history(mu: f64) -> Tangential {
+        Tangential::History(HistorySpring::new(mu, 1000.0, 2.0).unwrap())
     }
 
     #[test]
@@ -270,7 +269,7 @@ mod tests {
 
     #[test]
     fn coulomb_opposes_the_slip_with_mu_times_the_normal_force() {
-        let f = Friction::new(0.3, 0.0, 0.0, TangentialModel::Coulomb).unwrap();
+        let f = Tangential::Coulomb { friction: 0.3 };
         let t = f.force(2.0, [0.0, 3.0, 4.0], [0.0; 3]);
         assert!((t.force[1] + 0.6 * 0.6).abs() < 1e-15);
         assert!((t.force[2] + 0.6 * 0.8).abs() < 1e-15);
@@ -334,15 +333,27 @@ mod tests {
 
     #[test]
     fn bad_parameters_are_refused() {
-        let h = TangentialModel::History;
-        assert!(Friction::new(-0.1, 1.0, 0.0, h).is_err());
-        assert!(Friction::new(0.1, -1.0, 0.0, h).is_err());
-        assert!(Friction::new(0.1, 1.0, -1.0, h).is_err());
-        assert!(Friction::new(f64::NAN, 1.0, 0.0, h).is_err());
-        let e = Friction::new(0.1, 0.0, 0.0, h).unwrap_err().to_string();
+        assert!(HistorySpring::new(-0.1, 1.0, 0.0).is_err());
+        assert!(HistorySpring::new(0.1, -1.0, 0.0).is_err());
+        assert!(HistorySpring::new(0.1, 1.0, -1.0).is_err());
+        assert!(HistorySpring::new(f64::NAN, 1.0, 0.0).is_err());
+        let e = HistorySpring::new(0.1, 0.0, 0.0).unwrap_err().to_string();
         assert!(e.contains("tangential_stiffness"), "{e}");
-        assert!(Friction::new(0.1, 0.0, 0.0, TangentialModel::Coulomb).is_ok());
-        assert!(Friction::new(0.0, 0.0, 0.0, h).is_ok());
-        assert!("sticky".parse::<TangentialModel>().is_err());
+    }
+
+    #[test]
+    fn frictionless_laws_normalise_to_none() {
+        let zero = Tangential::History(HistorySpring::new(0.0, 1.0, 0.0).unwrap());
+        assert_eq!(zero.normalised(), Tangential::None);
+        assert_eq!(
+            Tangential::Coulomb { friction: 0.0 }.normalised(),
+            Tangential::None
+        );
+        let rough = Tangential::Coulomb { friction: 0.2 };
+        assert_eq!(rough.normalised(), rough);
+        assert_eq!(
+            Tangential::None.force(1.0, [1.0, 0.0, 0.0], [0.0; 3]).force,
+            [0.0; 3]
+        );
     }
 }

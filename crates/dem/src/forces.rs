@@ -1,12 +1,17 @@
-//! Contact forces: the per-pair and per-wall kernels, the sweep over one particle's
-//! partners, where the forces go, and the elastic energy of a contact.
+//! Contact forces: the one force kernel of velocity Verlet (walls, then a particle's
+//! partners), generic over its tangential slot ([`TangentialSlot`], in the manner of
+//! HOOMD-blue's `PotentialPair<evaluator>`): [`Smooth`] contacts give a normal force,
+//! [`crate::Frictional`] ones add the tangential force and torques of their
+//! [`emdstar_contact::Tangential`] law. Also where the contacts go ([`ContactRecord`],
+//! [`apply_contacts`]) and the elastic energy of a contact.
 
 use crate::neighbour::NeighbourList;
 use crate::options::ContactEnd;
 use emdstar_contact::PairLaw;
-use emdstar_system::{Domain, Interactions, Wall};
+use emdstar_system::{Domain, Interaction, Interactions, Wall};
 
-/// A contact force found by a sweep: +f on `i`, −f on `j` (unless `j` is [`WALL`]).
+/// A frictionless contact force found by a sweep: +f on `i`, −f on `j` (unless `j` is
+/// [`WALL`]).
 #[derive(Debug, Clone, Copy)]
 pub struct PairForce {
     pub i: u32,
@@ -14,49 +19,89 @@ pub struct PairForce {
     pub f: [f64; 3],
 }
 
-/// The `j` of a [`PairForce`] that acts between particle `i` and a wall.
+/// The `j` of a contact that acts between particle `i` and a wall.
 pub const WALL: u32 = u32::MAX;
 
-/// Where a sweep puts the forces it finds.
-pub trait ForceSink {
-    fn push(&mut self, force: PairForce);
-}
+/// A contact's key in [`crate::Springs`]: the two config ids, smaller first; a wall
+/// contact has `WALL - w` for wall `w` as its second id.
+pub type ContactKey = (u32, u32);
 
-/// Records the forces, to be applied later in a fixed order (MD's parallel sweep).
-impl ForceSink for Vec<PairForce> {
-    #[inline(always)]
-    fn push(&mut self, force: PairForce) {
-        Vec::push(self, force);
-    }
-}
-
-/// Adds every force at once to the accelerations `acc` ([`add_force`]).
-pub struct AddForces<'a> {
-    pub acc: &'a mut [[f64; 3]],
+/// The accelerations a contact adds to: linear, and angular where contacts exert
+/// torques (`None` without friction: spins are never touched).
+pub struct Accelerations<'a> {
     pub inv_mass: &'a [f64],
+    pub acc: &'a mut [[f64; 3]],
+    /// 1/I of every particle and the angular accelerations.
+    pub angular: Option<(&'a [f64], &'a mut [[f64; 3]])>,
 }
 
-impl ForceSink for AddForces<'_> {
+/// What a sweep finds for one contact, and how it acts.
+pub trait ContactRecord: Copy + Send + Sync {
+    /// The particle and its partner (or [`WALL`]).
+    fn parties(&self) -> (u32, u32);
+    /// Adds the contact's force (and torques) to `to`.
+    fn add_to(&self, to: &mut Accelerations<'_>);
+    /// The contact's spring, to keep for the next step (none without one).
+    fn spring(&self) -> Option<(ContactKey, [f64; 3])>;
+}
+
+impl ContactRecord for PairForce {
     #[inline(always)]
-    fn push(&mut self, force: PairForce) {
-        add_force(&force, self.inv_mass, self.acc);
+    fn parties(&self) -> (u32, u32) {
+        (self.i, self.j)
+    }
+
+    #[inline(always)]
+    fn add_to(&self, to: &mut Accelerations<'_>) {
+        let i = self.i as usize;
+        let mi = to.inv_mass[i];
+        for k in 0..3 {
+            to.acc[i][k] += self.f[k] * mi;
+        }
+        if self.j != WALL {
+            let j = self.j as usize;
+            let mj = to.inv_mass[j];
+            for k in 0..3 {
+                to.acc[j][k] -= self.f[k] * mj;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn spring(&self) -> Option<(ContactKey, [f64; 3])> {
+        None
     }
 }
 
-/// acc_i += f/m_i and, for a pair, acc_j −= f/m_j.
-#[inline(always)]
-pub fn add_force(pf: &PairForce, inv_mass: &[f64], acc: &mut [[f64; 3]]) {
-    let i = pf.i as usize;
-    let mi = inv_mass[i];
-    for k in 0..3 {
-        acc[i][k] += pf.f[k] * mi;
-    }
-    if pf.j != WALL {
-        let j = pf.j as usize;
-        let mj = inv_mass[j];
-        for k in 0..3 {
-            acc[j][k] -= pf.f[k] * mj;
+/// Adds `contacts` to the accelerations in their order (a fixed order, so the sums do
+/// not depend on the number of threads), and records the particles they touch.
+pub fn apply_contacts<'c, C: ContactRecord + 'c>(
+    contacts: impl IntoIterator<Item = &'c C>,
+    to: &mut Accelerations<'_>,
+    mut touched: Option<&mut Vec<u32>>,
+) {
+    for c in contacts {
+        c.add_to(to);
+        if let Some(t) = touched.as_deref_mut() {
+            let (i, j) = c.parties();
+            t.push(i);
+            if j != WALL {
+                t.push(j);
+            }
         }
+    }
+}
+
+/// Where a sweep puts the contacts it finds.
+pub trait ForceSink<C> {
+    fn push(&mut self, contact: C);
+}
+
+/// Records the contacts, to be applied later in a fixed order.
+impl<C> ForceSink<C> for Vec<C> {
+    #[inline(always)]
+    fn push(&mut self, contact: C) {
+        Vec::push(self, contact);
     }
 }
 
@@ -112,7 +157,7 @@ pub fn elastic_energy(law: &PairLaw, overlap: f64) -> f64 {
 }
 
 /// What the contact forces depend on besides the particles' motion: sizes, species,
-/// laws, walls, gravity and the contact-end rule.
+/// contact models, walls, gravity and the contact-end rule.
 #[derive(Clone, Copy)]
 pub struct ForceModel<'a> {
     pub radius: &'a [f64],
@@ -162,23 +207,81 @@ impl<'a> ForceModel<'a> {
             let overlap = radius[i] + radius[j] - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
             if overlap > 0.0 {
                 *contacts += 1;
-                let law = &self.interactions.pair(species[i], species[j]).law;
+                let law = self.interactions.pair(species[i], species[j]).law();
                 *potential += elastic_energy(law, overlap);
             }
         }
-        for w in self.walls {
-            let overlap = radius[i] - w.distance(xi);
+        for (w, wall) in self.walls.iter().enumerate() {
+            let overlap = radius[i] - wall.distance(xi);
             if overlap > 0.0 {
                 *contacts += 1;
-                *potential += elastic_energy(&self.interactions.wall(species[i]).law, overlap);
+                *potential += elastic_energy(self.interactions.wall(species[i], w).law(), overlap);
             }
         }
     }
 }
 
+/// The normal part of one contact, as the kernel finds it: what a tangential slot
+/// builds on.
+pub struct Touch<'a> {
+    /// The particle and its partner, or [`WALL`] and the wall's number.
+    pub i: usize,
+    pub j: u32,
+    pub wall: usize,
+    pub interaction: &'a Interaction,
+    /// The unit normal towards i now.
+    pub n: [f64; 3],
+    /// For a pair: x_i − x_j now (minimum image), and one step ago (the drift was
+    /// x += dt·v exactly); for a wall: zero.
+    pub d: [f64; 3],
+    pub d_prev: [f64; 3],
+    /// The stored (mid-step) velocities of i and j (zero for a wall).
+    pub v: [[f64; 3]; 2],
+    /// The predicted (end-of-step) velocities of i and j.
+    pub v_pred: [[f64; 3]; 2],
+    /// The overlap now and one step ago.
+    pub overlap: f64,
+    pub overlap_prev: f64,
+    /// ξ̇ = −n·(v_i − v_j), predicted.
+    pub rate: f64,
+    /// The normal force (the contact-end rule applied) and the touch correction.
+    pub normal: f64,
+    pub correction: f64,
+}
+
+/// The tangential slot of the force kernel: what a contact gives besides its normal
+/// force. [`Smooth`] is the frictionless slot; [`crate::Frictional`] adds tangential
+/// forces and torques.
+pub trait TangentialSlot: Sync + Sized {
+    /// What one contact gives.
+    type Contact: ContactRecord;
+    /// The contact of `touch`, if it exerts anything.
+    fn contact(&self, kernel: &ForceKernel<'_, Self>, touch: &Touch<'_>) -> Option<Self::Contact>;
+}
+
+/// The slot of frictionless contacts: the normal force alone, which never turns a
+/// spin. Zero-sized, so the kernel over it is the frictionless kernel.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Smooth;
+
+impl TangentialSlot for Smooth {
+    type Contact = PairForce;
+
+    #[inline(always)]
+    fn contact(&self, _: &ForceKernel<'_, Self>, t: &Touch<'_>) -> Option<PairForce> {
+        let f = t.normal + t.correction;
+        (f != 0.0).then(|| PairForce {
+            i: t.i as u32,
+            j: t.j,
+            f: [f * t.n[0], f * t.n[1], f * t.n[2]],
+        })
+    }
+}
+
 /// The force kernel of one velocity-Verlet step: the model, the list whose entries the
-/// sweep is given, and the accelerations the velocity predictor needs.
-pub struct ForceKernel<'a> {
+/// sweep is given, the accelerations the velocity predictor needs, and the tangential
+/// slot.
+pub struct ForceKernel<'a, S = Smooth> {
     pub model: ForceModel<'a>,
     pub list: &'a NeighbourList,
     /// Contact accelerations of the previous step (zero for particles without contacts).
@@ -188,13 +291,14 @@ pub struct ForceKernel<'a> {
     /// velocities are used as they are (the forces at t = 0, or of particles that
     /// start to be integrated).
     pub h: f64,
+    pub slot: S,
 }
 
-impl ForceKernel<'_> {
-    /// Pushes the wall forces of particle `i` and the forces of the pairs with the
-    /// partners `entries` (of the list), in that order. Reads `position[j]`,
-    /// `velocity[j]` of those partners only, and `xi`, `vi` for particle i itself, so a
-    /// sweep may drift particle i just before.
+impl<S: TangentialSlot> ForceKernel<'_, S> {
+    /// Pushes the wall contacts of particle `i` and the contacts with the partners
+    /// `entries` (of the list), in that order. Reads `position[j]`, `velocity[j]` of
+    /// those partners only, and `xi`, `vi` for particle i itself, so a sweep may drift
+    /// particle i just before.
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     pub fn particle(
@@ -205,14 +309,14 @@ impl ForceKernel<'_> {
         entries: impl IntoIterator<Item = u32>,
         position: &[[f64; 3]],
         velocity: &[[f64; 3]],
-        out: &mut impl ForceSink,
+        out: &mut impl ForceSink<S::Contact>,
     ) {
         let model = &self.model;
         let ri = model.radius[i];
-        for w in model.walls {
-            let overlap = ri - w.distance(xi);
+        for (w, wall) in model.walls.iter().enumerate() {
+            let overlap = ri - wall.distance(xi);
             if overlap > 0.0 {
-                self.wall(i, w, overlap, vi, out);
+                self.wall(i, w, wall, overlap, vi, out);
             }
         }
         let list = self.list;
@@ -232,29 +336,47 @@ impl ForceKernel<'_> {
         }
     }
 
-    /// The force of a wall on particle i at overlap ξ > 0.
+    /// The contact of a wall with particle i at overlap ξ > 0.
     #[inline(never)]
-    fn wall(&self, i: usize, w: &Wall, overlap: f64, vi: [f64; 3], out: &mut impl ForceSink) {
+    fn wall(
+        &self,
+        i: usize,
+        w: usize,
+        wall: &Wall,
+        overlap: f64,
+        vi: [f64; 3],
+        out: &mut impl ForceSink<S::Contact>,
+    ) {
         let dt = 2.0 * self.h;
-        let overlap_prev =
-            overlap + dt * (w.normal[0] * vi[0] + w.normal[1] * vi[1] + w.normal[2] * vi[2]);
+        let n = wall.normal;
+        let overlap_prev = overlap + dt * (n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
         let v = self.predict(i, vi);
-        let rate = -(w.normal[0] * v[0] + w.normal[1] * v[1] + w.normal[2] * v[2]);
+        let rate = -(n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
         let model = &self.model;
-        let law = &model.interactions.wall(model.species[i]).law;
-        let f = normal_force(law, overlap, rate, model.contact_end)
-            + touch_correction(law, overlap_prev, overlap, rate);
-        if f != 0.0 {
-            let n = w.normal;
-            out.push(PairForce {
-                i: i as u32,
-                j: WALL,
-                f: [f * n[0], f * n[1], f * n[2]],
-            });
+        let interaction = model.interactions.wall(model.species[i], w);
+        let law = interaction.law();
+        let touch = Touch {
+            i,
+            j: WALL,
+            wall: w,
+            interaction,
+            n,
+            d: [0.0; 3],
+            d_prev: [0.0; 3],
+            v: [vi, [0.0; 3]],
+            v_pred: [v, [0.0; 3]],
+            overlap,
+            overlap_prev,
+            rate,
+            normal: normal_force(law, overlap, rate, model.contact_end),
+            correction: touch_correction(law, overlap_prev, overlap, rate),
+        };
+        if let Some(c) = self.slot.contact(self, &touch) {
+            out.push(c);
         }
     }
 
-    /// The force of a pair in contact at separation `d` (|d| = r < l).
+    /// The contact of a pair at separation `d` (|d| = r < l).
     #[inline(never)]
     #[allow(clippy::too_many_arguments)]
     fn pair(
@@ -266,7 +388,7 @@ impl ForceKernel<'_> {
         l: f64,
         vi: [f64; 3],
         vj: [f64; 3],
-        out: &mut impl ForceSink,
+        out: &mut impl ForceSink<S::Contact>,
     ) {
         let n = [d[0] / r, d[1] / r, d[2] / r];
         // The separation one step ago: the drift was x += dt·v exactly.
@@ -274,22 +396,30 @@ impl ForceKernel<'_> {
         let d_prev: [f64; 3] = std::array::from_fn(|k| d[k] - dt * (vi[k] - vj[k]));
         let overlap_prev =
             l - (d_prev[0] * d_prev[0] + d_prev[1] * d_prev[1] + d_prev[2] * d_prev[2]).sqrt();
-        let (vi, vj) = (self.predict(i, vi), self.predict(j, vj));
+        let (pi, pj) = (self.predict(i, vi), self.predict(j, vj));
         // ξ̇ = −ṙ = −n·(v_i − v_j).
-        let rate = -(n[0] * (vi[0] - vj[0]) + n[1] * (vi[1] - vj[1]) + n[2] * (vi[2] - vj[2]));
+        let rate = -(n[0] * (pi[0] - pj[0]) + n[1] * (pi[1] - pj[1]) + n[2] * (pi[2] - pj[2]));
         let model = &self.model;
-        let law = &model
-            .interactions
-            .pair(model.species[i], model.species[j])
-            .law;
-        let f = normal_force(law, l - r, rate, model.contact_end)
-            + touch_correction(law, overlap_prev, l - r, rate);
-        if f != 0.0 {
-            out.push(PairForce {
-                i: i as u32,
-                j: j as u32,
-                f: [f * n[0], f * n[1], f * n[2]],
-            });
+        let interaction = model.interactions.pair(model.species[i], model.species[j]);
+        let law = interaction.law();
+        let touch = Touch {
+            i,
+            j: j as u32,
+            wall: 0,
+            interaction,
+            n,
+            d,
+            d_prev,
+            v: [vi, vj],
+            v_pred: [pi, pj],
+            overlap: l - r,
+            overlap_prev,
+            rate,
+            normal: normal_force(law, l - r, rate, model.contact_end),
+            correction: touch_correction(law, overlap_prev, l - r, rate),
+        };
+        if let Some(c) = self.slot.contact(self, &touch) {
+            out.push(c);
         }
     }
 

@@ -1,11 +1,12 @@
-//! Frictional contacts: the tangential forces and torques of
-//! [`emdstar_contact::Friction`] in one velocity-Verlet step, with the springs each
-//! contact carries from step to step ([`Springs`]).
+//! Frictional contacts: the tangential slot of the force kernel ([`Frictional`]), which
+//! adds the tangential forces and torques of each contact's
+//! [`emdstar_contact::Tangential`] law, the springs contacts carry from step to step
+//! ([`Springs`]), and the spin state of a frictional run ([`Rotation`]).
 //!
-//! The normal force is the frictionless kernel's (predictor and touch correction
-//! included). The tangential force of the step follows the conventions of
-//! `emdstar_contact::tangential` (those of LAMMPS's `pair granular … tangential
-//! linear_history` with `limit_damping`); for second order in dt:
+//! The normal force is the kernel's (predictor and touch correction included). The
+//! tangential force of the step follows the conventions of `emdstar_contact::tangential`
+//! (those of LAMMPS's `pair granular … tangential linear_history` with
+//! `limit_damping`); for second order in dt:
 //! - the spring of the step before is turned from the old normal to the new one, and
 //!   grows by dt·**v**_t at the middle of the step (the stored half-step velocities and
 //!   spins, with the normal at mid-step), projected onto the new tangent plane;
@@ -15,14 +16,12 @@
 //!   after touch, and a tangential force that jumps on at touch (a linear dashpot's) is
 //!   corrected like the normal force ([`crate::touch_correction`]).
 
-use crate::forces::{ForceKernel, WALL, normal_force, touch_correction};
-use emdstar_contact::vec3::{add, add_scaled, dot, norm, norm2, scale, sub};
-use emdstar_contact::{Friction, TangentialModel, lever_arm, slip_velocity, torque, turn_spring};
-use emdstar_system::Wall;
-
-/// The key of a contact in [`Springs`]: the two config ids, smaller first; a wall
-/// contact has `WALL - w` for wall `w` as its second id.
-pub type ContactKey = (u32, u32);
+use crate::forces::{
+    Accelerations, ContactKey, ContactRecord, ForceKernel, TangentialSlot, Touch, WALL,
+};
+use emdstar_contact::vec3::{add, add_scaled, dot, norm, scale, sub};
+use emdstar_contact::{Tangential, lever_arm, slip_velocity, torque, turn_spring};
+use emdstar_system::{Interactions, Particles, permute};
 
 /// The springs ξ_t of the contacts open at the end of a step, sorted by key. Each
 /// spring is stored as seen by the contact's first id (the particle with the smaller
@@ -72,22 +71,28 @@ impl Springs {
         self.contacts.is_empty()
     }
 
-    /// The elastic energy of the springs under `friction`, Σ ½ k_t |ξ_t|² (none for
-    /// pure Coulomb sliding, which has no spring).
-    pub fn energy(&self, friction: &Friction) -> f64 {
-        match friction.model {
-            TangentialModel::History => self
-                .contacts
-                .iter()
-                .map(|(_, s)| 0.5 * friction.stiffness * norm2(*s))
-                .sum(),
-            TangentialModel::Coulomb => 0.0,
-        }
+    /// The elastic energy of the springs, Σ ½ k_t |ξ_t|², with each contact's law from
+    /// `interactions` and the species of a config id from `species_of`.
+    pub fn energy(&self, interactions: &Interactions, species_of: impl Fn(u32) -> u32) -> f64 {
+        self.contacts
+            .iter()
+            .map(|((a, b), spring)| {
+                let s = species_of(*a);
+                // Config ids stay far below 2³¹ (memory bounds them); wall keys are above.
+                let contact = if *b > WALL / 2 {
+                    interactions.wall(s, (WALL - b) as usize)
+                } else {
+                    interactions.pair(s, species_of(*b))
+                };
+                contact.tangential().spring_energy(*spring)
+            })
+            .sum()
     }
 }
 
 /// One frictional contact of a step: the force on i (normal and tangential; −f on j),
-/// the torques on both, and the contact's spring afterwards.
+/// the torques on both, and the contact's spring afterwards (in the frame of the key's
+/// first id; none for a law without a spring).
 #[derive(Debug, Clone, Copy)]
 pub struct ContactForce {
     pub i: u32,
@@ -97,15 +102,104 @@ pub struct ContactForce {
     pub torque_i: [f64; 3],
     pub torque_j: [f64; 3],
     pub key: ContactKey,
-    /// The spring in the frame of the key's first id.
-    pub spring: [f64; 3],
+    pub spring: Option<[f64; 3]>,
 }
 
-/// The frictional force kernel of one step: the frictionless one for the normal
-/// forces, the spins, and the springs of the step before.
-pub struct FrictionKernel<'a> {
-    pub base: ForceKernel<'a>,
-    pub friction: Friction,
+impl ContactRecord for ContactForce {
+    #[inline(always)]
+    fn parties(&self) -> (u32, u32) {
+        (self.i, self.j)
+    }
+
+    #[inline(always)]
+    fn add_to(&self, to: &mut Accelerations<'_>) {
+        let i = self.i as usize;
+        let mi = to.inv_mass[i];
+        let (inv_inertia, angular) = to
+            .angular
+            .as_mut()
+            .expect("frictional contacts are applied with spins");
+        let ii = inv_inertia[i];
+        for k in 0..3 {
+            to.acc[i][k] += self.f[k] * mi;
+            angular[i][k] += self.torque_i[k] * ii;
+        }
+        if self.j != WALL {
+            let j = self.j as usize;
+            let (mj, ij) = (to.inv_mass[j], inv_inertia[j]);
+            for k in 0..3 {
+                to.acc[j][k] -= self.f[k] * mj;
+                angular[j][k] += self.torque_j[k] * ij;
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn spring(&self) -> Option<(ContactKey, [f64; 3])> {
+        self.spring.map(|s| (self.key, s))
+    }
+}
+
+/// What friction adds to the state of a run: spins are kicked by the contact torques
+/// like the velocities by the forces (LAMMPS's `fix nve/sphere`: ω += (dt/2)·τ/I,
+/// I = (2/5) m R²), and each contact's spring is kept between steps.
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
+pub struct Rotation {
+    /// 1/I of every particle.
+    pub inv_inertia: Vec<f64>,
+    /// Angular accelerations of the contacts at the current time (zero for particles
+    /// without contacts).
+    pub angular_acc: Vec<[f64; 3]>,
+    /// The springs of the open contacts.
+    pub springs: Springs,
+}
+
+impl Rotation {
+    /// The rotation of particles `p`, at rest in their springs.
+    pub fn new(p: &Particles) -> Self {
+        Self {
+            inv_inertia: inverse_inertia(p),
+            angular_acc: vec![[0.0; 3]; p.len()],
+            springs: Springs::default(),
+        }
+    }
+
+    /// After the particles were reordered by `order` (see [`Particles::permute`]).
+    pub fn permute(&mut self, order: &[u32]) {
+        permute(&mut self.inv_inertia, order);
+        permute(&mut self.angular_acc, order);
+    }
+
+    /// After a restored state replaced the particles.
+    pub fn reset_inertia(&mut self, p: &Particles) {
+        self.inv_inertia = inverse_inertia(p);
+    }
+
+    /// The elastic energy of the springs of particles `p` (any order), Σ ½ k_t |ξ_t|²
+    /// (exactly zero where no contact has a spring).
+    pub fn spring_energy(&self, interactions: &Interactions, p: &Particles) -> f64 {
+        let springs =
+            |i: &emdstar_system::Interaction| matches!(i.tangential(), Tangential::History(_));
+        if !interactions.distinct().any(springs) {
+            return 0.0;
+        }
+        let mut species = vec![0; p.len()];
+        for (k, &id) in p.id.iter().enumerate() {
+            species[id as usize] = p.species[k];
+        }
+        self.springs.energy(interactions, |id| species[id as usize])
+    }
+}
+
+/// 1/I of every particle, I = (2/5) m R².
+fn inverse_inertia(p: &Particles) -> Vec<f64> {
+    (0..p.len()).map(|i| 1.0 / p.inertia(i)).collect()
+}
+
+/// The tangential slot of frictional runs: the spins and springs the tangential forces
+/// depend on.
+#[derive(Clone, Copy)]
+pub struct Frictional<'a> {
     /// Config id of each particle (the springs are keyed by them).
     pub id: &'a [u32],
     /// Stored spins, half a kick behind like the velocities.
@@ -115,205 +209,97 @@ pub struct FrictionKernel<'a> {
     pub springs: &'a Springs,
 }
 
-/// Where the mid-step values and the predicted ones of one party of a contact meet.
+/// One party of a contact: its radius, stored (mid-step) and predicted spins.
 #[derive(Clone, Copy)]
 struct Party {
     radius: f64,
-    /// Stored (mid-step) velocity and spin.
-    v: [f64; 3],
     w: [f64; 3],
-    /// Predicted (end-of-step) velocity and spin.
-    v_pred: [f64; 3],
     w_pred: [f64; 3],
 }
 
+/// A wall: infinitely heavy, flat, not spinning.
 const WALL_PARTY: Party = Party {
     radius: 0.0,
-    v: [0.0; 3],
     w: [0.0; 3],
-    v_pred: [0.0; 3],
     w_pred: [0.0; 3],
 };
 
-impl FrictionKernel<'_> {
-    /// The contacts of particle `i` (at `xi` with stored velocity `vi`) with the walls
-    /// and the partners `entries`, walls first, as [`ForceKernel::particle`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn particle(
-        &self,
-        i: usize,
-        xi: [f64; 3],
-        vi: [f64; 3],
-        entries: impl IntoIterator<Item = u32>,
-        position: &[[f64; 3]],
-        velocity: &[[f64; 3]],
-        out: &mut Vec<ContactForce>,
-    ) {
-        let model = &self.base.model;
-        let ri = model.radius[i];
-        let pi = self.party(i, vi);
-        for (w, wall) in model.walls.iter().enumerate() {
-            let overlap = ri - wall.distance(xi);
-            if overlap > 0.0 {
-                self.wall(i, w, wall, overlap, pi, out);
-            }
-        }
-        let list = self.base.list;
-        for entry in entries {
-            let (j, s) = list.split(entry);
-            let d: [f64; 3] = std::array::from_fn(|k| xi[k] - position[j][k] - s[k]);
-            let l = ri + model.radius[j];
-            if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < l * l {
-                let pj = self.party(j, velocity[j]);
-                self.pair(i, j, d, l, pi, pj, out);
-            }
-        }
-    }
-
-    fn party(&self, i: usize, v: [f64; 3]) -> Party {
-        let h = self.base.h;
+impl Frictional<'_> {
+    fn party(&self, kernel: &ForceKernel<'_, Self>, i: usize) -> Party {
         let w = self.angular_velocity[i];
         Party {
-            radius: self.base.model.radius[i],
-            v,
+            radius: kernel.model.radius[i],
             w,
-            v_pred: self.base.predict(i, v),
-            w_pred: add_scaled(w, h, self.angular_acc[i]),
+            w_pred: add_scaled(w, kernel.h, self.angular_acc[i]),
         }
     }
+}
 
-    #[allow(clippy::too_many_arguments)]
-    fn pair(
-        &self,
-        i: usize,
-        j: usize,
-        d: [f64; 3],
-        l: f64,
-        pi: Party,
-        pj: Party,
-        out: &mut Vec<ContactForce>,
-    ) {
-        let dt = 2.0 * self.base.h;
-        let r = norm(d);
-        let n = scale(1.0 / r, d);
-        let v_mid = sub(pi.v, pj.v);
-        // The drift was x += dt·v exactly: the separation one step and half a step ago.
-        let d_prev = add_scaled(d, -dt, v_mid);
-        let d_mid = add_scaled(d, -0.5 * dt, v_mid);
-        let overlap_prev = l - norm(d_prev);
-        let model = &self.base.model;
-        let law = &model
-            .interactions
-            .pair(model.species[i], model.species[j])
-            .law;
-        let (id_i, id_j) = (self.id[i], self.id[j]);
-        let (key, sign) = if id_i < id_j {
-            ((id_i, id_j), 1.0)
+impl TangentialSlot for Frictional<'_> {
+    type Contact = ContactForce;
+
+    fn contact(&self, kernel: &ForceKernel<'_, Self>, t: &Touch<'_>) -> Option<ContactForce> {
+        let dt = 2.0 * kernel.h;
+        let i = t.i;
+        let a = self.party(kernel, i);
+        let (b, normals, key, sign) = if t.j == WALL {
+            let key = (self.id[i], WALL - t.wall as u32);
+            (WALL_PARTY, [t.n; 3], key, 1.0)
         } else {
-            ((id_j, id_i), -1.0)
+            let j = t.j as usize;
+            // The normals one step ago and at mid-step: the drift was x += dt·v exactly.
+            let d_mid = add_scaled(t.d, -0.5 * dt, sub(t.v[0], t.v[1]));
+            let n_prev = scale(1.0 / norm(t.d_prev), t.d_prev);
+            let n_mid = scale(1.0 / norm(d_mid), d_mid);
+            let (id_i, id_j) = (self.id[i], self.id[j]);
+            let (key, sign) = if id_i < id_j {
+                ((id_i, id_j), 1.0)
+            } else {
+                ((id_j, id_i), -1.0)
+            };
+            (self.party(kernel, j), [n_prev, n_mid, t.n], key, sign)
         };
-        let c = self.contact(
-            law,
-            [
-                scale(1.0 / norm(d_prev), d_prev),
-                scale(1.0 / norm(d_mid), d_mid),
-                n,
-            ],
-            (l - r, overlap_prev),
-            (pi, pj),
-            scale(sign, self.springs.get(key)),
-        );
-        out.push(ContactForce {
-            i: i as u32,
-            j: j as u32,
-            f: c.force,
-            torque_i: torque(lever_arm(pi.radius, l - r), n, c.tangential),
-            torque_j: torque(lever_arm(pj.radius, l - r), n, c.tangential),
-            key,
-            spring: scale(sign, c.spring),
-        });
-    }
-
-    fn wall(
-        &self,
-        i: usize,
-        w: usize,
-        wall: &Wall,
-        overlap: f64,
-        pi: Party,
-        out: &mut Vec<ContactForce>,
-    ) {
-        let dt = 2.0 * self.base.h;
-        let n = wall.normal;
-        let approach = n[0] * pi.v[0] + n[1] * pi.v[1] + n[2] * pi.v[2];
-        let model = &self.base.model;
-        let law = &model.interactions.wall(model.species[i]).law;
-        let key = (self.id[i], WALL - w as u32);
-        let c = self.contact(
-            law,
-            [n; 3],
-            (overlap, overlap + dt * approach),
-            (pi, WALL_PARTY),
-            self.springs.get(key),
-        );
-        out.push(ContactForce {
-            i: i as u32,
-            j: WALL,
-            f: c.force,
-            torque_i: torque(lever_arm(pi.radius, overlap), n, c.tangential),
-            torque_j: [0.0; 3],
-            key,
-            spring: c.spring,
-        });
-    }
-
-    /// The force of one contact on its first party: normals one step ago, at mid-step
-    /// and now, overlaps now and one step ago, the parties, the spring of the step
-    /// before (in the first party's frame).
-    fn contact(
-        &self,
-        law: &emdstar_contact::PairLaw,
-        [n_prev, n_mid, n]: [[f64; 3]; 3],
-        (overlap, overlap_prev): (f64, f64),
-        (a, b): (Party, Party),
-        spring: [f64; 3],
-    ) -> ContactOutcome {
-        let dt = 2.0 * self.base.h;
-        let v_pred = sub(a.v_pred, b.v_pred);
-        let rate = -(n[0] * v_pred[0] + n[1] * v_pred[1] + n[2] * v_pred[2]);
-        let normal = normal_force(law, overlap, rate, self.base.model.contact_end);
-        let correction = touch_correction(law, overlap_prev, overlap, rate);
+        let [n_prev, n_mid, n] = normals;
+        let law = t.interaction.law();
+        let tangential_law = t.interaction.tangential();
+        let (overlap, overlap_prev) = (t.overlap, t.overlap_prev);
+        let v_pred = sub(t.v_pred[0], t.v_pred[1]);
+        let (normal, correction) = (t.normal, t.correction);
         let slip = slip_velocity(n, v_pred, (a.radius, a.w_pred), (b.radius, b.w_pred));
-        let slip_mid = slip_velocity(n_mid, sub(a.v, b.v), (a.radius, a.w), (b.radius, b.w));
+        let slip_mid = slip_velocity(n_mid, sub(t.v[0], t.v[1]), (a.radius, a.w), (b.radius, b.w));
         // Only the part of the step after touch counts in a contact's first step.
         let in_contact = if overlap_prev < 0.0 {
             overlap / (overlap - overlap_prev)
         } else {
             1.0
         };
+        let spring = scale(sign, self.springs.get(key));
         let grown = add_scaled(
             turn_spring(spring, n_prev, n),
             in_contact * dt,
             add_scaled(slip_mid, -dot(slip_mid, n), n),
         );
-        let t = self.friction.force(normal + correction, slip, grown);
-        let mut tangential = t.force;
+        // The force at the end of the step, capped by the normal force there (the
+        // spring's state for the next step), ...
+        let f = tangential_law.force(normal, slip, grown);
+        let mut tangential = f.force;
         if correction != 0.0 {
-            // The tangential force at touch, F_t(0⁺), misplaced as the normal one is.
-            let jump = law.normal_force(f64::MIN_POSITIVE, rate);
-            let at_touch = self.friction.force(jump, slip, [0.0; 3]).force;
+            // ... and the impulse of the tangential force at touch, F_t(0⁺), misplaced
+            // as the normal one is: corrected once, like it (F_t(0⁺) is capped by µF(0⁺)
+            // itself).
+            let jump = law.normal_force(f64::MIN_POSITIVE, t.rate);
+            let at_touch = tangential_law.force(jump, slip, [0.0; 3]).force;
             tangential = add_scaled(tangential, correction / jump, at_touch);
         }
-        ContactOutcome {
-            force: add(scale(normal + correction, n), tangential),
-            tangential,
-            spring: t.spring,
-        }
+        let keeps = matches!(tangential_law, Tangential::History(_));
+        Some(ContactForce {
+            i: i as u32,
+            j: t.j,
+            f: add(scale(normal + correction, n), tangential),
+            torque_i: torque(lever_arm(a.radius, overlap), n, tangential),
+            torque_j: torque(lever_arm(b.radius, overlap), n, tangential),
+            key,
+            spring: keeps.then(|| scale(sign, f.spring)),
+        })
     }
-}
-
-struct ContactOutcome {
-    force: [f64; 3],
-    tangential: [f64; 3],
-    spring: [f64; 3],
 }

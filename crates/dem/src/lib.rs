@@ -1,7 +1,7 @@
 //! Force-based DEM (MD) of soft spheres: the reference that eMD* must reproduce
-//! (Müller & Pöschel 2013, Sec. V), with friction and rotation where the material has
-//! them ([`FrictionKernel`]: Cundall–Strack springs in LAMMPS's conventions, see
-//! docs/physics.md, "Friction and rotation").
+//! (Müller & Pöschel 2013, Sec. V), with friction and rotation where the contacts have
+//! them ([`Frictional`]: Cundall–Strack springs or Coulomb sliding in LAMMPS's
+//! conventions, see docs/physics.md, "Friction and rotation").
 //!
 //! # Integrator
 //! Velocity Verlet: v(t+dt/2) = v(t) + (dt/2)·a(t); x(t+dt) = x(t) + dt·v(t+dt/2);
@@ -29,10 +29,14 @@
 //! The normal forces come from [`emdstar_contact::PairLaw`]: clipped to F ≥ 0, so a
 //! contact ends when the force reaches zero ([`ContactEnd::ForceZero`]), or unclipped
 //! until the overlap vanishes ([`ContactEnd::OverlapZero`], LAMMPS's convention).
-//! Walls are infinitely heavy flat partners ([`emdstar_contact::PairProperties::sphere_wall`]).
-//! With friction (µ > 0) a second kernel adds the tangential forces and torques, spins
-//! are kicked like the velocities, and each contact's spring is kept between steps
-//! ([`Springs`], keyed by config ids); without friction that code never runs.
+//! Walls are infinitely heavy flat partners ([`emdstar_contact::PairProperties::sphere_wall`]),
+//! each with its own contact model per species.
+//! The one force kernel ([`ForceKernel`]) is generic over its tangential slot
+//! ([`TangentialSlot`]): [`Smooth`], a zero-sized slot that gives the normal force alone,
+//! where every contact is frictionless; [`Frictional`] otherwise, which adds each
+//! contact's tangential force and torques, while spins are kicked like the velocities
+//! and each contact's spring is kept between steps ([`Springs`], keyed by config ids).
+//! A frictionless run never touches a spin.
 //!
 //! # Neighbours
 //! A half Verlet list with a skin, built from a cell grid, and rebuilt only when the
@@ -52,16 +56,15 @@
 //! this crate's code rather than a copy:
 //! - [`step_subset`]: one velocity-Verlet step of the particles listed, with the
 //!   operations of [`Md::advance`] by one step ([`kick_contacts`], [`kick_drift`], the kernel,
-//!   [`add_force`]), velocities synchronised before and after. A filter on partners
-//!   leaves out pairs with particles that are not integrated (the hybrid's
-//!   event-driven ones: no mixed contacts).
-//! - [`step_subset_frictional`]: the same with friction, through [`FrictionKernel`]
-//!   (spins kicked like the velocities, the springs kept in a [`Springs`]).
+//!   [`apply_contacts`]), velocities synchronised before and after, with or without
+//!   friction ([`SpinMotion`], [`Rotation`]). A filter on partners leaves out pairs with
+//!   particles that are not integrated (the hybrid's event-driven ones: no mixed
+//!   contacts).
 //! - [`ForceKernel::particle`], the force kernel (walls, then the partners it is given,
-//!   with predictor and touch correction), writing to any [`ForceSink`]: MD records
-//!   [`PairForce`]s per chunk and applies them in order, the hybrid adds them at once
-//!   ([`AddForces`]). With h = 0 it gives the forces at the current velocities, as at
-//!   t = 0 (the hybrid's particles that switch to time-driven).
+//!   with predictor and touch correction), writing its contacts to any [`ForceSink`],
+//!   applied in order by [`apply_contacts`]. With h = 0 it gives the forces at the
+//!   current velocities, as at t = 0 (the hybrid's particles that switch to
+//!   time-driven).
 //! - [`ForceModel::add_elastic`] and [`elastic_energy`] for the thermo output.
 //!
 //! # Determinism
@@ -80,18 +83,20 @@ mod neighbour;
 mod options;
 mod simulation;
 mod verlet;
-mod verlet_frictional;
 
 pub use engine::{Md, check_and_wrap};
 pub use forces::{
-    AddForces, ForceKernel, ForceModel, ForceSink, PairForce, WALL, add_force, elastic_energy,
-    normal_force, touch_correction, unclipped_force,
+    Accelerations, ContactKey, ContactRecord, ForceKernel, ForceModel, ForceSink, PairForce,
+    Smooth, TangentialSlot, Touch, WALL, apply_contacts, elastic_energy, normal_force,
+    touch_correction, unclipped_force,
 };
-pub use frictional::{ContactForce, ContactKey, FrictionKernel, Springs};
+pub use frictional::{ContactForce, Frictional, Rotation, Springs};
 pub use neighbour::{Layout, NeighbourList};
 pub use options::{
     ContactEnd, DEFAULT_DT_FRACTION, MAX_DT_FRACTION, MdError, MdOptions, default_skin,
     prepare_system, shortest_contact_time,
 };
-pub use verlet::{Motion, StepBounds, kick_contacts, kick_drift, step_subset};
-pub use verlet_frictional::{SpinMotion, add_contact_forces, step_subset_frictional};
+pub use verlet::{
+    ContactScratch, Motion, SpinMotion, StepBounds, kick_contacts, kick_drift, step_subset,
+    subset_contacts,
+};

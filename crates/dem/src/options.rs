@@ -66,12 +66,6 @@ pub enum MdError {
     },
     #[error("time step dt = {0} must be a finite number greater than zero")]
     BadDt(f64),
-    #[error(
-        "material.tangential_restitution is Walton's rule of the event-driven engines; MD \
-         needs a tangential force law: give tangential_stiffness (the history spring) or \
-         tangential = \"coulomb\" instead"
-    )]
-    NoTangentialLaw,
     #[error("skin = {0} must be a finite number ≥ 0")]
     BadSkin(f64),
     #[error(
@@ -124,17 +118,15 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
     if v_ref.is_nan() || v_ref <= 0.0 {
         return Ok(None);
     }
-    let interactions = system.interactions()?;
-    let ns = interactions.species();
-    // The wall contacts come last; count them only where there are walls.
-    let contacts = (ns * (ns + 1) / 2)
-        + if system.domain.walls.is_empty() {
-            0
-        } else {
-            ns
-        };
+    let interactions = system.interactions();
+    // The wall contacts count only where there are walls.
+    let walls = (!system.domain.walls.is_empty()).then(|| interactions.wall_contacts());
     let mut t_min = f64::INFINITY;
-    for &emdstar_system::Interaction { law, props } in interactions.distinct().take(contacts) {
+    for i in interactions
+        .distinct_pairs()
+        .chain(walls.into_iter().flatten())
+    {
+        let (law, props) = (*i.law(), i.props);
         let mut t = law.elastic_duration(props.m_eff, v_ref)?;
         if let emdstar_contact::PairLaw::Linear { stiffness, damping } = law {
             let damped = emdstar_contact::LinearDashpot::new(stiffness, damping)?;

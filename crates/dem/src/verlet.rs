@@ -1,7 +1,11 @@
 //! The kicks and drifts of velocity Verlet (see the crate docs), and one whole step of
-//! a subset of the particles.
+//! a subset of the particles, with or without friction.
 
-use crate::forces::{AddForces, ForceKernel, ForceModel};
+use crate::forces::{
+    Accelerations, ContactRecord, ForceKernel, ForceModel, PairForce, Smooth, TangentialSlot,
+    apply_contacts,
+};
+use crate::frictional::{ContactForce, Frictional, Rotation};
 use crate::neighbour::{INDEX_MASK, NeighbourList};
 
 /// max(a, b) that lets a NaN through (so that a blow-up is noticed).
@@ -63,21 +67,47 @@ pub struct StepBounds {
     pub a_max: f64,
 }
 
+/// What friction adds to the state one step of a subset changes, indexed by particle.
+pub struct SpinMotion<'a> {
+    /// Spins, in step with the velocities.
+    pub angular_velocity: &'a mut [[f64; 3]],
+    /// 1/I, the angular accelerations (at the start of the step; replaced by those at
+    /// its end for the particles stepped) and the springs (of the contacts open before
+    /// the step; replaced by those open after).
+    pub rotation: &'a mut Rotation,
+    /// Config id of every particle (the springs' keys).
+    pub id: &'a [u32],
+}
+
+/// Scratch for the contacts of a step (contents replaced).
+#[derive(Debug, Clone, Default)]
+pub struct ContactScratch {
+    pub smooth: Vec<PairForce>,
+    pub frictional: Vec<ContactForce>,
+}
+
 /// One velocity-Verlet step of dt for the particles `ids` (each once), with
 /// velocities synchronised with positions before and after: the half kick with a(t),
 /// the drift, the forces at the new positions (predictor and touch correction as MD's,
 /// see the crate docs), the half kick with a(t + dt): the operations of
-/// [`crate::Md::advance`] by one step, on the subset.
+/// [`crate::Md::advance`] by one step, on the subset. With `spins`, the same kernel
+/// adds the tangential forces and torques ([`Frictional`]), the spins are kicked like
+/// the velocities (ω += (dt/2)·τ/I), and the springs of the contacts found are kept for
+/// the next step; a contact absent from a step (ended, or with a partner outside `ids`
+/// or refused by `partner`) loses its spring.
 ///
 /// Pairs are taken from `list` once each ([`NeighbourList::once`]), and only with
 /// partners j for which `partner(j)` holds; both particles of a pair kept must be in
 /// `ids` (a partner outside would be left with a force in `new_acc`). The caller keeps
 /// `list` fresh: it must hold every pair that can touch by the end of the step.
 /// Particles outside `ids` are not touched.
+#[allow(clippy::too_many_arguments)]
 pub fn step_subset(
     model: &ForceModel<'_>,
     list: &NeighbourList,
     motion: Motion<'_>,
+    spins: Option<SpinMotion<'_>>,
+    scratch: &mut ContactScratch,
     ids: &[u32],
     partner: impl Fn(usize) -> bool,
     dt: f64,
@@ -94,17 +124,76 @@ pub fn step_subset(
     let gravity = g != [0.0; 3];
     let gk = [g[0] * h, g[1] * h, g[2] * h];
     kick_contacts(velocity, contact_acc, ids, h);
+    let Some(spins) = spins else {
+        let v2_max = drift(position, velocity, ids, gk, dt, gravity);
+        let kernel = ForceKernel {
+            model: *model,
+            list,
+            contact_acc: &*contact_acc,
+            h,
+            slot: Smooth,
+        };
+        let contacts = &mut scratch.smooth;
+        subset_contacts(&kernel, ids, &partner, position, velocity, contacts);
+        let mut to = Accelerations {
+            inv_mass,
+            acc: new_acc,
+            angular: None,
+        };
+        apply_contacts(contacts.iter(), &mut to, None);
+        return close_step(velocity, contact_acc, new_acc, ids, h, gk, v2_max);
+    };
+    let SpinMotion {
+        angular_velocity,
+        rotation,
+        id,
+    } = spins;
+    kick_contacts(angular_velocity, &rotation.angular_acc, ids, h);
     let v2_max = drift(position, velocity, ids, gk, dt, gravity);
     let kernel = ForceKernel {
         model: *model,
         list,
         contact_acc: &*contact_acc,
         h,
+        slot: Frictional {
+            id,
+            angular_velocity: &*angular_velocity,
+            angular_acc: &rotation.angular_acc,
+            springs: &rotation.springs,
+        },
     };
-    let mut sink = AddForces {
-        acc: new_acc,
+    let contacts = &mut scratch.frictional;
+    subset_contacts(&kernel, ids, &partner, position, velocity, contacts);
+    // The angular accelerations of the step are built in place: no scratch for them.
+    for &i in ids {
+        rotation.angular_acc[i as usize] = [0.0; 3];
+    }
+    let mut to = Accelerations {
         inv_mass,
+        acc: new_acc,
+        angular: Some((&rotation.inv_inertia, &mut rotation.angular_acc)),
     };
+    apply_contacts(contacts.iter(), &mut to, None);
+    rotation
+        .springs
+        .replace(contacts.iter().filter_map(ContactRecord::spring));
+    // The spins' half kick with the new torques (independent of the velocities' kicks).
+    kick_contacts(angular_velocity, &rotation.angular_acc, ids, h);
+    close_step(velocity, contact_acc, new_acc, ids, h, gk, v2_max)
+}
+
+/// The contacts of the particles `ids` with their partners in `list` (each pair once)
+/// that `partner` keeps, in order, into `out` (cleared first).
+pub fn subset_contacts<S: TangentialSlot>(
+    kernel: &ForceKernel<'_, S>,
+    ids: &[u32],
+    partner: &impl Fn(usize) -> bool,
+    position: &[[f64; 3]],
+    velocity: &[[f64; 3]],
+    out: &mut Vec<S::Contact>,
+) {
+    out.clear();
+    let list = kernel.list;
     for &i in ids {
         let i = i as usize;
         let partners = list
@@ -119,10 +208,9 @@ pub fn step_subset(
             partners,
             position,
             velocity,
-            &mut sink,
+            out,
         );
     }
-    close_step(velocity, contact_acc, new_acc, ids, h, gk, v2_max)
 }
 
 /// The drift of a subset's step, after the contact half kick: gravity's half kick

@@ -7,8 +7,8 @@ mod common;
 use common::*;
 use emdstar_contact::Vec3;
 use emdstar_dem::{
-    AddForces, ContactEnd, ForceKernel, ForceModel, Motion, NeighbourList, shortest_contact_time,
-    step_subset,
+    Accelerations, ContactEnd, ContactScratch, ForceKernel, ForceModel, Motion, NeighbourList,
+    Smooth, apply_contacts, shortest_contact_time, step_subset,
 };
 use emdstar_system::{Config, Particles, System};
 
@@ -24,7 +24,7 @@ fn run_subset(
     steps: u64,
 ) -> Particles {
     let mut p = system.particles.clone();
-    let interactions = system.interactions().unwrap();
+    let interactions = system.interactions();
     let inv_mass: Vec<f64> = p.mass.iter().map(|m| 1.0 / m).collect();
     let mut contact_acc = vec![[0.0; 3]; p.len()];
     let mut new_acc = vec![[0.0; 3]; p.len()];
@@ -37,7 +37,7 @@ fn run_subset(
     let model = ForceModel::new(
         &p.radius,
         &p.species,
-        &interactions,
+        interactions,
         &system.domain,
         ContactEnd::ForceZero,
     );
@@ -46,18 +46,23 @@ fn run_subset(
         list: &list,
         contact_acc: &new_acc,
         h: 0.0,
+        slot: Smooth,
     };
-    let mut sink = AddForces {
-        acc: &mut contact_acc,
-        inv_mass: &inv_mass,
-    };
+    let mut first = Vec::new();
     for &i in ids {
         let i = i as usize;
         let partners = list.once(i).iter().copied();
         let partners = partners.filter(|&e| partner(list.split(e).0));
         let (x, v) = (p.position[i], p.velocity[i]);
-        kernel.particle(i, x, v, partners, &p.position, &p.velocity, &mut sink);
+        kernel.particle(i, x, v, partners, &p.position, &p.velocity, &mut first);
     }
+    let mut to = Accelerations {
+        inv_mass: &inv_mass,
+        acc: &mut contact_acc,
+        angular: None,
+    };
+    apply_contacts(first.iter(), &mut to, None);
+    let mut scratch = ContactScratch::default();
     for _ in 0..steps {
         if let Some(b) = sim_box {
             p.position.iter_mut().for_each(|x| *x = b.wrap(*x));
@@ -71,7 +76,7 @@ fn run_subset(
             new_acc: &mut new_acc,
             inv_mass: &inv_mass,
         };
-        step_subset(&model, &list, motion, ids, partner, dt);
+        step_subset(&model, &list, motion, None, &mut scratch, ids, partner, dt);
     }
     p
 }

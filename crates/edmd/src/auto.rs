@@ -9,7 +9,6 @@ use crate::error::{EngineError, Result};
 use crate::physics::{BroadPhaseKind, Physics};
 use crate::queue::EventQueue;
 use crate::stats::Stats;
-use emdstar_contact::Walton;
 use emdstar_system::{Domain, Particles};
 
 /// The event-driven engine for hard spheres, eMD and eMD*, on the broad phase
@@ -175,37 +174,9 @@ impl<Q: EventQueue> Engine<Q> {
         on_engine!(self, e => e.masses())
     }
 
-    /// The collision rule.
-    pub fn physics(&self) -> &Physics {
-        on_engine!(self, e => e.physics())
-    }
-
-    /// Friction by Walton's rule, if collisions are frictional.
-    pub fn friction(&self) -> Option<Walton> {
-        on_engine!(self, e => e.friction())
-    }
-
-    /// Makes collisions frictional by Walton's rule (see [`EventEngine::with_friction`]).
-    pub fn with_friction(self, walton: Walton) -> Result<Self> {
-        Ok(match self {
-            Self::Crossings(e) => Self::Crossings(e.with_friction(walton)?),
-            Self::Epochs(e) => Self::Epochs(e.with_friction(walton)?),
-            Self::Neighbours(e) => Self::Neighbours(e.with_friction(walton)?),
-        })
-    }
-
-    /// eMD*'s frictional spheres, if collisions are frictional.
-    pub fn exact_friction(&self) -> Option<emdstar_contact::Friction> {
-        on_engine!(self, e => e.exact_friction())
-    }
-
-    /// Makes eMD*'s collisions frictional (see [`EventEngine::with_exact_friction`]).
-    pub fn with_exact_friction(self, friction: emdstar_contact::Friction) -> Result<Self> {
-        Ok(match self {
-            Self::Crossings(e) => Self::Crossings(e.with_exact_friction(friction)?),
-            Self::Epochs(e) => Self::Epochs(e.with_exact_friction(friction)?),
-            Self::Neighbours(e) => Self::Neighbours(e.with_exact_friction(friction)?),
-        })
+    /// The collision rules.
+    pub fn rules(&self) -> &crate::collision::Rules {
+        on_engine!(self, e => e.rules())
     }
 
     /// Angular velocities in rad/s, by particle number.

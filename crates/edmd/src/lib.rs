@@ -41,9 +41,12 @@
 //!   both partners, [`Interference`]); a rotation that would push into a third
 //!   particle or a wall falls back to the eMD rule (exception a). All are counted in
 //!   [`Stats`].
-//! - friction (hard spheres and eMD, [`Engine::with_friction`]): Walton's rule
-//!   (`emdstar_contact::rough_pair`) replaces the central kick; spins are kept per
-//!   particle outside the slots and change only at collisions.
+//! - the collision rules are values chosen once per kind of contact
+//!   ([`collision::Rules`]): hard spheres, eMD and eMD*, Walton's rule
+//!   (`emdstar_contact::rough_pair`) instead of the central kick where an instantaneous
+//!   contact has friction, the exact frictional contact where an eMD* contact has the
+//!   history spring; spins are kept per particle outside the slots and change only at
+//!   collisions.
 
 /// `$body` with `$e` bound to the engine of whichever broad phase runs.
 macro_rules! on_engine {
@@ -78,7 +81,7 @@ pub use broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 pub use calendar::CalendarQueue;
 pub use engine::{Event, EventEngine};
 pub use error::{EngineError, Result};
-pub use physics::{BroadPhaseKind, Interference, Materials, PairEntry, Physics};
+pub use physics::{BroadPhaseKind, Interference, Physics};
 pub use queue::{EventQueue, IndexedHeap};
 pub use state::State;
 pub use stats::Stats;

@@ -1,11 +1,11 @@
-//! What the event engine is told besides the particles and their domain: the collision
-//! rule ([`Physics`]), the pair physics it needs ([`Materials`]), the variant of eMD*'s
-//! exception (b) and the broad phase to use.
+//! What the event engine is told besides the particles and their domain: the method
+//! and the contacts it runs ([`Physics`]; the engine makes the rules of
+//! `collision::Rules` of them once), the variant of eMD*'s exception (b) and the broad
+//! phase to use.
 
-use crate::error::Result;
-use crate::rules::{CentralRestitution, MorSource};
-use emdstar_contact::{ForceLaw, Sphere};
-use emdstar_system::{Interaction, Interactions, Species, System};
+use crate::rules::MorSource;
+use emdstar_contact::Walton;
+use emdstar_system::Interactions;
 
 /// How the event engine finds the pairs to test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -49,88 +49,6 @@ impl BroadPhaseKind {
     pub const AUTO_NEIGHBOURS_FROM: f64 = 0.38;
 }
 
-/// The pair physics of every kind of contact ([`Interactions`], shared with the other
-/// engines) and, for eMD, the central restitution of each.
-#[derive(Debug, Clone, Default)]
-pub struct Materials {
-    interactions: Interactions,
-    /// The central restitution of each interaction, in the order of `Interactions`:
-    /// `pairs[a * species + b]`, then one per species against a wall.
-    pairs: Vec<CentralRestitution>,
-    walls: Vec<CentralRestitution>,
-}
-
-/// The physics of one kind of pair: its interaction and its central restitution.
-#[derive(Debug, Clone, Copy)]
-pub struct PairEntry<'a> {
-    pub interaction: &'a Interaction,
-    pub central: &'a CentralRestitution,
-}
-
-impl Materials {
-    /// The materials of `interactions`.
-    pub fn new(interactions: Interactions) -> Result<Self> {
-        let n = interactions.species() as u32;
-        let central = |i: &Interaction| CentralRestitution::of(&i.law, &i.props);
-        let pairs = (0..n)
-            .flat_map(|a| (0..n).map(move |b| (a, b)))
-            .map(|(a, b)| central(interactions.pair(a, b)))
-            .collect::<Result<Vec<_>>>()?;
-        let walls = (0..n)
-            .map(|a| central(interactions.wall(a)))
-            .collect::<Result<Vec<_>>>()?;
-        Ok(Self {
-            interactions,
-            pairs,
-            walls,
-        })
-    }
-
-    /// Materials of spheres `species` (one material `law` for all, walls included).
-    pub fn of_spheres(law: &ForceLaw, species: &[Sphere]) -> Result<Self> {
-        let species: Vec<Species> = species
-            .iter()
-            .map(|s| Species {
-                radius: s.radius,
-                mass: s.mass,
-            })
-            .collect();
-        Self::new(Interactions::of(law, &species)?)
-    }
-
-    /// The materials of every species of `system`.
-    pub fn from_system(system: &System) -> Result<Self> {
-        Self::new(system.interactions()?)
-    }
-
-    /// Species `a` against species `b`.
-    #[inline]
-    pub fn pair(&self, a: u32, b: u32) -> PairEntry<'_> {
-        PairEntry {
-            interaction: self.interactions.pair(a, b),
-            central: &self.pairs[a as usize * self.interactions.species() + b as usize],
-        }
-    }
-
-    /// Species `a` against a wall.
-    #[inline]
-    pub fn wall(&self, a: u32) -> PairEntry<'_> {
-        PairEntry {
-            interaction: self.interactions.wall(a),
-            central: &self.walls[a as usize],
-        }
-    }
-
-    /// The interactions (laws and pair properties) alone.
-    pub fn interactions(&self) -> &Interactions {
-        &self.interactions
-    }
-
-    pub fn species(&self) -> usize {
-        self.interactions.species()
-    }
-}
-
 /// eMD* exception (b): which pending E^v events run early when a third particle hits
 /// a particle in its transient (Müller & Pöschel 2013, Sec. VI B 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -142,27 +60,43 @@ pub enum Interference {
     BothPartners,
 }
 
-/// The collision rule of a run.
+/// The method of a run and the contacts it runs.
 pub enum Physics {
     /// Instantaneous hard-sphere collisions with one constant ε (1 = elastic), walls
-    /// included.
-    HardSpheres { restitution: f64 },
+    /// included, smooth or with Walton's rule.
+    HardSpheres {
+        restitution: f64,
+        walton: Option<Walton>,
+    },
     /// Classic eMD: instantaneous collisions with the force law's central restitution
-    /// at the actual normal impact speed.
-    Emd(Materials),
-    /// eMD*: three events per collision with the matrix of restitution.
+    /// at the actual normal impact speed (Walton's rule where a contact has it).
+    Emd(Interactions),
+    /// eMD*: three events per collision with the matrix of restitution (the exact
+    /// frictional contact where a contact has the history spring).
     EmdStar {
-        materials: Materials,
+        interactions: Interactions,
         mor: Box<dyn MorSource>,
         interference: Interference,
     },
 }
 
 impl Physics {
-    pub fn materials(&self) -> Option<&Materials> {
+    /// Smooth hard spheres of restitution `restitution`.
+    pub fn hard_spheres(restitution: f64) -> Self {
+        Self::HardSpheres {
+            restitution,
+            walton: None,
+        }
+    }
+
+    /// The contacts (none for hard spheres).
+    pub fn interactions(&self) -> Option<&Interactions> {
         match self {
             Self::HardSpheres { .. } => None,
-            Self::Emd(m) | Self::EmdStar { materials: m, .. } => Some(m),
+            Self::Emd(i)
+            | Self::EmdStar {
+                interactions: i, ..
+            } => Some(i),
         }
     }
 }

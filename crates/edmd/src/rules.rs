@@ -52,56 +52,80 @@ impl MorSource for ExactMor {
     }
 }
 
-/// A matrix-of-restitution table (crate emdstar-table), optionally falling back to
-/// the exact solver for impacts outside its box (each fallback is counted).
+/// Matrix-of-restitution tables (crate emdstar-table), one per force model at most,
+/// optionally falling back to the exact solver for impacts outside a table's box or of
+/// a model without a table (each fallback is counted).
 pub struct TableMorSource {
-    table: TableRef,
+    tables: Vec<TableRef>,
     exact_fallback: bool,
 }
 
-enum TableRef {
+/// A table that lives for the whole program (a shipped default table) or one read from
+/// a file.
+pub enum TableRef {
     Static(&'static Table),
     Owned(Box<Table>),
+}
+
+impl TableRef {
+    fn table(&self) -> &Table {
+        match self {
+            Self::Static(t) => t,
+            Self::Owned(t) => t,
+        }
+    }
 }
 
 impl TableMorSource {
     /// A table that lives for the whole program, e.g. a shipped default table
     /// (`emdstar_table::default_table` with that crate's `embedded-defaults` feature).
     pub fn new(table: &'static Table, exact_fallback: bool) -> Self {
-        Self {
-            table: TableRef::Static(table),
-            exact_fallback,
-        }
+        Self::with_tables(vec![TableRef::Static(table)], exact_fallback)
     }
 
     /// A table read from a file.
     pub fn from_table(table: Table, exact_fallback: bool) -> Self {
+        Self::with_tables(vec![TableRef::Owned(Box::new(table))], exact_fallback)
+    }
+
+    /// Tables of distinct models (the first of a model is used).
+    pub fn with_tables(tables: Vec<TableRef>, exact_fallback: bool) -> Self {
         Self {
-            table: TableRef::Owned(Box::new(table)),
+            tables,
             exact_fallback,
         }
     }
 
-    fn table(&self) -> &Table {
-        match &self.table {
-            TableRef::Static(t) => t,
-            TableRef::Owned(t) => t,
-        }
+    /// Whether a table covers `model`.
+    pub fn covers(&self, model: Model) -> bool {
+        self.tables.iter().any(|t| t.table().model() == model)
     }
 }
 
 impl MorSource for TableMorSource {
     fn mor(&mut self, model: Model, p: &ScaledParams) -> Result<(Mor, bool)> {
-        let table = self.table();
-        if table.model() != model {
+        let Some(table) = self
+            .tables
+            .iter()
+            .map(TableRef::table)
+            .find(|t| t.model() == model)
+        else {
+            if self.exact_fallback {
+                return Ok((solve(model, p)?, true));
+            }
+            let have: Vec<&str> = self
+                .tables
+                .iter()
+                .map(|t| t.table().model().name())
+                .collect();
             return Err(EngineError::Invalid(format!(
                 "the MoR table is for the {} model but the collision follows the {} model; \
                  give a {} table",
-                table.model().name(),
+                have.join(" and "),
                 model.name(),
                 model.name()
             )));
-        }
+        };
         match table.lookup_scaled(p) {
             Ok(m) => Ok((m, false)),
             Err(e @ (TableError::OutOfBox { .. } | TableError::NotTabulated(_))) => {

@@ -1,7 +1,7 @@
 //! The event engine behind the workspace's one simulation interface.
 
 use crate::auto::Engine;
-use crate::physics::{BroadPhaseKind, Physics};
+use crate::physics::BroadPhaseKind;
 use crate::queue::EventQueue;
 use emdstar_system::{Domain, Particles, Simulation, SimulationError, Thermo};
 use serde::Serialize;
@@ -9,11 +9,7 @@ use serde::de::DeserializeOwned;
 
 impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
     fn engine(&self) -> &'static str {
-        match self.physics() {
-            Physics::HardSpheres { .. } => "hard-spheres",
-            Physics::Emd(_) => "emd",
-            Physics::EmdStar { .. } => "emdstar",
-        }
+        self.rules().method()
     }
 
     fn time(&self) -> f64 {

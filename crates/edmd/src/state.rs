@@ -1,15 +1,12 @@
-//! The state an event engine keeps apart from its broad phase: each particle's
-//! kinematics and own events, the queue, the clock, the physics and the counters, with
+//! The state an event engine keeps apart from its broad phase and its rules: each
+//! particle's kinematics and own events, the queue, the clock and the counters, with
 //! the operations both broad phases use on them (delayed updates, periodic images,
 //! keeping the earliest prediction, queueing).
 
 use crate::collision::{LastContact, NONE, RotationProbe};
-use crate::physics::Physics;
 use crate::queue::EventQueue;
-use crate::rules::HertzRestitution;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_contact::{Friction, Walton};
 use emdstar_system::{Domain, SimBox};
 use serde::{Deserialize, Serialize};
 
@@ -148,20 +145,6 @@ pub struct State<Q: EventQueue> {
     /// The walls (unit normals) and gravity; the box as given (`None`: free space).
     pub(crate) domain: Domain,
     pub(crate) has_gravity: bool,
-    /// Not saved: a restored engine keeps the physics it was built with.
-    #[serde(skip, default = "unset_physics")]
-    pub(crate) physics: Physics,
-    /// Friction by Walton's rule (µ > 0; hard spheres and eMD), part of the physics:
-    /// not saved either.
-    #[serde(skip)]
-    pub(crate) walton: Option<Walton>,
-    /// eMD*: the history spring of frictional spheres, solved exactly per collision
-    /// (µ > 0); part of the physics, not saved.
-    #[serde(skip)]
-    pub(crate) exact_friction: Option<Friction>,
-    /// A cache of exact values (rebuilt on demand).
-    #[serde(skip)]
-    pub(crate) hertz: HertzRestitution,
     pub(crate) stats: Stats,
     /// Consecutive events with time advancing by round-off at most (an inelastic
     /// collapse never ends).
@@ -465,12 +448,6 @@ impl<Q: EventQueue> State<Q> {
             self.schedule(i);
         }
     }
-}
-
-/// The physics of a state just read from a checkpoint, until the engine's own is put
-/// back.
-fn unset_physics() -> Physics {
-    Physics::HardSpheres { restitution: 1.0 }
 }
 
 /// Reorders `v` so that new index k holds old element `order[k]`.

@@ -105,7 +105,7 @@ fn collision_sequence_equals_the_brute_force_reference() {
     for (cells, density, count) in [(3, 0.2, 150), (2, 0.15, 150)] {
         let setup = fcc(cells, density, 1.0, 1.0, 1.0, 17);
         let reference = brute_force(&setup, count);
-        let physics = || Physics::HardSpheres { restitution: 1.0 };
+        let physics = || Physics::hard_spheres(1.0);
         let (p, d) = &setup;
         let heap: Engine<IndexedHeap> = Engine::new(p, d, physics()).unwrap();
         assert_same(&reference, &engine_collisions(heap, count), "heap");
@@ -124,7 +124,7 @@ fn neighbour_lists_give_the_brute_force_collision_sequence() {
     for (cells, density, count) in [(3, 0.2, 150), (2, 0.15, 150), (3, 0.8, 300)] {
         let setup = fcc(cells, density, 1.0, 1.0, 1.0, 17);
         let reference = brute_force(&setup, count);
-        let physics = || Physics::HardSpheres { restitution: 1.0 };
+        let physics = || Physics::hard_spheres(1.0);
         let (p, d) = &setup;
         let lists = || Engine::with_broad_phase(p, d, physics(), BroadPhaseKind::Neighbours);
         let plain: Engine = lists().unwrap();
@@ -159,7 +159,7 @@ fn epochs_give_the_brute_force_collision_sequence_in_a_dilute_gas() {
     // crossings and the brute force also part after about 50 collisions.
     let count = 45;
     let reference = brute_force(&setup, count);
-    let physics = || Physics::HardSpheres { restitution: 1.0 };
+    let physics = || Physics::hard_spheres(1.0);
     let (p, d) = &setup;
     let mut e: Engine = Engine::with_broad_phase(p, d, physics(), BroadPhaseKind::Epochs).unwrap();
     let mut got = vec![];
@@ -192,7 +192,7 @@ fn epochs_and_crossings_give_the_brute_force_sequence_of_a_polydisperse_gas() {
     }
     let count = 60;
     let reference = brute_force(&setup, count);
-    let physics = || Physics::HardSpheres { restitution: 1.0 };
+    let physics = || Physics::hard_spheres(1.0);
     for broad_phase in [BroadPhaseKind::Epochs, BroadPhaseKind::Crossings] {
         let e: Engine =
             Engine::with_broad_phase(&setup.0, &setup.1, physics(), broad_phase).unwrap();

@@ -1,11 +1,13 @@
 //! eMD* gases: conservation with exceptions, both interference variants.
 
+use emdstar_contact::Tangential;
 use emdstar_contact::{ForceLaw, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::ExactMor;
+use emdstar_system::Interactions;
 mod common;
 
 use common::fcc;
-use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Materials, Physics};
+use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Physics};
 use emdstar_system::{Domain, Particles};
 
 /// A soft elastic Hertz gas (Y = 10 MPa so that exceptions are frequent), R = 0.1 m,
@@ -17,7 +19,7 @@ fn soft_gas(eta: f64, interference: Interference) -> ((Particles, Domain), Physi
     let setup = fcc(5, density, 0.2, sphere.mass, kt, 21);
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e7, 0.4, 0.0).unwrap());
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+        interactions: Interactions::of_spheres(&law, Tangential::None, &[sphere]).unwrap(),
         mor: Box::new(ExactMor),
         interference,
     };
@@ -114,7 +116,7 @@ fn impacts_come_from_outside_contact_except_recontacts_within_the_placed_overlap
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e8, 0.4, 1e-5).unwrap());
     for interference in [Interference::HitOnly, Interference::BothPartners] {
         let physics = Physics::EmdStar {
-            materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+            interactions: Interactions::of_spheres(&law, Tangential::None, &[sphere]).unwrap(),
             mor: Box::new(ExactMor),
             interference,
         };

@@ -1,12 +1,14 @@
 //! eMD* and eMD pair collisions against the exact two-body solution
 //! (`emdstar_mor::rule::exact_collision`: scaling, exact MoR, lab-frame rule).
 
+use emdstar_contact::Tangential;
 use emdstar_contact::{
     ForceLaw, LinearDashpot, PairLaw, PairProperties, Sphere, Vec3, ViscoelasticHertz,
 };
 use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Event, Interference, Materials, Physics};
+use emdstar_edmd::{Engine, Event, Interference, Physics};
 use emdstar_mor::rule::{Body, exact_collision};
+use emdstar_system::Interactions;
 use emdstar_system::{Domain, Particles};
 
 use emdstar_contact::vec3::from_na as arr;
@@ -76,7 +78,7 @@ fn exact_after(
 
 fn emdstar_with(law: &ForceLaw, spheres: [Sphere; 2], mor: Box<dyn MorSource>) -> Physics {
     Physics::EmdStar {
-        materials: Materials::of_spheres(law, &spheres).unwrap(),
+        interactions: Interactions::of_spheres(law, Tangential::None, &spheres).unwrap(),
         mor,
         interference: Interference::HitOnly,
     }
@@ -217,7 +219,7 @@ fn impacts_outside_the_table_are_errors_unless_the_exact_fallback_is_chosen() {
 fn emd_agrees_with_the_exact_velocities_only_for_central_impacts() {
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e7, 0.4, 1e-4).unwrap());
     let sp = spheres(true);
-    let materials = Materials::of_spheres(&law, &sp).unwrap();
+    let materials = Interactions::of_spheres(&law, Tangential::None, &sp).unwrap();
     for (e, central) in [(0.0, true), (0.5, false)] {
         let (setup, t_contact) = approach(sp, 2.0, e, 0.01);
         let mut engine: Engine =

@@ -9,12 +9,16 @@ mod common;
 
 use common::fcc;
 use emdstar_contact::vec3::{add, cross, dot, norm, scale, sub};
-use emdstar_contact::{ForceLaw, LinearDashpot, Sphere, Walton};
-use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Materials, Physics};
-use emdstar_system::{Domain, Particles, Simulation, Wall};
+use emdstar_contact::{ForceLaw, HistorySpring, LinearDashpot, Sphere, Tangential, Walton};
+use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Physics};
+use emdstar_system::{Domain, Interactions, Particles, Simulation, Wall};
 
-fn hard(e: f64) -> Physics {
-    Physics::HardSpheres { restitution: e }
+/// Hard spheres of restitution `e` with Walton's rule `w`.
+fn rough(e: f64, w: Walton) -> Physics {
+    Physics::HardSpheres {
+        restitution: e,
+        walton: Some(w),
+    }
 }
 
 /// Spins of a few rad/s, different for every particle (deterministic).
@@ -41,10 +45,7 @@ fn a_frictional_gas_keeps_its_momentum_and_never_gains_energy() {
     assert_eq!(p.len(), 500);
     spin_up(&mut p, 2.0);
     let w = Walton::new(0.3, 0.4).unwrap();
-    let mut e: Engine = Engine::new(&p, &d, hard(0.95))
-        .unwrap()
-        .with_friction(w)
-        .unwrap();
+    let mut e: Engine = Engine::new(&p, &d, rough(0.95, w)).unwrap();
     let p0 = e.momentum();
     let speed_sum: f64 = p.velocity.iter().map(|v| norm(*v)).sum();
     let (mut energy, rot0) = (total_energy(&e), e.thermo().rotational_energy);
@@ -65,17 +66,16 @@ fn a_frictional_gas_keeps_its_momentum_and_never_gains_energy() {
     // Friction moved energy between spins and flights, and dissipated some.
     let rot = e.thermo().rotational_energy;
     assert!((rot - rot0).abs() > 0.01 * rot0, "spins {rot0} → {rot}");
-    assert!(energy < 0.9 * (total_energy(&Engine::new(&p, &d, hard(1.0)).unwrap())));
+    assert!(
+        energy < 0.9 * (total_energy(&Engine::new(&p, &d, Physics::hard_spheres(1.0)).unwrap()))
+    );
 }
 
 #[test]
 fn a_perfectly_rough_elastic_gas_keeps_its_energy_and_spins_up() {
     let (p, d) = fcc(5, 0.3, 1.0, 1.0, 1.0, 5);
-    let rough = Walton::new(1e9, 1.0).unwrap();
-    let mut e: Engine = Engine::new(&p, &d, hard(1.0))
-        .unwrap()
-        .with_friction(rough)
-        .unwrap();
+    let perfect = Walton::new(1e9, 1.0).unwrap();
+    let mut e: Engine = Engine::new(&p, &d, rough(1.0, perfect)).unwrap();
     let e0 = total_energy(&e);
     assert_eq!(e.thermo().rotational_energy, 0.0);
     e.run_collisions(20_000).unwrap();
@@ -99,19 +99,13 @@ fn smooth_limits_leave_the_spins_alone_and_mu_zero_is_the_frictionless_rule() {
     spin_up(&mut p, 3.0);
     // β₀ = −1: no tangential impulse, whatever µ.
     let smooth = Walton::new(0.8, -1.0).unwrap();
-    let mut e: Engine = Engine::new(&p, &d, hard(0.9))
-        .unwrap()
-        .with_friction(smooth)
-        .unwrap();
+    let mut e: Engine = Engine::new(&p, &d, rough(0.9, smooth)).unwrap();
     e.run_collisions(5000).unwrap();
     assert_eq!(e.angular_velocities(), p.angular_velocity);
     // µ = 0: the frictionless rule itself, bit for bit.
-    let mut plain: Engine = Engine::new(&p, &d, hard(0.9)).unwrap();
-    let mut zero: Engine = Engine::new(&p, &d, hard(0.9))
-        .unwrap()
-        .with_friction(Walton::new(0.0, 0.5).unwrap())
-        .unwrap();
-    assert!(zero.friction().is_none());
+    let mut plain: Engine = Engine::new(&p, &d, Physics::hard_spheres(0.9)).unwrap();
+    let mut zero: Engine = Engine::new(&p, &d, rough(0.9, Walton::new(0.0, 0.5).unwrap())).unwrap();
+    assert!(!zero.rules().is_frictional());
     plain.run_collisions(3000).unwrap();
     zero.advance_to(plain.time()).unwrap();
     assert_eq!(plain.particles(), zero.particles());
@@ -137,10 +131,7 @@ fn a_rough_sphere_leaves_a_wall_like_a_superball() {
         }],
         ..Domain::default()
     };
-    let mut e: Engine = Engine::new(&p, &d, hard(1.0))
-        .unwrap()
-        .with_friction(Walton::new(1e9, 1.0).unwrap())
-        .unwrap();
+    let mut e: Engine = Engine::new(&p, &d, rough(1.0, Walton::new(1e9, 1.0).unwrap())).unwrap();
     while !matches!(e.step().unwrap(), Event::Wall(..)) {}
     let (v, w) = (e.velocities()[0], e.angular_velocities()[0]);
     assert!((v[0] - 3.0 / 7.0 * u).abs() < 1e-14, "{v:?}");
@@ -164,8 +155,9 @@ fn emd_applies_the_force_laws_restitution_and_beta0_to_the_contact_point() {
         / omega;
     let eps = (-beta * tc).exp();
     let law = ForceLaw::Linear(LinearDashpot::new(k, gamma).unwrap());
-    let physics = Physics::Emd(Materials::of_spheres(&law, &[sphere]).unwrap());
     let b0 = 0.45;
+    let walton = Tangential::Walton(Walton::new(1e9, b0).unwrap());
+    let physics = Physics::Emd(Interactions::of_spheres(&law, walton, &[sphere]).unwrap());
     let mut p = Particles::from_columns(
         vec![[-0.3, 0.05, 0.0], [0.3, -0.05, 0.02]],
         vec![[1.0, 0.3, 0.0], [-1.0, 0.0, -0.2]],
@@ -175,10 +167,7 @@ fn emd_applies_the_force_laws_restitution_and_beta0_to_the_contact_point() {
     )
     .unwrap();
     p.angular_velocity = vec![[0.0, 0.0, 5.0], [3.0, -1.0, 0.0]];
-    let mut e: Engine = Engine::new(&p, &Domain::default(), physics)
-        .unwrap()
-        .with_friction(Walton::new(1e9, b0).unwrap())
-        .unwrap();
+    let mut e: Engine = Engine::new(&p, &Domain::default(), physics).unwrap();
     let contact = |e: &Engine, n: [f64; 3]| {
         let (v, w) = (e.velocities(), e.angular_velocities());
         // Each contact point moves with its centre plus ω × (its offset).
@@ -219,9 +208,7 @@ fn a_restored_frictional_gas_continues_bitwise_with_its_spins() {
         let engine = || {
             let (mut p, d) = fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
             spin_up(&mut p, 1.0);
-            Engine::with_broad_phase(&p, &d, hard(0.9), kind)
-                .unwrap()
-                .with_friction(Walton::new(0.25, 0.3).unwrap())
+            Engine::with_broad_phase(&p, &d, rough(0.9, Walton::new(0.25, 0.3).unwrap()), kind)
                 .unwrap()
         };
         let t_end = 40.0;
@@ -246,14 +233,13 @@ fn emdstar_refuses_waltons_rule_and_names_the_engines_that_run_it() {
     let (p, d) = fcc(2, 0.05, 1.0, 1.0, 1.0, 1);
     let sphere = Sphere::new(0.5, 1.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(1e4, 0.0).unwrap());
+    let walton = Tangential::Walton(Walton::new(0.2, 0.4).unwrap());
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+        interactions: Interactions::of_spheres(&law, walton, &[sphere]).unwrap(),
         mor: Box::new(emdstar_edmd::rules::ExactMor),
         interference: Interference::HitOnly,
     };
     let err = Engine::<emdstar_edmd::CalendarQueue>::new(&p, &d, physics)
-        .unwrap()
-        .with_friction(Walton::new(0.2, 0.4).unwrap())
         .err()
         .expect("eMD* refuses Walton's rule")
         .to_string();
@@ -292,10 +278,7 @@ fn a_frictional_gas_between_walls_under_gravity_never_gains_energy() {
         ],
         gravity: [0.0, 0.0, -0.5],
     };
-    let mut e: Engine = Engine::new(&p, &d, hard(0.9))
-        .unwrap()
-        .with_friction(Walton::new(0.4, 0.2).unwrap())
-        .unwrap();
+    let mut e: Engine = Engine::new(&p, &d, rough(0.9, Walton::new(0.4, 0.2).unwrap())).unwrap();
     let total = |e: &Engine| {
         let t = e.thermo();
         t.kinetic_energy + t.rotational_energy + t.potential_energy
@@ -327,10 +310,12 @@ fn a_rough_collision_of_unequal_spheres_keeps_the_angular_momentum_about_the_ori
     )
     .unwrap();
     p.angular_velocity = vec![[4.0, -2.0, 7.0], [0.0, 3.0, -1.0]];
-    let mut e: Engine = Engine::new(&p, &Domain::default(), hard(0.8))
-        .unwrap()
-        .with_friction(Walton::new(0.3, 0.4).unwrap())
-        .unwrap();
+    let mut e: Engine = Engine::new(
+        &p,
+        &Domain::default(),
+        rough(0.8, Walton::new(0.3, 0.4).unwrap()),
+    )
+    .unwrap();
     let l0 = p.angular_momentum();
     while !matches!(e.step().unwrap(), Event::Collision(..)) {}
     let after = e.particles();
@@ -341,33 +326,26 @@ fn a_rough_collision_of_unequal_spheres_keeps_the_angular_momentum_about_the_ori
 }
 
 /// eMD* with the exact frictional contact on a gas of spheres (σ = 1, m = 1).
-fn frictional_emdstar(p: &Particles, d: &Domain, friction: emdstar_contact::Friction) -> Engine {
+fn frictional_emdstar(p: &Particles, d: &Domain, friction: Tangential) -> Engine {
     let sphere = Sphere::new(0.5, 1.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(1e4, 5.0).unwrap());
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+        interactions: Interactions::of_spheres(&law, friction, &[sphere]).unwrap(),
         mor: Box::new(emdstar_edmd::rules::ExactMor),
         interference: Interference::HitOnly,
     };
-    Engine::new(p, d, physics)
-        .unwrap()
-        .with_exact_friction(friction)
-        .unwrap()
+    Engine::new(p, d, physics).unwrap()
+}
+
+/// The history spring of the frictional eMD* tests (µ, k_t, no dashpot).
+fn history(mu: f64, k_t: f64) -> Tangential {
+    Tangential::History(HistorySpring::new(mu, k_t, 0.0).unwrap())
 }
 
 #[test]
 fn frictional_emdstar_keeps_momentum_moves_energy_into_spins_and_counts_its_solves() {
     let (p, d) = fcc(3, 0.3, 1.0, 1.0, 1.0, 7);
-    let history = |mu| {
-        emdstar_contact::Friction::new(
-            mu,
-            2e4 / 7.0,
-            0.0,
-            emdstar_contact::TangentialModel::History,
-        )
-        .unwrap()
-    };
-    let mut e = frictional_emdstar(&p, &d, history(0.5));
+    let mut e = frictional_emdstar(&p, &d, history(0.5, 2e4 / 7.0));
     let p0 = e.momentum();
     let speed_sum: f64 = p.velocity.iter().map(|v| norm(*v)).sum();
     assert_eq!(e.thermo().rotational_energy, 0.0);
@@ -383,9 +361,9 @@ fn frictional_emdstar_keeps_momentum_moves_energy_into_spins_and_counts_its_solv
     // Spins took up energy from rest, and the damped gas cooled.
     let t = e.thermo();
     assert!(t.rotational_energy > 0.05 * t.kinetic_energy, "{t:?}");
-    let smooth = frictional_emdstar(&p, &d, history(0.0));
+    let smooth = frictional_emdstar(&p, &d, history(0.0, 2e4 / 7.0));
     assert!(
-        smooth.exact_friction().is_none(),
+        !smooth.rules().is_frictional(),
         "µ = 0 keeps the frictionless rule"
     );
 }
@@ -396,14 +374,7 @@ fn frictional_emdstar_keeps_momentum_moves_energy_into_spins_and_counts_its_solv
 #[test]
 fn a_restored_frictional_emdstar_gas_continues_bitwise_with_its_counters() {
     let (p, d) = fcc(3, 0.3, 1.0, 1.0, 1.0, 11);
-    let friction = emdstar_contact::Friction::new(
-        0.4,
-        2e4 / 7.0,
-        0.0,
-        emdstar_contact::TangentialModel::History,
-    )
-    .unwrap();
-    let engine = || frictional_emdstar(&p, &d, friction);
+    let engine = || frictional_emdstar(&p, &d, history(0.4, 2e4 / 7.0));
     let t_end = 4.0;
     let mut straight = engine();
     straight.advance_to(t_end).unwrap();
@@ -438,32 +409,24 @@ fn frictional_emdstar_refuses_walls_and_pure_coulomb_sliding() {
     };
     let sphere = Sphere::new(0.5, 1.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(1e4, 0.0).unwrap());
-    let build = |d: &Domain| -> Engine {
-        Engine::new(
+    let build = |d: &Domain, friction: Tangential| {
+        Engine::<emdstar_edmd::CalendarQueue>::new(
             &p,
             d,
             Physics::EmdStar {
-                materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+                interactions: Interactions::of_spheres(&law, friction, &[sphere]).unwrap(),
                 mor: Box::new(emdstar_edmd::rules::ExactMor),
                 interference: Interference::HitOnly,
             },
         )
-        .unwrap()
     };
-    let history =
-        emdstar_contact::Friction::new(0.3, 100.0, 0.0, emdstar_contact::TangentialModel::History)
-            .unwrap();
-    let err = build(&walled)
-        .with_exact_friction(history)
+    let err = build(&walled, history(0.3, 100.0))
         .err()
         .unwrap()
         .to_string();
     assert!(err.contains("wall"), "{err}");
-    let coulomb =
-        emdstar_contact::Friction::new(0.3, 0.0, 0.0, emdstar_contact::TangentialModel::Coulomb)
-            .unwrap();
-    let err = build(&Domain::default())
-        .with_exact_friction(coulomb)
+    let coulomb = Tangential::Coulomb { friction: 0.3 };
+    let err = build(&Domain::default(), coulomb)
         .err()
         .unwrap()
         .to_string();

@@ -8,7 +8,7 @@ use emdstar_edmd::{BroadPhaseKind, Engine, EngineError, Event, EventQueue, Index
 use emdstar_system::{Domain, Particles, SimBox, SystemError, Wall};
 
 fn elastic() -> Physics {
-    Physics::HardSpheres { restitution: 1.0 }
+    Physics::hard_spheres(1.0)
 }
 
 fn energy_momentum(e: &Engine) -> (f64, [f64; 3]) {
@@ -127,7 +127,7 @@ fn inelastic_overlaps_never_grow() {
         (BroadPhaseKind::Epochs, 100_000),
     ] {
         let setup = fcc(8, 0.2, 1.0, 1.0, 1.0, 9);
-        let physics = Physics::HardSpheres { restitution: 0.8 };
+        let physics = Physics::hard_spheres(0.8);
         let mut e: Engine =
             Engine::with_broad_phase(&setup.0, &setup.1, physics, broad_phase).unwrap();
         e.run_collisions(collisions).unwrap();
@@ -252,11 +252,8 @@ fn bad_input_gets_clear_errors() {
     );
     assert!(err.to_string().contains("wall 0"), "{err}");
 
-    let bad_eps = Engine::<emdstar_edmd::IndexedHeap>::new(
-        &good.0,
-        &good.1,
-        Physics::HardSpheres { restitution: 1.5 },
-    );
+    let bad_eps =
+        Engine::<emdstar_edmd::IndexedHeap>::new(&good.0, &good.1, Physics::hard_spheres(1.5));
     assert!(bad_eps.err().unwrap().to_string().contains("[0, 1]"));
 
     let mut nan = good;

@@ -8,7 +8,7 @@ use common::{assert_same_collisions, fcc, first_collisions, walled_fcc};
 use emdstar_edmd::{BroadPhaseKind, Engine, EngineError, Physics};
 
 fn elastic() -> Physics {
-    Physics::HardSpheres { restitution: 1.0 }
+    Physics::hard_spheres(1.0)
 }
 
 /// Enskog's mean free time 1/(4ρσ²g(σ)√(πkT/m)) with the Carnahan–Starling contact
@@ -60,7 +60,7 @@ fn lists_agree_with_crossings_between_walls() {
 #[test]
 fn inelastic_overlaps_never_grow_on_lists() {
     let setup = fcc(6, 0.6, 1.0, 1.0, 1.0, 9);
-    let physics = Physics::HardSpheres { restitution: 0.8 };
+    let physics = Physics::hard_spheres(0.8);
     let mut e: Engine =
         Engine::with_broad_phase(&setup.0, &setup.1, physics, BroadPhaseKind::Neighbours).unwrap();
     e.run_collisions(200_000).unwrap();

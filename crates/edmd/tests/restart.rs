@@ -5,9 +5,11 @@
 mod common;
 
 use common::fcc;
+use emdstar_contact::Tangential;
 use emdstar_contact::{ForceLaw, Sphere, ViscoelasticHertz};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Materials, Physics};
+use emdstar_edmd::{BroadPhaseKind, Engine, Event, Interference, Physics};
+use emdstar_system::Interactions;
 use emdstar_system::Simulation;
 
 fn engine(kind: BroadPhaseKind) -> Engine {
@@ -16,7 +18,7 @@ fn engine(kind: BroadPhaseKind) -> Engine {
     let (p, d) = fcc(4, density, 0.2, sphere.mass, sphere.mass * 4.0 / 3.0, 3);
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(1e7, 0.4, 1e-4).unwrap());
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[sphere]).unwrap(),
+        interactions: Interactions::of_spheres(&law, Tangential::None, &[sphere]).unwrap(),
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };

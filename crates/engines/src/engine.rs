@@ -2,7 +2,7 @@
 //! simulation interface.
 
 use crate::options::{EngineKind, EngineOptions};
-use crate::setup::{event_engine, md_options, mor_name, mor_source, refuse_walton_for_md};
+use crate::setup::{event_engine, md_options, mor_source};
 use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, Md};
 use emdstar_hybrid::{Hybrid, HybridOptions};
@@ -27,7 +27,6 @@ impl AnyEngine {
     ) -> Result<Self> {
         Ok(match options.engine {
             EngineKind::Md => {
-                refuse_walton_for_md(&system, "MD's friction is")?;
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 Self::Md(Box::new(Md::new(system, md, config.t_end)?))
             }
@@ -37,11 +36,6 @@ impl AnyEngine {
                 &options.edmd,
             )?)),
             EngineKind::Hybrid => {
-                refuse_walton_for_md(
-                    &system,
-                    "the hybrid's time-driven part is MD, whose friction is (its event-driven \
-                     part derives β₀ from that spring)",
-                )?;
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 if md.contact_end != ContactEnd::ForceZero {
                     bail!(
@@ -88,7 +82,7 @@ impl AnyEngine {
     pub fn options_tag(&self) -> String {
         match self {
             Self::Md(_) => String::new(),
-            Self::Event(e) => mor_name(e.physics()).to_string(),
+            Self::Event(e) => e.rules().mor_name().to_string(),
             Self::Hybrid(e) => e.mor_name().to_string(),
         }
     }

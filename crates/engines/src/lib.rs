@@ -34,4 +34,4 @@ pub use options::{
     BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, HybridChoice, InterferenceChoice,
     MdChoice, MorChoice, parse_engine,
 };
-pub use setup::{event_engine, md_options, mor_name, mor_source};
+pub use setup::{event_engine, md_options, mor_source};

@@ -3,24 +3,12 @@
 
 use crate::options::{EngineKind, EventChoice, InterferenceChoice, MdChoice, MorChoice};
 use anyhow::{Result, bail};
+use emdstar_contact::Model;
 use emdstar_dem::{ContactEnd, MdOptions, shortest_contact_time};
-use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource};
-use emdstar_edmd::{Engine, Interference, Materials, Physics};
+use emdstar_edmd::rules::{ExactMor, MorSource, TableMorSource, TableRef};
+use emdstar_edmd::{Engine, Interference, Physics};
 use emdstar_system::{Config, System};
 use emdstar_table::{Table, TableError};
-
-/// Refuses Walton's rule (`tangential_restitution`) for MD and for the hybrid, whose
-/// time-driven part is MD (`engine`: how the message names the engine).
-pub fn refuse_walton_for_md(system: &System, engine: &str) -> Result<()> {
-    if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
-        bail!(
-            "material.tangential_restitution is Walton's rule of the event-driven engines \
-             (--engine emd); {engine} a tangential spring: replace it by \
-             tangential_stiffness (and tangential_damping), or by tangential = \"coulomb\""
-        );
-    }
-    Ok(())
-}
 
 /// The MD options (`md` over the config's `[md]`). Without an explicit dt the step is
 /// `default_fraction` × the shortest contact time expected up to the config's `t_end`,
@@ -61,9 +49,21 @@ pub fn md_options(
     })
 }
 
-/// The source of the matrix of restitution that `choice` names (eMD* and the hybrid).
+/// The force models of the contacts of `system`, each once.
+fn models(system: &System) -> Vec<Model> {
+    let mut models: Vec<Model> = Vec::new();
+    for i in system.interactions().distinct() {
+        if !models.contains(&i.law().model()) {
+            models.push(i.law().model());
+        }
+    }
+    models
+}
+
+/// The source of the matrix of restitution that `choice` names (eMD* and the hybrid):
+/// a table per force model of the system (the default ones, or the file given), with
+/// the exact solver as the counted fallback where `choice` allows it.
 pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSource>> {
-    let model = system.material.model();
     let fallback = choice.mor == MorChoice::TableOrExact;
     Ok(match (choice.mor, &choice.table) {
         (MorChoice::Exact, _) => Box::new(ExactMor),
@@ -74,40 +74,36 @@ pub fn mor_source(system: &System, choice: &EventChoice) -> Result<Box<dyn MorSo
                 e => anyhow::Error::new(e)
                     .context(format!("reading the MoR table {}", path.display())),
             })?;
-            Box::new(TableMorSource::from_table(table, fallback))
+            let source = TableMorSource::from_table(table, fallback);
+            if !fallback && let Some(m) = models(system).into_iter().find(|&m| !source.covers(m)) {
+                bail!(
+                    "the MoR table {} does not cover the {m} contacts of this config; give a \
+                     {m} table, or --mor table+exact to solve them exactly",
+                    path.display()
+                );
+            }
+            Box::new(source)
         }
-        (_, None) => Box::new(TableMorSource::new(
-            emdstar_table::default_table(model)?,
-            fallback,
-        )),
+        (_, None) => {
+            let tables = models(system)
+                .into_iter()
+                .map(|m| Ok(TableRef::Static(emdstar_table::default_table(m)?)))
+                .collect::<Result<Vec<_>>>()?;
+            Box::new(TableMorSource::with_tables(tables, fallback))
+        }
     })
 }
 
 /// The event engine (`kind` emd or emdstar) for `system`: with friction, emd runs
-/// Walton's rule (the material needs `tangential_restitution`) and eMD* the exact
-/// contact with the history spring (the material needs `tangential_stiffness`).
+/// Walton's rule (contacts with `tangential_restitution`) and eMD* the exact contact
+/// with the history spring (contacts with `tangential_stiffness`); each contact's model
+/// is checked against the method (`emdstar_system::Method`).
 pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> Result<Engine> {
-    let friction = &system.friction;
-    let walton = match kind {
-        _ if !friction.is_active() => None,
-        EngineKind::EmdStar => None,
-        _ => match friction.walton_rule() {
-            Some(w) => Some(w),
-            None => bail!(
-                "friction = {} with --engine {} needs material.tangential_restitution, the \
-                 tangential restitution β₀ ∈ [-1, 1] of sticking impacts in Walton's rule \
-                 (-1 smooth, 1 perfectly rough) instead of MD's tangential_stiffness, \
-                 tangential_damping and tangential; or run --engine md",
-                friction.friction,
-                kind.name()
-            ),
-        },
-    };
-    let materials = Materials::from_system(system)?;
+    let interactions = system.interactions().clone();
     let physics = match kind {
-        EngineKind::Emd => Physics::Emd(materials),
+        EngineKind::Emd => Physics::Emd(interactions),
         EngineKind::EmdStar => Physics::EmdStar {
-            materials,
+            interactions,
             mor: mor_source(system, choice)?,
             interference: match choice.interference {
                 InterferenceChoice::Hit => Interference::HitOnly,
@@ -116,25 +112,10 @@ pub fn event_engine(kind: EngineKind, system: &System, choice: &EventChoice) -> 
         },
         EngineKind::Md | EngineKind::Hybrid => bail!("this engine is not purely event-driven"),
     };
-    let engine = Engine::with_broad_phase(
+    Ok(Engine::with_broad_phase(
         &system.particles,
         &system.domain,
         physics,
         choice.broad_phase.into(),
-    )?;
-    Ok(match (walton, kind) {
-        (Some(w), _) => engine.with_friction(w)?,
-        (None, EngineKind::EmdStar) if friction.is_active() => {
-            engine.with_exact_friction(*friction)?
-        }
-        (None, _) => engine,
-    })
-}
-
-/// The name of the MoR source of eMD* physics (empty for the other rules).
-pub fn mor_name(physics: &Physics) -> &'static str {
-    match physics {
-        Physics::EmdStar { mor, .. } => mor.name(),
-        _ => "",
-    }
+    )?)
 }

@@ -14,7 +14,7 @@
 
 use emdstar_contact::{ForceLaw, ViscoelasticHertz};
 use emdstar_edmd::rules::TableMorSource;
-use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Materials, Physics};
+use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Physics};
 use emdstar_harness::engines::lattice_gas;
 use emdstar_harness::exceptions::{DENSITY, POISSON, RADIUS, RMS_SPEED};
 use std::time::Instant;
@@ -42,9 +42,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let law = ForceLaw::Hertz(ViscoelasticHertz::new(young, POISSON, 0.0)?);
     let system = lattice_gas(&law, DENSITY, RADIUS, n, eta, RMS_SPEED, 1)?;
     let physics = Physics::EmdStar {
-        materials: Materials::from_system(&system)?,
+        interactions: system.interactions().clone(),
         mor: Box::new(TableMorSource::new(
-            emdstar_table::default_table(system.material.model())?,
+            emdstar_table::default_table(law.model())?,
             true,
         )),
         interference: Interference::HitOnly,

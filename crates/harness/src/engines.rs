@@ -57,14 +57,8 @@ pub fn material(law: &ForceLaw, density: f64) -> MaterialConfig {
 fn config(material: MaterialConfig, t_end: f64) -> Config {
     Config {
         t_end,
-        gravity: None,
-        material,
-        particles: Vec::new(),
-        gas: None,
-        sim_box: None,
-        walls: Vec::new(),
-        output: None,
-        md: None,
+        material: Some(material),
+        ..Config::default()
     }
 }
 
@@ -101,12 +95,12 @@ pub fn lattice_gas(
     let mut c = config(material(law, density), 1.0);
     c.gas = Some(GasConfig {
         count,
-        radius,
-        mass: None,
+        radius: Some(radius),
         arrangement: Arrangement::Lattice,
         packing_fraction: Some(eta),
         rms_speed,
         seed,
+        ..GasConfig::default()
     });
     Ok(c.build()?)
 }

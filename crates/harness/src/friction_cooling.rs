@@ -101,22 +101,17 @@ fn gas(s: &FrictionCoolingSettings) -> Result<System> {
     m.tangential_damping = Some(s.tangential_damping);
     let config = Config {
         t_end: s.t_end,
-        gravity: None,
-        material: m,
-        particles: Vec::new(),
+        material: Some(m),
         gas: Some(GasConfig {
             count: s.particles,
-            radius: s.radius,
-            mass: None,
+            radius: Some(s.radius),
             arrangement: Arrangement::Lattice,
             packing_fraction: Some(s.packing_fraction),
             rms_speed: s.rms_speed,
             seed: s.seed,
+            ..GasConfig::default()
         }),
-        sim_box: None,
-        walls: Vec::new(),
-        output: None,
-        md: None,
+        ..Config::default()
     };
     Ok(config.build()?)
 }
@@ -154,9 +149,11 @@ fn one_gas(
                 let engine = emdstar_edmd::Engine::new(
                     &system.particles,
                     &system.domain,
-                    emdstar_edmd::Physics::HardSpheres { restitution: e },
-                )?
-                .with_friction(Walton::new(s.friction, beta)?)?;
+                    emdstar_edmd::Physics::HardSpheres {
+                        restitution: e,
+                        walton: Some(Walton::new(s.friction, beta)?),
+                    },
+                )?;
                 AnyEngine::Event(Box::new(engine))
             }
             _ => {

@@ -13,9 +13,7 @@
 use crate::engines::{EventKind, event_engine, event_state, md_engine};
 use crate::{HarnessError, Result};
 use emdstar_contact::vec3::{add, add_scaled, dot, norm, scale, sub};
-use emdstar_contact::{
-    Friction, PairLaw, Rough, SOLID_SPHERE_INERTIA, TangentialModel, Walton, rough_pair,
-};
+use emdstar_contact::{HistorySpring, PairLaw, Rough, SOLID_SPHERE_INERTIA, Walton, rough_pair};
 use emdstar_mor::SolverOptions;
 use emdstar_mor::frictional::{Spinning, solve_frictional};
 use emdstar_system::{Config, MaterialConfig, ParticleConfig, Simulation, System};
@@ -89,7 +87,7 @@ type Relative = ([f64; 3], [f64; 3], [[f64; 3]; 2]);
 struct Drawn {
     law_config: MaterialConfig,
     law: PairLaw,
-    friction: Friction,
+    friction: HistorySpring,
     radii: [f64; 2],
     masses: [f64; 2],
     spins: [[f64; 3]; 2],
@@ -167,7 +165,7 @@ fn draw(rng: &mut ChaCha8Rng, k: usize) -> Result<Drawn> {
     cfg.friction = Some(mu);
     cfg.tangential_stiffness = Some(k_t);
     cfg.tangential_damping = Some(gamma_t);
-    let friction = Friction::new(mu, k_t, gamma_t, TangentialModel::History)?;
+    let friction = HistorySpring::new(mu, k_t, gamma_t)?;
     let speed: f64 = rng.random_range(0.5..3.0);
     let spins = radii.map(|r| scale(rng.random_range(0.0..3.0) * speed / r, unit(rng)));
     let normal = unit(rng);
@@ -215,14 +213,9 @@ fn pair_system(d: &Drawn, lead: f64, t_obs: f64) -> Result<System> {
         .collect();
     let config = Config {
         t_end: t_obs,
-        gravity: None,
-        material: d.law_config.clone(),
+        material: Some(d.law_config.clone()),
         particles,
-        gas: None,
-        sim_box: None,
-        walls: Vec::new(),
-        output: None,
-        md: None,
+        ..Config::default()
     };
     Ok(config.build()?)
 }
@@ -301,7 +294,7 @@ fn one(settings: &FrictionPairSettings, k: usize) -> Result<FrictionImpact> {
     // tangential mass m_eff/(1 + m_eff Σ R²/I) (Schäfer, Dippel & Wolf 1996, Sec. 3).
     let smooth = solve_frictional(
         &d.law,
-        &Friction::new(0.0, 1.0, 0.0, TangentialModel::History)?,
+        &HistorySpring::new(0.0, 1.0, 0.0)?,
         &bodies,
         touch,
         d.velocity,

@@ -29,9 +29,7 @@
 use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
 use crate::{SolveError, SolveStats, SolverOptions};
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
-use emdstar_contact::{
-    Friction, PairLaw, SOLID_SPHERE_INERTIA, TangentialModel, lever_arm, slip_velocity,
-};
+use emdstar_contact::{HistorySpring, PairLaw, SOLID_SPHERE_INERTIA, lever_arm, slip_velocity};
 
 /// One sphere of a frictional contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,7 +83,7 @@ const MAX_SWITCHES: usize = 1000;
 /// `velocity` (approaching), under `law` and the history spring of `friction`.
 pub fn solve_frictional(
     law: &PairLaw,
-    friction: &Friction,
+    friction: &HistorySpring,
     bodies: &[Spinning; 2],
     separation: [f64; 3],
     velocity: [f64; 3],
@@ -183,19 +181,12 @@ struct Eval {
 impl Contact {
     fn new(
         law: &PairLaw,
-        friction: &Friction,
+        friction: &HistorySpring,
         bodies: &[Spinning; 2],
         touch: [f64; 3],
         velocity: [f64; 3],
     ) -> Result<Self, SolveError> {
         let invalid = |why: String| Err(SolveError::InvalidParams(why));
-        if friction.model != TangentialModel::History {
-            return invalid(
-                "the exact frictional contact needs the history spring (tangential = \
-                 \"history\"); pure Coulomb sliding has no exact solve"
-                    .into(),
-            );
-        }
         if !(friction.stiffness > 0.0 && friction.stiffness.is_finite()) {
             return invalid("the exact frictional contact needs tangential_stiffness > 0".into());
         }

@@ -8,7 +8,7 @@
 use crate::frictional::{Spinning, solve_frictional};
 use crate::{Mor, SolveError, SolverOptions, solve};
 use emdstar_contact::vec3::{from_na, to_na};
-use emdstar_contact::{ContactError, Friction, Impact, PairLaw, PairProperties, Vec3, scale};
+use emdstar_contact::{ContactError, HistorySpring, Impact, PairLaw, PairProperties, Vec3, scale};
 use std::fmt;
 
 /// Position, velocity and mass of one sphere.
@@ -156,7 +156,7 @@ pub fn exact_collision(
 /// E^v event the post-collision velocities; the spins after the contact come second.
 pub fn frictional_collision(
     law: &PairLaw,
-    friction: &Friction,
+    friction: &HistorySpring,
     bodies: &[Body; 2],
     radii: [f64; 2],
     spins: [[f64; 3]; 2],

@@ -4,7 +4,7 @@
 
 use emdstar_contact::vec3::{add, add_scaled, cross, dot, norm, scale, sub};
 use emdstar_contact::{
-    Friction, Impact, PairLaw, PairProperties, SOLID_SPHERE_INERTIA, Sphere, TangentialModel, Vec3,
+    HistorySpring, Impact, PairLaw, PairProperties, SOLID_SPHERE_INERTIA, Sphere, Vec3,
     scale as scale_impact,
 };
 use emdstar_mor::frictional::{FrictionalEnd, Spinning, solve_frictional};
@@ -30,8 +30,8 @@ fn hertz(dissipation: f64, r_eff: f64) -> PairLaw {
     }
 }
 
-fn history(mu: f64, k_t: f64, gamma_t: f64) -> Friction {
-    Friction::new(mu, k_t, gamma_t, TangentialModel::History).unwrap()
+fn history(mu: f64, k_t: f64, gamma_t: f64) -> HistorySpring {
+    HistorySpring::new(mu, k_t, gamma_t).unwrap()
 }
 
 /// A random oblique impact: radii, spins, r at touch and an approaching v.
@@ -102,7 +102,7 @@ fn energy(b: &[Spinning; 2], v: [f64; 3], w: [[f64; 3]; 2]) -> f64 {
         + 0.5 * inertia(&b[1]) * dot(w[1], w[1])
 }
 
-fn solve_one(law: &PairLaw, f: &Friction, i: &Impactor) -> FrictionalEnd {
+fn solve_one(law: &PairLaw, f: &HistorySpring, i: &Impactor) -> FrictionalEnd {
     let out = solve_frictional(law, f, &i.bodies, i.r, i.v, &SolverOptions::default());
     out.unwrap_or_else(|e| panic!("{law:?} {f:?}: {e}"))
 }

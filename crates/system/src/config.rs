@@ -3,7 +3,7 @@
 //! ```toml
 //! t_end = 0.5                      # s
 //! gravity = [0.0, 0.0, -9.81]      # m/s², optional (default none)
-//! [material]
+//! [material]                       # one material for everything (or [[materials]])
 //! model = "linear"                 # or "hertz"
 //! stiffness = 2000.0               # N/m  (linear)
 //! damping = 0.0                    # kg/s (linear)
@@ -19,12 +19,19 @@
 //! # tangential = "history"         # or "coulomb" (pure sliding, |F_t| = µ F_n)
 //! # tangential_restitution = 0.4   # β₀ ∈ [-1, 1] of Walton's rule (event engines),
 //! #                                # instead of the three tangential keys above (MD)
+//! # [[materials]]                  # several materials, each with a name and the keys
+//! # name = "glass"                 # of [material]; particles, gas species and walls
+//! # ...                            # then say material = "glass"
+//! # [[interactions]]               # optional: the constants of one pair of materials
+//! # materials = ["glass", "steel"]
+//! # restitution = 0.7              # (keys as in a material, without name and density)
 //! [[particles]]                    # an explicit list ...
 //! radius = 0.1
 //! position = [0.03, -0.5, 0.0]
 //! velocity = [1.25, 2.5, 0.0]      # optional, default at rest
 //! # angular_velocity = [0.0, 0.0, 10.0] # rad/s, optional, default no spin
 //! # mass = 4.0                     # optional, overrides the density
+//! # material = "glass"             # with [[materials]]
 //! # [gas]                          # ... or a generated gas
 //! # count = 32768
 //! # radius = 0.1
@@ -32,6 +39,10 @@
 //! # packing_fraction = 0.01        # sizes a cubic periodic box (omit [box] then)
 //! # rms_speed = 1.0                # m/s, √⟨v²⟩, Maxwell, zero total momentum
 //! # seed = 1
+//! # [[gas.species]]                # a mixture, instead of radius (and mass, material)
+//! # material = "glass"
+//! # radius = 0.1
+//! # fraction = 0.5                 # of the count
 //! # [box]                          # absent: free space
 //! # size = [2.0, 2.0, 2.0]
 //! # lo = [-1.0, -1.0, -1.0]        # default [0, 0, 0]
@@ -39,6 +50,7 @@
 //! # [[walls]]
 //! # normal = [0.0, 0.0, 1.0]       # towards the particles
 //! # point = [0.0, 0.0, -1.0]
+//! # material = "steel"             # with [[materials]]
 //! # [output]
 //! # trajectory = "run.xyz"
 //! # trajectory_interval = 0.01     # s
@@ -60,23 +72,30 @@ use crate::error::{
 };
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
+use crate::interactions::Interactions;
+use crate::material_config::{InteractionConfig, MaterialConfig, names};
+use crate::materials::MaterialTable;
 use crate::state::{Particles, Species};
 use crate::system::System;
-use emdstar_contact::{
-    ForceLaw, Friction, LinearDashpot, Model, PairProperties, Sphere, TangentialModel,
-    ViscoelasticHertz,
-};
+use emdstar_contact::Sphere;
 use serde::{Deserialize, Serialize};
 
 /// The whole config file.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct Config {
     /// End time in s.
     pub t_end: f64,
     /// Uniform acceleration in m/s².
     pub gravity: Option<[f64; 3]>,
-    pub material: MaterialConfig,
+    /// One material for every particle and wall (or `materials`).
+    pub material: Option<MaterialConfig>,
+    /// Several named materials.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub materials: Vec<MaterialConfig>,
+    /// The constants of pairs of materials, where given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub interactions: Vec<InteractionConfig>,
     #[serde(default)]
     pub particles: Vec<ParticleConfig>,
     pub gas: Option<GasConfig>,
@@ -87,35 +106,6 @@ pub struct Config {
     pub output: Option<OutputConfig>,
     /// Options of the force-based engine (see `emdstar-dem`).
     pub md: Option<MdConfig>,
-}
-
-/// `[material]`: the force law, the friction and the density.
-#[derive(Debug, Clone, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaterialConfig {
-    pub model: String,
-    pub stiffness: Option<f64>,
-    pub damping: Option<f64>,
-    pub young: Option<f64>,
-    pub poisson: Option<f64>,
-    pub dissipation: Option<f64>,
-    /// Normal restitution of a central impact of two reference spheres, instead of
-    /// `damping` or `dissipation` (see [`MaterialConfig::force_law`]).
-    pub restitution: Option<f64>,
-    /// Normal impact speed in m/s at which `restitution` holds (Hertz only).
-    pub restitution_speed: Option<f64>,
-    pub density: Option<f64>,
-    /// Coulomb's friction coefficient µ (default 0: frictionless).
-    pub friction: Option<f64>,
-    /// k_t of the tangential history spring in N/m.
-    pub tangential_stiffness: Option<f64>,
-    /// γ_t of the tangential dashpot in kg/s.
-    pub tangential_damping: Option<f64>,
-    /// "history" (default) or "coulomb".
-    pub tangential: Option<String>,
-    /// β₀ ∈ [−1, 1] of Walton's rule, the event-driven engines' friction, instead of
-    /// MD's tangential law.
-    pub tangential_restitution: Option<f64>,
 }
 
 /// One `[[particles]]` entry.
@@ -130,6 +120,9 @@ pub struct ParticleConfig {
     #[serde(default, skip_serializing_if = "is_zero")]
     pub angular_velocity: [f64; 3],
     pub mass: Option<f64>,
+    /// The material's name (required with several materials).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
 
 fn is_zero(v: &[f64; 3]) -> bool {
@@ -157,6 +150,9 @@ fn all_periodic() -> [bool; 3] {
 pub struct WallConfig {
     pub normal: [f64; 3],
     pub point: [f64; 3],
+    /// The material's name (required with several materials).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
 
 /// `[output]`: file names and intervals (the CLI may override them).
@@ -220,15 +216,78 @@ impl Config {
         u64::from(crc32fast::hash(text.as_bytes())) | (text.len() as u64) << 32
     }
 
+    /// The materials and `[[interactions]]` entries, checked: `[material]` or
+    /// `[[materials]]` (not both), unique names, entries naming known materials once.
+    pub fn material_table(&self) -> Result<MaterialTable> {
+        let mut table = MaterialTable::default();
+        match (&self.material, self.materials.is_empty()) {
+            (Some(_), false) => {
+                return invalid!(
+                    "give either [material] (one material for everything) or [[materials]] \
+                     (several, each with a name), not both"
+                );
+            }
+            (None, true) => {
+                return invalid!(
+                    "no material: add a [material] section (or [[materials]] entries with a \
+                     name each)"
+                );
+            }
+            (Some(m), true) => table.materials.push(m.material("material")?),
+            (None, false) => {
+                for (i, m) in self.materials.iter().enumerate() {
+                    let key = format!("materials[{i}]");
+                    let Some(name) = &m.name else {
+                        return invalid!(
+                            "{key}.name is missing: every [[materials]] entry needs a name, \
+                             which particles, gas species and walls give as material = \"…\""
+                        );
+                    };
+                    if name.trim().is_empty() {
+                        return invalid!("{key}.name must not be empty");
+                    }
+                    if table.materials.iter().any(|t| &t.name == name) {
+                        return invalid!(
+                            "{key}.name = \"{name}\" is given twice: material names must be \
+                             unique"
+                        );
+                    }
+                    table.materials.push(m.material(&key)?);
+                }
+            }
+        }
+        for (i, e) in self.interactions.iter().enumerate() {
+            let key = format!("interactions[{i}]");
+            let entry = e.entry(&key, &table)?;
+            let [a, b] = entry.materials;
+            if let Some(other) = table
+                .entries
+                .iter()
+                .find(|o| o.materials == [a, b] || o.materials == [b, a])
+            {
+                return invalid!(
+                    "{key} gives the pair of \"{}\" and \"{}\" again ({} gives it already): \
+                     give each pair of materials once",
+                    e.materials[0],
+                    e.materials[1],
+                    other.key
+                );
+            }
+            table.entries.push(entry);
+        }
+        Ok(table)
+    }
+
     /// Builds and validates the system the config describes.
     pub fn build(&self) -> Result<System> {
         let gravity = finite3("gravity", self.gravity.unwrap_or([0.0; 3]))?;
-        let walls = self
-            .walls
-            .iter()
-            .enumerate()
-            .map(|(i, w)| w.wall(i))
-            .collect::<Result<Vec<_>>>()?;
+        let table = self.material_table()?;
+        let mut walls = Vec::with_capacity(self.walls.len());
+        let mut wall_materials = Vec::with_capacity(self.walls.len());
+        for (i, w) in self.walls.iter().enumerate() {
+            walls.push(w.wall(i)?);
+            wall_materials.push(material_index(&table, &format!("walls[{i}]"), &w.material)?);
+        }
         let mut sim_box = self.sim_box.as_ref().map(BoxConfig::sim_box).transpose()?;
         let mut species = Vec::new();
         let mut particles = Particles::default();
@@ -241,26 +300,28 @@ impl Config {
             }
             (None, false) => {
                 for (i, pc) in self.particles.iter().enumerate() {
-                    let s = self.species_of(&format!("particles[{i}]"), pc.radius, pc.mass)?;
+                    let what = format!("particles[{i}]");
+                    let material = material_index(&table, &what, &pc.material)?;
+                    let s = species_of(&table, &what, pc.radius, pc.mass, material)?;
                     let index = species_index(&mut species, s);
-                    let x = finite3(&format!("particles[{i}].position"), pc.position)?;
-                    let v = finite3(&format!("particles[{i}].velocity"), pc.velocity)?;
-                    representable_energy(&format!("particles[{i}].velocity"), s.mass, v)?;
-                    let w = finite3(
-                        &format!("particles[{i}].angular_velocity"),
-                        pc.angular_velocity,
-                    )?;
+                    let x = finite3(&format!("{what}.position"), pc.position)?;
+                    let v = finite3(&format!("{what}.velocity"), pc.velocity)?;
+                    representable_energy(&format!("{what}.velocity"), s.mass, v)?;
+                    let w = finite3(&format!("{what}.angular_velocity"), pc.angular_velocity)?;
                     particles.push(&species, index, x, v);
                     particles.angular_velocity[i] = representable_spin(
-                        &format!("particles[{i}].angular_velocity"),
+                        &format!("{what}.angular_velocity"),
                         particles.inertia(i),
                         w,
                     )?;
                 }
             }
             (Some(gas), true) => {
-                let s = self.species_of("gas", gas.radius, gas.mass)?;
-                species.push(s);
+                let kinds = gas.kinds(|what, radius, mass, material| {
+                    let m = material_index(&table, what, material)?;
+                    species_of(&table, what, radius, mass, m)
+                })?;
+                species = kinds.iter().map(|k| k.species).collect();
                 let b = match (sim_box, gas.packing_fraction) {
                     (Some(_), Some(_)) => {
                         return invalid!(
@@ -269,23 +330,20 @@ impl Config {
                         );
                     }
                     (Some(b), None) => b,
-                    (None, Some(eta)) => gas::cubic_box(gas.count, gas.radius, eta)?,
+                    (None, Some(eta)) => gas::cubic_box_of(&kinds, eta)?,
                     (None, None) => {
                         return invalid!("a [gas] needs a [box] or a gas.packing_fraction");
                     }
                 };
                 sim_box = Some(b);
-                gas::generate_gas(gas, &species, &b, &mut particles)?;
+                gas::generate_gas(gas, &kinds, &species, &b, &mut particles)?;
             }
         }
-        // species[0]: the [gas] sphere or the first [[particles]] entry.
-        let material = self.material.force_law(&species[0])?;
-        let friction = self.material.friction()?;
+        let interactions = Interactions::build(&table, &species, &wall_materials)?;
         let system = System {
             particles,
             species,
-            material,
-            friction,
+            interactions,
             domain: Domain {
                 sim_box,
                 walls,
@@ -295,22 +353,53 @@ impl Config {
         system.validate()?;
         Ok(system)
     }
+}
 
-    /// The species of a sphere given by radius and either its own mass or the density.
-    fn species_of(&self, what: &str, radius: f64, mass: Option<f64>) -> Result<Species> {
-        positive(&format!("{what}.radius"), radius)?;
-        let sphere = match (mass, self.material.density) {
-            (Some(m), _) => Sphere::new(radius, positive(&format!("{what}.mass"), m)?)?,
-            (None, Some(rho)) => Sphere::from_density(radius, positive("material.density", rho)?)?,
-            (None, None) => {
-                return invalid!("{what} has no mass: set material.density or {what}.mass");
-            }
-        };
-        Ok(Species {
-            radius: sphere.radius,
-            mass: sphere.mass,
-        })
+/// The material `name` names for `what` (a particle, gas species or wall): required
+/// with several materials, the one material otherwise.
+fn material_index(table: &MaterialTable, what: &str, name: &Option<String>) -> Result<u32> {
+    match name {
+        None if table.materials.len() == 1 => Ok(0),
+        None => invalid!(
+            "{what}.material is missing: with several [[materials]] ({}) each particle, gas \
+             species and wall names its own, e.g. material = \"{}\"",
+            names(table),
+            table.materials[0].name
+        ),
+        Some(name) => match table.materials.iter().position(|m| &m.name == name) {
+            Some(i) => Ok(i as u32),
+            None => invalid!(
+                "{what}.material = \"{name}\" is no material of this config; the materials are \
+                 {}",
+                names(table)
+            ),
+        },
     }
+}
+
+/// The species of a sphere of `material` given by radius and either its own mass or
+/// the material's density.
+fn species_of(
+    table: &MaterialTable,
+    what: &str,
+    radius: f64,
+    mass: Option<f64>,
+    material: u32,
+) -> Result<Species> {
+    positive(&format!("{what}.radius"), radius)?;
+    let m = &table.materials[material as usize];
+    let sphere = match (mass, m.density) {
+        (Some(mass), _) => Sphere::new(radius, positive(&format!("{what}.mass"), mass)?)?,
+        (None, Some(rho)) => Sphere::from_density(radius, rho)?,
+        (None, None) => {
+            return invalid!("{what} has no mass: set {}.density or {what}.mass", m.key);
+        }
+    };
+    Ok(Species {
+        radius: sphere.radius,
+        mass: sphere.mass,
+        material,
+    })
 }
 
 fn species_index(species: &mut Vec<Species>, s: Species) -> u32 {
@@ -320,176 +409,6 @@ fn species_index(species: &mut Vec<Species>, s: Species) -> u32 {
             species.push(s);
             (species.len() - 1) as u32
         }
-    }
-}
-
-impl MaterialConfig {
-    /// The force law, refusing keys that belong to the other model.
-    ///
-    /// With `restitution = E` the dissipation (γ or A) is the one with which a central
-    /// impact of two `reference` spheres has normal restitution E (Hertz: at normal
-    /// speed `restitution_speed`), from the exact solver (`emdstar_mor::inverse`). Other
-    /// pairs of a mixture, and Hertz impacts at other speeds, get other restitutions.
-    pub fn force_law(&self, reference: &Species) -> Result<ForceLaw> {
-        let model: Model = self.model.parse().map_err(SystemError::Invalid)?;
-        let need = |name: &str, v: Option<f64>| {
-            v.ok_or_else(|| {
-                SystemError::Invalid(format!(
-                    "material.{name} is required by model = \"{model}\""
-                ))
-            })
-        };
-        let refuse = |name: &str, v: Option<f64>| match v {
-            Some(_) => {
-                invalid!("material.{name} does not belong to model = \"{model}\"; remove it")
-            }
-            None => Ok(()),
-        };
-        let dissipation = |name: &str, v: Option<f64>| match (v, self.restitution) {
-            (Some(_), Some(_)) => invalid!(
-                "give either material.{name} or material.restitution, not both: restitution \
-                 computes {name}"
-            ),
-            (v, _) => Ok(v.unwrap_or(0.0)),
-        };
-        let law = match model {
-            Model::Linear => {
-                refuse("young", self.young)?;
-                refuse("poisson", self.poisson)?;
-                refuse("dissipation", self.dissipation)?;
-                if self.restitution_speed.is_some() {
-                    return invalid!(
-                        "material.restitution_speed does not belong to model = \"linear\": \
-                         the linear dashpot's restitution is the same at every speed; remove it"
-                    );
-                }
-                ForceLaw::Linear(LinearDashpot::new(
-                    need("stiffness", self.stiffness)?,
-                    dissipation("damping", self.damping)?,
-                )?)
-            }
-            Model::Hertz => {
-                refuse("stiffness", self.stiffness)?;
-                refuse("damping", self.damping)?;
-                ForceLaw::Hertz(ViscoelasticHertz::new(
-                    need("young", self.young)?,
-                    need("poisson", self.poisson)?,
-                    dissipation("dissipation", self.dissipation)?,
-                )?)
-            }
-        };
-        let Some(e) = self.restitution else {
-            if self.restitution_speed.is_some() {
-                return invalid!(
-                    "material.restitution_speed needs material.restitution (or remove it)"
-                );
-            }
-            return Ok(law);
-        };
-        let speed = match model {
-            Model::Linear => 1.0,
-            Model::Hertz => self.restitution_speed.ok_or_else(|| {
-                SystemError::Invalid(
-                    "material.restitution needs material.restitution_speed (m/s) with \
-                     model = \"hertz\": the restitution of viscoelastic spheres falls with the \
-                     impact speed, so it is matched at one speed"
-                        .into(),
-                )
-            })?,
-        };
-        let sphere = Sphere::new(reference.radius, reference.mass)?;
-        let pair = PairProperties::spheres(&sphere, &sphere);
-        emdstar_mor::with_restitution(&law, &pair, speed, e)
-            .map_err(|err| SystemError::Invalid(format!("material.restitution: {err}")))
-    }
-
-    /// The friction of the material; absent keys mean no friction. Tangential keys
-    /// without `friction` are refused (they would have no effect), and so is a material
-    /// with both MD's tangential law (`tangential_stiffness`, `tangential_damping`,
-    /// `tangential`) and Walton's rule of the event-driven engines
-    /// (`tangential_restitution`): each engine runs one of them.
-    pub fn friction(&self) -> Result<Friction> {
-        if let (Some(mu), Some(b)) = (self.friction, self.tangential_restitution) {
-            let md_keys = [
-                ("tangential_stiffness", self.tangential_stiffness.is_some()),
-                ("tangential_damping", self.tangential_damping.is_some()),
-                ("tangential", self.tangential.is_some()),
-            ];
-            if let Some((name, _)) = md_keys.iter().find(|(_, set)| *set) {
-                return invalid!(
-                    "material.{name} belongs to force-based MD's tangential law and \
-                     material.tangential_restitution to Walton's rule of the event-driven \
-                     engines (emd): a material has one or the other; remove one of them"
-                );
-            }
-            return Friction::walton(mu, b)
-                .map_err(|e| SystemError::Invalid(format!("material.{e}")));
-        }
-        let model: TangentialModel = match &self.tangential {
-            Some(t) => t
-                .parse()
-                .map_err(|e| SystemError::Invalid(format!("material.tangential: {e}")))?,
-            None => TangentialModel::History,
-        };
-        let Some(mu) = self.friction else {
-            let set = [
-                ("tangential_stiffness", self.tangential_stiffness.is_some()),
-                ("tangential_damping", self.tangential_damping.is_some()),
-                ("tangential", self.tangential.is_some()),
-                (
-                    "tangential_restitution",
-                    self.tangential_restitution.is_some(),
-                ),
-            ];
-            if let Some((name, _)) = set.iter().find(|(_, s)| *s) {
-                return invalid!(
-                    "material.{name} has no effect without material.friction (Coulomb's µ); \
-                     add friction = µ or remove it"
-                );
-            }
-            return Ok(Friction::NONE);
-        };
-        if model == TangentialModel::Coulomb {
-            for (name, v) in [
-                ("tangential_stiffness", self.tangential_stiffness),
-                ("tangential_damping", self.tangential_damping),
-            ] {
-                if v.is_some() {
-                    return invalid!(
-                        "material.{name} does not belong to tangential = \"coulomb\" (pure \
-                         sliding has no spring or dashpot); remove it or use \"history\""
-                    );
-                }
-            }
-        }
-        Friction::new(
-            mu,
-            self.tangential_stiffness.unwrap_or(0.0),
-            self.tangential_damping.unwrap_or(0.0),
-            model,
-        )
-        .map_err(|e| SystemError::Invalid(format!("material.{e}")))
-    }
-
-    /// One line saying which dissipation `restitution` gave `law`, for the user; `None`
-    /// when the dissipation was given directly.
-    pub fn restitution_note(&self, law: &ForceLaw, reference: &Species) -> Option<String> {
-        let e = self.restitution?;
-        let pair = format!(
-            "central impacts of two spheres of radius {} m and mass {:.6e} kg",
-            reference.radius, reference.mass
-        );
-        Some(match law {
-            ForceLaw::Linear(l) => format!(
-                "material.restitution = {e}: damping = {:.10e} kg/s ({pair})",
-                l.damping
-            ),
-            ForceLaw::Hertz(h) => format!(
-                "material.restitution = {e} at {} m/s: dissipation = {:.10e} s ({pair})",
-                self.restitution_speed.unwrap_or(f64::NAN),
-                h.dissipation
-            ),
-        })
     }
 }
 

@@ -215,10 +215,7 @@ mod tests {
     use crate::state::Species;
 
     fn two(v: [f64; 3]) -> Particles {
-        let s = [Species {
-            radius: 0.1,
-            mass: 2.0,
-        }];
+        let s = [Species::new(0.1, 2.0)];
         let mut p = Particles::default();
         p.push(&s, 0, [0.0; 3], v);
         p.push(&s, 0, [1.0, 0.0, 0.0], [0.0; 3]);
@@ -228,10 +225,7 @@ mod tests {
     #[test]
     fn a_closed_axis_needs_a_wall_at_each_end_inside_the_box() {
         let mut p = Particles::default();
-        let s = [Species {
-            radius: 0.1,
-            mass: 1.0,
-        }];
+        let s = [Species::new(0.1, 1.0)];
         p.push(&s, 0, [0.5; 3], [0.0; 3]);
         let sim_box = SimBox {
             lo: [0.0; 3],
@@ -284,10 +278,7 @@ mod tests {
     fn far_apart_particles_are_checked_with_a_small_grid() {
         // Two spheres of 1 µm 1 km apart in free space: a cell of 2 µm each would be
         // 5e8 cells along x alone; the grid stays small and the check answers.
-        let s = [Species {
-            radius: 1e-6,
-            mass: 1.0,
-        }];
+        let s = [Species::new(1e-6, 1.0)];
         let mut p = Particles::default();
         p.push(&s, 0, [0.0; 3], [0.0; 3]);
         p.push(&s, 0, [1e3, 1e3, 1e3], [0.0; 3]);

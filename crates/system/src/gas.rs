@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// How a generated gas is placed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Arrangement {
     /// Simple cubic lattice filling the box.
@@ -19,16 +19,24 @@ pub enum Arrangement {
     /// Face-centred cubic lattice of `count` = 4n³ sites, n unit cells per axis.
     Fcc,
     /// Uniformly random, without overlaps (random sequential addition).
+    #[default]
     Random,
 }
 
-/// `[gas]`: `count` equal spheres with Maxwell velocities.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+/// `[gas]`: `count` spheres with Maxwell velocities: equal spheres of `radius` (and
+/// `mass`, `material`), or a mixture of `species`.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct GasConfig {
     pub count: usize,
-    pub radius: f64,
+    pub radius: Option<f64>,
     pub mass: Option<f64>,
+    /// The material's name (required with several materials).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// A mixture: each kind of sphere with its share of `count`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub species: Vec<GasSpeciesConfig>,
     pub arrangement: Arrangement,
     pub packing_fraction: Option<f64>,
     /// Root-mean-square speed √⟨v²⟩ in m/s.
@@ -37,25 +45,62 @@ pub struct GasConfig {
     pub seed: u64,
 }
 
+/// One `[[gas.species]]` entry: a kind of sphere of a mixture.
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GasSpeciesConfig {
+    pub radius: f64,
+    pub mass: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+    /// The share of the gas's `count`, in (0, 1]; the fractions add up to 1.
+    pub fraction: f64,
+}
+
+/// A kind of sphere of a gas and how many there are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GasKind {
+    pub species: Species,
+    pub count: usize,
+}
+
 /// The densest packing fraction of equal spheres, π/(3√2) (Kepler; Hales 2005).
 const CLOSE_PACKING: f64 = 0.740_480_489_693_061;
-
 /// The cubic periodic box holding `count` spheres of radius `radius` at packing
 /// fraction η = N·(4/3)πR³/V.
 pub fn cubic_box(count: usize, radius: f64, eta: f64) -> Result<SimBox> {
     positive("gas.radius", radius)?;
+    box_of_volume(count as f64 * 4.0 / 3.0 * PI * radius.powi(3), eta, count)
+}
+
+/// The cubic periodic box holding the spheres of `kinds` at packing fraction
+/// η = Σ N (4/3)πR³/V.
+pub fn cubic_box_of(kinds: &[GasKind], eta: f64) -> Result<SimBox> {
+    if let [one] = kinds {
+        return cubic_box(one.count, one.species.radius, eta);
+    }
+    let volume = kinds
+        .iter()
+        .map(|k| k.count as f64 * 4.0 / 3.0 * PI * k.species.radius.powi(3))
+        .sum();
+    box_of_volume(volume, eta, kinds.iter().map(|k| k.count).sum())
+}
+
+/// The cube in which `count` spheres of total volume `spheres` (m³) fill the fraction
+/// `eta`.
+fn box_of_volume(spheres: f64, eta: f64, count: usize) -> Result<SimBox> {
     if !(eta > 0.0 && eta < CLOSE_PACKING) {
         return invalid!(
             "gas.packing_fraction = {eta} is impossible: it must lie in (0, {CLOSE_PACKING:.4}) \
              (close packing)"
         );
     }
-    let side = (count as f64 * 4.0 / 3.0 * PI * radius.powi(3) / eta).cbrt();
+    let side = (spheres / eta).cbrt();
     if !(side.is_finite() && side > 0.0) {
         return invalid!(
-            "gas.packing_fraction = {eta:e} with {count} spheres of radius {radius:e} m gives a \
-             box side of {side:e} m, which double precision cannot hold; give a packing \
-             fraction and a radius of a physical size"
+            "gas.packing_fraction = {eta:e} with {count} spheres of {spheres:e} m³ in all gives \
+             a box side of {side:e} m, which double precision cannot hold; give a packing \
+             fraction and radii of a physical size"
         );
     }
     Ok(SimBox {
@@ -66,12 +111,95 @@ pub fn cubic_box(count: usize, radius: f64, eta: f64) -> Result<SimBox> {
 }
 
 impl GasConfig {
-    /// The particles of this gas (spheres of `species`, numbered 0 in `species`) in
-    /// `sim_box`, with Maxwell velocities of zero total momentum and root-mean-square
-    /// speed `rms_speed`, reproducibly from `seed` (ChaCha8).
+    /// The kinds of sphere of this gas: one of `radius` (`mass`, `material`), or the
+    /// `species`, each made a [`Species`] by `species_of(what, radius, mass, material)`
+    /// with its count (the fractions of `count`, rounded so that they add up to it).
+    pub fn kinds(
+        &self,
+        mut species_of: impl FnMut(&str, f64, Option<f64>, &Option<String>) -> Result<Species>,
+    ) -> Result<Vec<GasKind>> {
+        if self.count == 0 {
+            return invalid!("gas.count must be at least 1");
+        }
+        if self.species.is_empty() {
+            let Some(radius) = self.radius else {
+                return invalid!(
+                    "gas.radius is missing: give the spheres' radius (or a mixture as \
+                     [[gas.species]] entries, each with radius, material and fraction)"
+                );
+            };
+            let species = species_of("gas", radius, self.mass, &self.material)?;
+            return Ok(vec![GasKind {
+                species,
+                count: self.count,
+            }]);
+        }
+        for (key, set) in [
+            ("radius", self.radius.is_some()),
+            ("mass", self.mass.is_some()),
+            ("material", self.material.is_some()),
+        ] {
+            if set {
+                return invalid!(
+                    "gas.{key} and [[gas.species]] exclude each other: give the {key} of each \
+                     species in its entry"
+                );
+            }
+        }
+        let mut kinds = Vec::with_capacity(self.species.len());
+        let mut total = 0.0;
+        for (i, s) in self.species.iter().enumerate() {
+            let what = format!("gas.species[{i}]");
+            if !(s.fraction > 0.0 && s.fraction <= 1.0) {
+                return invalid!("{what}.fraction = {} must lie in (0, 1]", s.fraction);
+            }
+            total += s.fraction;
+            let species = species_of(&what, s.radius, s.mass, &s.material)?;
+            if kinds.iter().any(|k: &GasKind| k.species == species) {
+                return invalid!(
+                    "{what} repeats the radius, mass and material of an earlier species; merge \
+                     their fractions"
+                );
+            }
+            kinds.push(GasKind { species, count: 0 });
+        }
+        if (total - 1.0).abs() > 1e-9 {
+            return invalid!(
+                "the fractions of [[gas.species]] add up to {total}, not 1; give each species \
+                 its share of gas.count"
+            );
+        }
+        // Largest remainders: the counts add up to `count` and each is within one of
+        // fraction·count.
+        let exact: Vec<f64> = self
+            .species
+            .iter()
+            .map(|s| s.fraction / total * self.count as f64)
+            .collect();
+        for (k, x) in kinds.iter_mut().zip(&exact) {
+            k.count = x.floor() as usize;
+        }
+        let mut order: Vec<usize> = (0..kinds.len()).collect();
+        order.sort_by(|&a, &b| {
+            (exact[b] - exact[b].floor()).total_cmp(&(exact[a] - exact[a].floor()))
+        });
+        let assigned: usize = kinds.iter().map(|k| k.count).sum();
+        for &k in order.iter().take(self.count - assigned) {
+            kinds[k].count += 1;
+        }
+        Ok(kinds)
+    }
+
+    /// The particles of this gas of one kind of sphere, `species[0]`, in `sim_box`,
+    /// with Maxwell velocities of zero total momentum and root-mean-square speed
+    /// `rms_speed`, reproducibly from `seed` (ChaCha8).
     pub fn generate(&self, species: &[Species], sim_box: &SimBox) -> Result<Particles> {
+        let kinds = [GasKind {
+            species: species[0],
+            count: self.count,
+        }];
         let mut particles = Particles::default();
-        generate_gas(self, species, sim_box, &mut particles)?;
+        generate_gas(self, &kinds, species, sim_box, &mut particles)?;
         Ok(particles)
     }
 }
@@ -90,29 +218,34 @@ pub fn fcc_gas(
 ) -> Result<(Particles, Domain)> {
     let gas = GasConfig {
         count: 4 * cells * cells * cells,
-        radius,
+        radius: Some(radius),
         mass: Some(mass),
         arrangement: Arrangement::Fcc,
         packing_fraction: Some(eta),
         rms_speed,
         seed,
+        ..GasConfig::default()
     };
     positive("mass", mass)?;
     let sim_box = cubic_box(gas.count, radius, eta)?;
-    let particles = gas.generate(&[Species { radius, mass }], &sim_box)?;
+    let particles = gas.generate(&[Species::new(radius, mass)], &sim_box)?;
     Ok((particles, Domain::periodic(sim_box)))
 }
 
-/// Places `gas.count` equal spheres in `sim_box` and gives them Maxwell velocities with
-/// zero total momentum and root-mean-square speed `gas.rms_speed`, reproducibly from
-/// `gas.seed` (ChaCha8).
+/// Places the spheres of `kinds` (species numbered as in `species`) in `sim_box` and
+/// gives them Maxwell velocities with zero total momentum and root-mean-square speed
+/// `gas.rms_speed`, at one temperature for every kind, reproducibly from `gas.seed`
+/// (ChaCha8). A mixture is placed largest spheres first (random placement) or spread
+/// over the sites at random (lattices).
 pub(crate) fn generate_gas(
     gas: &GasConfig,
+    kinds: &[GasKind],
     species: &[Species],
     sim_box: &SimBox,
     particles: &mut Particles,
 ) -> Result<()> {
-    if gas.count == 0 {
+    let count: usize = kinds.iter().map(|k| k.count).sum();
+    if count == 0 {
         return invalid!("gas.count must be at least 1");
     }
     let rms = gas.rms_speed;
@@ -120,14 +253,15 @@ pub(crate) fn generate_gas(
         return invalid!("gas.rms_speed = {rms} must be a finite number ≥ 0");
     }
     // Maxwell speeds reach a few times the rms; every engine squares them.
-    let energy = 0.5 * gas.count as f64 * species[0].mass * (10.0 * rms).powi(2);
+    let heaviest = kinds.iter().map(|k| k.species.mass).fold(0.0, f64::max);
+    let energy = 0.5 * count as f64 * heaviest * (10.0 * rms).powi(2);
     if !energy.is_finite() {
         return invalid!(
             "gas.rms_speed = {rms:e} m/s is too large: the gas's kinetic energy overflows double \
              precision; give a speed of a physical size"
         );
     }
-    if gas.count == 1 && rms > 0.0 {
+    if count == 1 && rms > 0.0 {
         return invalid!(
             "a single particle with zero total momentum cannot move: set gas.rms_speed = 0 or count > 1"
         );
@@ -141,23 +275,49 @@ pub(crate) fn generate_gas(
             sim_box.size
         );
     }
-    let eta = gas.count as f64 * 4.0 / 3.0 * PI * gas.radius.powi(3) / volume;
+    let spheres: f64 = kinds
+        .iter()
+        .map(|k| k.count as f64 * 4.0 / 3.0 * PI * k.species.radius.powi(3))
+        .sum();
+    let eta = spheres / volume;
+    let largest = kinds.iter().map(|k| k.species.radius).fold(0.0, f64::max);
     if eta >= CLOSE_PACKING {
         return invalid!(
-            "{} spheres of radius {} m do not fit in the box (packing fraction {eta:.3})",
-            gas.count,
-            gas.radius
+            "{count} spheres of radius up to {largest} m do not fit in the box (packing \
+             fraction {eta:.3})"
         );
     }
+    // Each sphere's species number, largest spheres first.
+    let number = |s: &Species| species.iter().position(|t| t == s).unwrap_or(0) as u32;
+    let mut by_size: Vec<&GasKind> = kinds.iter().collect();
+    by_size.sort_by(|a, b| b.species.radius.total_cmp(&a.species.radius));
+    let mut kind_of: Vec<u32> = by_size
+        .iter()
+        .flat_map(|k| std::iter::repeat_n(number(&k.species), k.count))
+        .collect();
     let mut rng = ChaCha8Rng::seed_from_u64(gas.seed);
     let positions = match gas.arrangement {
-        Arrangement::Lattice => lattice(gas.count, gas.radius, sim_box)?,
-        Arrangement::Fcc => fcc(gas.count, gas.radius, sim_box)?,
-        Arrangement::Random => random_placement(gas.count, gas.radius, sim_box, &mut rng)?,
+        Arrangement::Lattice => lattice(count, largest, sim_box)?,
+        Arrangement::Fcc => fcc(count, largest, sim_box)?,
+        Arrangement::Random => {
+            let radii: Vec<f64> = kind_of
+                .iter()
+                .map(|&k| species[k as usize].radius)
+                .collect();
+            random_placement(&radii, sim_box, &mut rng)?
+        }
     };
-    let velocities = maxwell_velocities(gas.count, rms, &mut rng);
-    for (x, v) in positions.into_iter().zip(velocities) {
-        particles.push(species, 0, x, v);
+    if kinds.len() > 1 && gas.arrangement != Arrangement::Random {
+        // Fisher–Yates: the kinds spread over the lattice sites.
+        for i in (1..count).rev() {
+            let j = rng.random_range(0..=i);
+            kind_of.swap(i, j);
+        }
+    }
+    let masses: Vec<f64> = kind_of.iter().map(|&k| species[k as usize].mass).collect();
+    let velocities = maxwell_velocities(&masses, rms, &mut rng);
+    for ((x, v), k) in positions.into_iter().zip(velocities).zip(kind_of) {
+        particles.push(species, k, x, v);
     }
     Ok(())
 }
@@ -244,16 +404,14 @@ fn grid_dims(size: [f64; 3], d: f64, limit: f64) -> [usize; 3] {
     std::array::from_fn(|k| (size[k] / width).floor().max(1.0) as usize)
 }
 
-/// Random sequential addition: uniform trial positions, rejected if they overlap a
-/// placed sphere (or leave the box along a closed axis).
-fn random_placement(
-    count: usize,
-    radius: f64,
-    b: &SimBox,
-    rng: &mut ChaCha8Rng,
-) -> Result<Vec<[f64; 3]>> {
-    let d = 2.0 * radius;
-    let dims = grid_dims(b.size, d, 8.0 * count as f64 + 64.0);
+/// Random sequential addition of spheres of `radii`, in that order: uniform trial
+/// positions, rejected if they overlap a placed sphere (or leave the box along a closed
+/// axis).
+fn random_placement(radii: &[f64], b: &SimBox, rng: &mut ChaCha8Rng) -> Result<Vec<[f64; 3]>> {
+    let count = radii.len();
+    // Cells as wide as the largest contact: every overlap lies in the 27 cells around.
+    let widest = 2.0 * radii.iter().copied().fold(0.0, f64::max);
+    let dims = grid_dims(b.size, widest, 8.0 * count as f64 + 64.0);
     let cell: [f64; 3] = std::array::from_fn(|k| b.size[k] / dims[k] as f64);
     let mut cells: Vec<Vec<u32>> = vec![Vec::new(); dims.iter().product()];
     let mut placed: Vec<[f64; 3]> = Vec::with_capacity(count);
@@ -269,12 +427,13 @@ fn random_placement(
                 placed.len()
             );
         }
+        let radius = radii[placed.len()];
         let x: [f64; 3] = std::array::from_fn(|k| {
             let u: f64 = rng.random();
             if b.periodic[k] {
                 b.lo[k] + u * b.size[k]
             } else {
-                b.lo[k] + radius + u * (b.size[k] - d).max(0.0)
+                b.lo[k] + radius + u * (b.size[k] - 2.0 * radius).max(0.0)
             }
         });
         let c: [usize; 3] =
@@ -296,6 +455,7 @@ fn random_placement(
                     for &j in &cells[cc[0] + dims[0] * (cc[1] + dims[1] * cc[2])] {
                         let y = placed[j as usize];
                         let r = b.min_image(std::array::from_fn(|k| x[k] - y[k]));
+                        let d = radius + radii[j as usize];
                         if r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < d * d {
                             free = false;
                             break 'search;
@@ -312,17 +472,29 @@ fn random_placement(
     Ok(placed)
 }
 
-/// Gaussian velocity components (Box–Muller), shifted to zero total momentum (all
-/// masses equal) and scaled to the exact root-mean-square speed `rms`.
-fn maxwell_velocities(count: usize, rms: f64, rng: &mut ChaCha8Rng) -> Vec<[f64; 3]> {
+/// Maxwell velocities of spheres of `masses` at one temperature: Gaussian components
+/// (Box–Muller) of variance ∝ 1/m, shifted to zero total momentum and scaled to the
+/// exact root-mean-square speed `rms` over all spheres. (For equal masses the weights
+/// below are exactly 1, so the numbers are those of equal spheres.)
+fn maxwell_velocities(masses: &[f64], rms: f64, rng: &mut ChaCha8Rng) -> Vec<[f64; 3]> {
+    let count = masses.len();
     let mut gauss = || {
         let u1: f64 = 1.0 - rng.random::<f64>(); // in (0, 1]
         let u2: f64 = rng.random();
         (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
     };
     let mut v: Vec<[f64; 3]> = (0..count).map(|_| [gauss(), gauss(), gauss()]).collect();
+    // Weights m/m₀: equipartition scales each sphere by 1/√w, the momentum weighs by w.
+    let weight: Vec<f64> = masses.iter().map(|m| m / masses[0]).collect();
+    for (x, w) in v.iter_mut().zip(&weight) {
+        let s = 1.0 / w.sqrt();
+        for c in x.iter_mut() {
+            *c *= s;
+        }
+    }
+    let total: f64 = weight.iter().sum();
     let mean: [f64; 3] =
-        std::array::from_fn(|k| v.iter().map(|x| x[k]).sum::<f64>() / count as f64);
+        std::array::from_fn(|k| v.iter().zip(&weight).map(|(x, w)| w * x[k]).sum::<f64>() / total);
     let mut sum_sq = 0.0;
     for x in &mut v {
         for k in 0..3 {
@@ -356,7 +528,7 @@ mod tests {
             periodic: [true; 3],
         };
         let mut rng = ChaCha8Rng::seed_from_u64(1);
-        let x = random_placement(8, 1e-6, &b, &mut rng).unwrap();
+        let x = random_placement(&[1e-6; 8], &b, &mut rng).unwrap();
         assert_eq!(x.len(), 8);
         // A long thin box: cells grow along the long axis only.
         let long = grid_dims([1e9, 1e-9, 1e-9], 1e-10, 128.0);
@@ -396,19 +568,16 @@ mod tests {
         let err = cubic_box(2, 1e-120, 0.1).unwrap_err().to_string();
         assert!(err.contains("gas.packing_fraction"), "{err}");
         // A [box] of finite sides whose volume overflows (1e300 m³) or underflows.
-        let species = [Species {
-            radius: 1.0,
-            mass: 1.0,
-        }];
+        let species = [Species::new(1.0, 1.0)];
         for (size, radius) in [(1e150, 1.0), (1e-120, 1e-130)] {
             let gas = GasConfig {
                 count: 2,
-                radius,
+                radius: Some(radius),
                 mass: Some(1.0),
                 arrangement: Arrangement::Lattice,
-                packing_fraction: None,
                 rms_speed: 1.0,
                 seed: 1,
+                ..GasConfig::default()
             };
             let b = SimBox {
                 lo: [0.0; 3],
@@ -464,7 +633,7 @@ mod tests {
     #[test]
     fn maxwell_velocities_have_zero_momentum_and_the_rms_speed() {
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let v = maxwell_velocities(1000, 2.0, &mut rng);
+        let v = maxwell_velocities(&[1.5; 1000], 2.0, &mut rng);
         let p: [f64; 3] = std::array::from_fn(|k| v.iter().map(|x| x[k]).sum::<f64>());
         assert!(p.iter().all(|c| c.abs() < 1e-12), "{p:?}");
         let ms = v

@@ -4,7 +4,10 @@
 //! - the [`Domain`]: a [`SimBox`] (periodic or closed axes; `None` = free space), plane
 //!   [`Wall`]s, gravity; and [`Domain::check`], the checks of a state every engine
 //!   relies on (no overlaps, everything inside the box and in front of the walls);
-//! - [`Interactions`]: the pair law and properties of every kind of contact;
+//! - [`Interactions`]: the contact model (normal law and tangential sub-model) and
+//!   properties of every kind of contact, from the materials and their pairs
+//!   ([`MaterialTable`]); [`Method`] and [`Interactions::check_runs_on`], which method
+//!   runs which model;
 //! - [`Config`], the TOML schema (unknown keys are errors), and [`System`], what it
 //!   builds after validation;
 //! - generated gases ([`GasConfig`]: simple cubic, fcc or random placement, Maxwell
@@ -28,6 +31,9 @@ mod geometry;
 pub mod gsd;
 mod gsd_tail;
 mod interactions;
+mod material_config;
+mod materials;
+mod methods;
 mod parse;
 mod simulation;
 mod state;
@@ -37,18 +43,19 @@ mod tail;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
-pub use config::{
-    BoxConfig, Config, MaterialConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
-};
+pub use config::{BoxConfig, Config, MdConfig, OutputConfig, ParticleConfig, WallConfig};
 pub use domain::Domain;
 pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
-pub use gas::{Arrangement, GasConfig, cubic_box, fcc_gas};
+pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};
 pub use geometry::{
     CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
     sparse_cell_limit, sparse_cell_width,
 };
 pub use interactions::{Interaction, Interactions};
+pub use material_config::{InteractionConfig, MaterialConfig};
+pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
+pub use methods::Method;
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
 pub use system::System;

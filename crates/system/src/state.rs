@@ -3,16 +3,28 @@
 use emdstar_contact::vec3::{cross, norm2};
 use emdstar_contact::{SOLID_SPHERE_INERTIA, Sphere};
 
-/// One kind of sphere: every particle of a species has its radius and mass.
+/// One kind of sphere: every particle of a species has its radius, mass and material.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Species {
     /// Radius in m.
     pub radius: f64,
     /// Mass in kg.
     pub mass: f64,
+    /// The material, by its number in [`crate::Interactions`] (0 with one material).
+    #[serde(default)]
+    pub material: u32,
 }
 
 impl Species {
+    /// A species of the first (or only) material.
+    pub const fn new(radius: f64, mass: f64) -> Self {
+        Self {
+            radius,
+            mass,
+            material: 0,
+        }
+    }
+
     /// The sphere of the pair physics.
     pub fn sphere(&self) -> Sphere {
         Sphere {
@@ -305,10 +317,7 @@ mod tests {
 
     #[test]
     fn temperature_ignores_the_centre_of_mass_motion() {
-        let species = [Species {
-            radius: 0.1,
-            mass: 2.0,
-        }];
+        let species = [Species::new(0.1, 2.0)];
         let mut p = Particles::default();
         p.push(&species, 0, [0.0; 3], [1.0, 0.0, 0.0]);
         p.push(&species, 0, [1.0, 0.0, 0.0], [3.0, 0.0, 0.0]);

@@ -1,29 +1,45 @@
-//! A complete, validated system: particles, species, the material and the domain.
+//! A complete, validated system: particles, species, their contacts and the domain.
 
 use crate::domain::Domain;
 use crate::error::Result;
 use crate::interactions::Interactions;
 use crate::state::{Particles, Species};
-use emdstar_contact::{ForceLaw, Friction};
+use emdstar_contact::{ForceLaw, Tangential};
 
 /// Everything an engine of soft spheres needs besides its own options.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct System {
     pub particles: Particles,
     pub species: Vec<Species>,
-    /// The force law of the one material all particles and walls are made of.
-    pub material: ForceLaw,
-    /// The friction of that material (none by default).
-    #[serde(default)]
-    pub friction: Friction,
+    /// The contact model of every species pair and of every species against each wall
+    /// (not saved: a restored engine keeps the one its config gives).
+    #[serde(skip)]
+    pub interactions: Interactions,
     /// The box, walls and gravity.
     pub domain: Domain,
 }
 
 impl System {
-    /// The pair physics of every species pair and of every species against a wall.
-    pub fn interactions(&self) -> Result<Interactions> {
-        Interactions::of(&self.material, &self.species)
+    /// A system of one material, `law` with `tangential`, for particles and walls.
+    pub fn one_material(
+        particles: Particles,
+        species: Vec<Species>,
+        law: &ForceLaw,
+        tangential: Tangential,
+        domain: Domain,
+    ) -> Result<Self> {
+        let interactions = Interactions::one_material(law, tangential, &species)?;
+        Ok(Self {
+            particles,
+            species,
+            interactions,
+            domain,
+        })
+    }
+
+    /// The contact model of every species pair and of every species against a wall.
+    pub fn interactions(&self) -> &Interactions {
+        &self.interactions
     }
 
     /// Largest particle radius (0 if there are none).
@@ -31,8 +47,8 @@ impl System {
         self.species.iter().map(|s| s.radius).fold(0.0, f64::max)
     }
 
-    /// What the user should know about this system but that is not an error: spins on
-    /// a frictionless material (no torque ever acts, so they stay as given).
+    /// What the user should know about this system but that is not an error: spins
+    /// without friction (no torque ever acts, so they stay as given).
     pub fn warnings(&self) -> Vec<String> {
         let spinning = self
             .particles
@@ -40,10 +56,10 @@ impl System {
             .iter()
             .filter(|w| **w != [0.0; 3])
             .count();
-        if spinning > 0 && !self.friction.is_active() {
+        if spinning > 0 && !self.interactions.is_frictional() {
             vec![format!(
-                "{spinning} particles spin, but the material is frictionless (no \
-                 material.friction): no torque acts, so their spins stay as given and do not \
+                "{spinning} particles spin, but every contact is frictionless (no friction in \
+                 the materials): no torque acts, so their spins stay as given and do not \
                  affect the motion"
             )]
         } else {

@@ -1,8 +1,13 @@
 //! The friction and spin keys of a config: what they build, and a clear message for
 //! every bad input.
 
-use emdstar_contact::TangentialModel;
-use emdstar_system::Config;
+use emdstar_contact::{HistorySpring, Tangential, Walton};
+use emdstar_system::{Config, System};
+
+/// The tangential law of the particles' contact.
+fn tangential(s: &System) -> Tangential {
+    *s.interactions().pair(0, 0).tangential()
+}
 
 fn config(material: &str, spin: &str) -> String {
     format!(
@@ -35,18 +40,18 @@ fn friction_and_spins_are_read() {
         "angular_velocity = [1.0, 2.0, 3.0]",
     );
     let s = Config::from_toml(&text).unwrap().build().unwrap();
-    assert_eq!(s.friction.friction, 0.2);
-    assert_eq!(s.friction.stiffness, 500.0);
-    assert_eq!(s.friction.damping, 0.1);
-    assert_eq!(s.friction.model, TangentialModel::History);
+    assert_eq!(
+        tangential(&s),
+        Tangential::History(HistorySpring::new(0.2, 500.0, 0.1).unwrap())
+    );
     assert_eq!(s.particles.angular_velocity, vec![[1.0, 2.0, 3.0]]);
     assert!(s.warnings().is_empty());
     let coulomb = config("friction = 0.2\ntangential = \"coulomb\"", "");
     let s = Config::from_toml(&coulomb).unwrap().build().unwrap();
-    assert_eq!(s.friction.model, TangentialModel::Coulomb);
+    assert_eq!(tangential(&s), Tangential::Coulomb { friction: 0.2 });
     // Without friction keys: frictionless, no spin.
     let s = Config::from_toml(&config("", "")).unwrap().build().unwrap();
-    assert!(!s.friction.is_active());
+    assert_eq!(tangential(&s), Tangential::None);
     assert_eq!(s.particles.angular_velocity, vec![[0.0; 3]]);
 }
 
@@ -54,19 +59,14 @@ fn friction_and_spins_are_read() {
 fn walton_friction_is_read_for_the_event_engines() {
     let text = config("friction = 0.3\ntangential_restitution = -0.25", "");
     let s = Config::from_toml(&text).unwrap().build().unwrap();
-    assert_eq!(s.friction.tangential_restitution, Some(-0.25));
-    let w = s.friction.walton_rule().unwrap();
-    assert_eq!((w.friction, w.tangential_restitution), (0.3, -0.25));
-    // No spring: MD's law is absent.
-    assert_eq!(s.friction.stiffness, 0.0);
+    assert_eq!(
+        tangential(&s),
+        Tangential::Walton(Walton::new(0.3, -0.25).unwrap())
+    );
     // Without friction there is no rule to run.
     let text = config("friction = 0.0\ntangential_restitution = 0.5", "");
     let s = Config::from_toml(&text).unwrap().build().unwrap();
-    assert!(!s.friction.is_active() && s.friction.walton_rule().is_none());
-    // MD's materials have no β₀.
-    let text = config("friction = 0.3\ntangential_stiffness = 10.0", "");
-    let s = Config::from_toml(&text).unwrap().build().unwrap();
-    assert!(s.friction.walton_rule().is_none());
+    assert_eq!(tangential(&s), Tangential::None);
 }
 
 #[test]

@@ -123,16 +123,7 @@ impl Chunk {
     }
 }
 
-const SPECIES: [Species; 2] = [
-    Species {
-        radius: 0.1,
-        mass: 4.5,
-    },
-    Species {
-        radius: 0.05,
-        mass: 0.6,
-    },
-];
+const SPECIES: [Species; 2] = [Species::new(0.1, 4.5), Species::new(0.05, 0.6)];
 
 /// `n` particles of both species, stored out of config order (as engines re-sort them).
 fn particles(n: usize, t: f64) -> Particles {

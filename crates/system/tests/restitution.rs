@@ -2,7 +2,7 @@
 //! give its reference spheres' central impacts the restitution asked for, by the exact
 //! solver on the physical impact (both force laws, several restitutions and speeds).
 
-use emdstar_contact::{ForceLaw, Impact, PairLaw, PairProperties, Sphere, scale};
+use emdstar_contact::{Impact, PairLaw, PairProperties, Sphere, scale};
 use emdstar_mor::solve;
 use emdstar_system::{Config, System};
 
@@ -21,12 +21,10 @@ fn central_restitution(system: &System, v: f64) -> f64 {
     let s = system.species[0];
     let sphere = Sphere::new(s.radius, s.mass).unwrap();
     let pair = PairProperties::spheres(&sphere, &sphere);
-    let law = PairLaw::same_material(&system.material, pair.r_eff).unwrap();
+    let law = *system.interactions().pair(0, 0).law();
     let impact = Impact::from_speed_eccentricity(v, 0.0).unwrap();
     let scaled = scale(&law, &pair, &impact).unwrap();
-    -solve(system.material.model(), &scaled.params)
-        .unwrap()
-        .eps_rdot
+    -solve(law.model(), &scaled.params).unwrap().eps_rdot
 }
 
 #[test]
@@ -37,10 +35,10 @@ fn hertz_gas_gets_its_restitution_at_its_speed() {
                 "model = \"hertz\"\nyoung = 1e8\npoisson = 0.3\nrestitution = {e}\nrestitution_speed = {v}"
             );
             let system = build(&material, GAS).unwrap();
-            let ForceLaw::Hertz(h) = system.material else {
+            let PairLaw::Hertz { dissipation, .. } = system.interactions().pair(0, 0).law() else {
                 panic!("not Hertz")
             };
-            assert!(h.dissipation > 0.0);
+            assert!(*dissipation > 0.0);
             let got = central_restitution(&system, v);
             assert!((got - e).abs() < 1e-10, "ε = {e} at {v} m/s: {got}");
         }
@@ -69,10 +67,10 @@ fn restitution_one_is_elastic_and_bad_values_are_refused() {
         GAS,
     )
     .unwrap();
-    let ForceLaw::Linear(l) = elastic.material else {
+    let PairLaw::Linear { damping, .. } = elastic.interactions().pair(0, 0).law() else {
         panic!("not linear")
     };
-    assert_eq!(l.damping, 0.0);
+    assert_eq!(*damping, 0.0);
     let cases = [
         (
             "model = \"linear\"\nstiffness = 1e4\nrestitution = 0.0",
@@ -100,7 +98,7 @@ fn restitution_one_is_elastic_and_bad_values_are_refused() {
         ),
         (
             "model = \"hertz\"\nyoung = 1e8\npoisson = 0.3\nrestitution = 0.5\nrestitution_speed = -1.0",
-            "speed must be greater than zero",
+            "material.restitution_speed = -1 must be a finite number greater than zero",
         ),
         (
             "model = \"hertz\"\nyoung = 1e8\npoisson = 0.3\nrestitution = 0.5\nrestitution_speed = 1.0\ndissipation = 1e-4",
@@ -128,14 +126,11 @@ fn the_note_names_the_value_used() {
     );
     let config = Config::from_toml(&text).unwrap();
     let system = config.build().unwrap();
-    let ForceLaw::Hertz(h) = system.material else {
+    let PairLaw::Hertz { dissipation, .. } = system.interactions().pair(0, 0).law() else {
         panic!("not Hertz")
     };
-    let note = config
-        .material
-        .restitution_note(&system.material, &system.species[0])
-        .unwrap();
-    assert!(note.contains(&format!("{:.10e}", h.dissipation)), "{note}");
+    let note = &system.interactions().notes()[0];
+    assert!(note.contains(&format!("{dissipation:.10e}")), "{note}");
     assert!(
         note.contains("at 2 m/s") && note.contains("radius 0.05 m"),
         "{note}"

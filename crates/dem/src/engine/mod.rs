@@ -3,14 +3,14 @@
 mod rotation;
 mod snapshot;
 
-use crate::forces::{ForceKernel, ForceModel, PairForce, WALL, add_force};
+use crate::forces::{Accelerations, ContactRecord, ForceKernel, ForceModel, apply_contacts};
+use crate::frictional::Rotation;
 use crate::neighbour::NeighbourList;
 use crate::options::{MdError, MdOptions, prepare_system};
-
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
-use emdstar_system::{Interactions, Particles, SimBox, System, Thermo, permute};
+use emdstar_system::{Method, Particles, SimBox, System, Thermo, permute};
 use rayon::prelude::*;
-use rotation::Rotation;
+use rotation::{Buffers, FrictionalKind, SlotKind, SmoothKind};
 
 /// Particles per chunk of the force loop. Fixed, so that the order in which forces are
 /// summed does not depend on the number of threads.
@@ -31,9 +31,8 @@ pub struct Md {
     /// where they are used. Non-zero only for the particles listed in `touched`.
     contact_acc: Vec<[f64; 3]>,
     touched: Vec<u32>,
-    interactions: Interactions,
     list: NeighbourList,
-    buffers: Vec<Vec<PairForce>>,
+    buffers: Buffers,
     drift_bound: f64,
     /// Largest speed after the last sweep.
     v_max: f64,
@@ -42,8 +41,8 @@ pub struct Md {
     /// first half kick of the next step is fused with the last one of the previous
     /// (see [`Md::synchronise`]).
     lagging: bool,
-    /// Friction: spins, torques and springs. `None` for a frictionless material,
-    /// whose steps never touch the spins.
+    /// Friction: spins, torques and springs. `None` where every contact is
+    /// frictionless: the steps then never touch the spins.
     rotation: Option<Box<Rotation>>,
 }
 
@@ -69,17 +68,16 @@ impl Md {
     /// Prepares `system` for integration with `opts` up to `t_end` (which only enters
     /// the check of the time step against the shortest expected contact time).
     pub fn new(mut system: System, opts: MdOptions, t_end: f64) -> Result<Self, MdError> {
-        if system.friction.is_active() && system.friction.tangential_restitution.is_some() {
-            return Err(MdError::NoTangentialLaw);
-        }
+        let walls = system.domain.walls.len();
+        system.interactions.check_runs_on(Method::Md, walls)?;
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
-        let interactions = system.interactions()?;
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let rotation = system
-            .friction
-            .is_active()
-            .then(|| Box::new(Rotation::new(system.friction, &system.particles)));
+            .interactions
+            .is_frictional()
+            .then(|| Box::new(Rotation::new(&system.particles)));
+        let chunks = n.div_ceil(CHUNK);
         let mut md = Self {
             system,
             opts,
@@ -89,9 +87,11 @@ impl Md {
             inv_mass,
             contact_acc: vec![[0.0; 3]; n],
             touched: Vec::new(),
-            interactions,
             list: NeighbourList::default(),
-            buffers: vec![Vec::new(); n.div_ceil(CHUNK)],
+            buffers: Buffers {
+                smooth: vec![Vec::new(); chunks],
+                frictional: vec![Vec::new(); chunks],
+            },
             drift_bound: 0.0,
             v_max: 0.0,
             rebuilds: 0,
@@ -99,31 +99,14 @@ impl Md {
             rotation,
         };
         md.rebuild()?;
-        if md.rotation.is_some() {
-            md.frictional_sweep(0.0);
-            md.apply_frictional_forces();
-            md.v_max = p_max_speed(&md.system.particles);
-            return Ok(md);
-        }
         // Forces at t = 0 with the velocities themselves (h = 0).
-        let kernel = md.kernel(0.0);
-        let p = &md.system.particles;
-        let mut buffers = vec![Vec::new(); md.buffers.len()];
-        for (c, buf) in buffers.iter_mut().enumerate() {
-            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
-                kernel.particle(
-                    i,
-                    p.position[i],
-                    p.velocity[i],
-                    kernel.list.of(i).iter().copied(),
-                    &p.position,
-                    &p.velocity,
-                    buf,
-                );
-            }
+        if md.rotation.is_some() {
+            md.find_contacts_parallel::<FrictionalKind>(0.0);
+            md.apply::<FrictionalKind>();
+        } else {
+            md.find_contacts_parallel::<SmoothKind>(0.0);
+            md.apply::<SmoothKind>();
         }
-        md.buffers = buffers;
-        md.apply_forces();
         md.v_max = p_max_speed(&md.system.particles);
         Ok(md)
     }
@@ -279,22 +262,28 @@ impl Md {
         self.steps += 1;
         let h = 0.5 * self.opts.dt;
         let v2 = if self.rotation.is_some() {
-            let v2 = self.drift_all(gk, dt);
-            self.frictional_sweep(h);
-            v2
-        } else if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
-            self.sweep_fused(gk, dt, h)
+            self.sweep::<FrictionalKind>(gk, dt, h)
         } else {
-            self.sweep_parallel(gk, dt, h)
+            self.sweep::<SmoothKind>(gk, dt, h)
         };
         self.v_max = v2.sqrt();
         self.drift_bound += self.v_max * dt;
-        if self.rotation.is_some() {
-            self.apply_frictional_forces();
-        } else {
-            self.apply_forces();
-        }
         Ok(())
+    }
+
+    /// The drift and the contacts of one step, in one pass on one thread or in two
+    /// parallel passes over fixed chunks (the same numbers in the same order), then the
+    /// contacts applied. Returns max |v|².
+    fn sweep<K: SlotKind>(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+        let v2 = if rayon::current_num_threads() == 1 || self.system.particles.len() <= CHUNK {
+            self.sweep_fused::<K>(gk, dt, h)
+        } else {
+            let v2 = self.drift_all(gk, dt);
+            self.find_contacts_parallel::<K>(h);
+            v2
+        };
+        self.apply::<K>();
+        v2
     }
 
     /// v += a_contact·`by` for the particles in contact; returns their largest |v|².
@@ -313,29 +302,30 @@ impl Md {
         ForceModel::new(
             &p.radius,
             &p.species,
-            &self.interactions,
+            &self.system.interactions,
             &self.system.domain,
             self.opts.contact_end,
         )
     }
 
-    /// The force kernel of the current step.
-    fn kernel(&self, h: f64) -> ForceKernel<'_> {
+    /// The force kernel of the current step over the slot of kind `K`.
+    fn kernel<K: SlotKind>(&self, h: f64) -> ForceKernel<'_, K::Slot<'_>> {
         ForceKernel {
             model: self.model(),
             list: &self.list,
             contact_acc: &self.contact_acc,
             h,
+            slot: K::slot(self),
         }
     }
 
     /// One pass in particle order: kick and drift particle i, then find its contacts
     /// (its listed partners j < i have already moved). Returns max |v|².
-    fn sweep_fused(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
+    fn sweep_fused<K: SlotKind>(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
         let mut position = std::mem::take(&mut self.system.particles.position);
         let mut velocity = std::mem::take(&mut self.system.particles.velocity);
-        let mut buffers = std::mem::take(&mut self.buffers);
-        let kernel = self.kernel(h);
+        let mut buffers = std::mem::take(K::chunks(&mut self.buffers));
+        let kernel = self.kernel::<K>(h);
         let start = &self.list.start;
         let walls = !self.system.domain.walls.is_empty();
         let mut v2_max: f64 = 0.0;
@@ -361,19 +351,11 @@ impl Md {
                 }
             }
         }
+        drop(kernel);
         self.system.particles.position = position;
         self.system.particles.velocity = velocity;
-        self.buffers = buffers;
+        *K::chunks(&mut self.buffers) = buffers;
         v2_max
-    }
-
-    /// The same as [`Self::sweep_fused`] in two parallel passes over fixed chunks:
-    /// drift everything, then find the contacts. Same numbers, same order.
-    fn sweep_parallel(&mut self, gk: [f64; 3], dt: f64, h: f64) -> f64 {
-        let v2 = self.drift_all(gk, dt);
-        let buffers = std::mem::take(&mut self.buffers);
-        self.find_contacts_parallel(h, buffers);
-        v2
     }
 
     /// The gravity kick and the drift of every particle, in parallel over fixed chunks.
@@ -403,9 +385,11 @@ impl Md {
             .reduce(|| 0.0, f64::max)
     }
 
-    /// The sweep's second pass (see [`Self::sweep_parallel`]).
-    fn find_contacts_parallel(&mut self, h: f64, mut buffers: Vec<Vec<PairForce>>) {
-        let kernel = self.kernel(h);
+    /// The contacts at the current positions, in parallel over fixed chunks (the second
+    /// pass of [`Self::sweep`]).
+    fn find_contacts_parallel<K: SlotKind>(&mut self, h: f64) {
+        let mut buffers = std::mem::take(K::chunks(&mut self.buffers));
+        let kernel = self.kernel::<K>(h);
         let (position, velocity) = (
             &self.system.particles.position,
             &self.system.particles.velocity,
@@ -421,27 +405,37 @@ impl Md {
                 }
             }
         });
-        self.buffers = buffers;
+        drop(kernel);
+        *K::chunks(&mut self.buffers) = buffers;
     }
 
-    /// Replaces the contact accelerations by the forces just found, chunk by chunk and
-    /// pair by pair (a fixed order).
-    fn apply_forces(&mut self) {
+    /// Replaces the contact accelerations (and angular accelerations and springs, with
+    /// friction) by those of the contacts just found, chunk by chunk and contact by
+    /// contact (a fixed order).
+    fn apply<K: SlotKind>(&mut self) {
+        let mut rotation = self.rotation.as_deref_mut();
         for &i in &self.touched {
             self.contact_acc[i as usize] = [0.0; 3];
-        }
-        self.touched.clear();
-        for buf in &self.buffers {
-            for pf in buf {
-                add_force(pf, &self.inv_mass, &mut self.contact_acc);
-                self.touched.push(pf.i);
-                if pf.j != WALL {
-                    self.touched.push(pf.j);
-                }
+            if let Some(rot) = rotation.as_deref_mut() {
+                rot.angular_acc[i as usize] = [0.0; 3];
             }
         }
+        self.touched.clear();
+        let buffers = K::chunks(&mut self.buffers);
+        let mut to = Accelerations {
+            inv_mass: &self.inv_mass,
+            acc: &mut self.contact_acc,
+            angular: rotation
+                .as_deref_mut()
+                .map(|r| (&r.inv_inertia[..], &mut r.angular_acc[..])),
+        };
+        apply_contacts(buffers.iter().flatten(), &mut to, Some(&mut self.touched));
         self.touched.sort_unstable();
         self.touched.dedup();
+        if let Some(rot) = rotation {
+            let records = buffers.iter().flatten().filter_map(ContactRecord::spring);
+            rot.springs.replace(records);
+        }
     }
 
     /// Checks the state, wraps periodic positions, sorts particles by cell and
@@ -500,7 +494,11 @@ impl Md {
             &self.system.particles
         };
         let model = self.model();
-        let mut potential = self.rotation.as_ref().map_or(0.0, |r| r.spring_energy());
+        let interactions = &self.system.interactions;
+        let mut potential = self
+            .rotation
+            .as_ref()
+            .map_or(0.0, |r| r.spring_energy(interactions, p));
         let mut contacts = 0;
         for i in 0..p.len() {
             let xi = p.position[i];

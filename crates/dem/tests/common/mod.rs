@@ -1,7 +1,9 @@
 //! Shared set-ups of the MD tests.
 #![allow(dead_code)]
 
-use emdstar_contact::{ForceLaw, LinearDashpot, PairLaw, PairProperties, Vec3, ViscoelasticHertz};
+use emdstar_contact::{
+    ForceLaw, LinearDashpot, PairLaw, PairProperties, Tangential, Vec3, ViscoelasticHertz,
+};
 use emdstar_dem::{ContactEnd, Md, MdOptions};
 use emdstar_mor::rule::{Body, exact_collision};
 use emdstar_system::{Domain, Particles, Species, System};
@@ -21,10 +23,7 @@ pub fn hertz(a: f64) -> ForceLaw {
 
 pub fn species() -> Species {
     let s = emdstar_contact::Sphere::from_density(RADIUS, DENSITY).unwrap();
-    Species {
-        radius: s.radius,
-        mass: s.mass,
-    }
+    Species::new(s.radius, s.mass)
 }
 
 pub fn free_system(material: ForceLaw, bodies: &[(Vec3, Vec3)]) -> System {
@@ -33,13 +32,14 @@ pub fn free_system(material: ForceLaw, bodies: &[(Vec3, Vec3)]) -> System {
     for (x, v) in bodies {
         particles.push(&species, 0, [x.x, x.y, x.z], [v.x, v.y, v.z]);
     }
-    System {
+    System::one_material(
         particles,
         species,
-        material,
-        friction: Default::default(),
-        domain: Domain::default(),
-    }
+        &material,
+        Tangential::None,
+        Domain::default(),
+    )
+    .unwrap()
 }
 
 /// A two-sphere collision: equal spheres meeting with relative speed `speed` and

@@ -3,25 +3,26 @@
 //! the exceptions of Sec. VI B 5 and both fallbacks (the eMD rule when a rotation is
 //! impossible, the exact MoR for impacts outside a table), each counted in [`Stats`].
 //!
-//! An engine takes part through [`Host`]: its particle state, its transients and
-//! its predictions. The event engine of this crate and the hybrid engine's
-//! event-driven part are both hosts.
+//! A rule ([`Rule`], chosen per kind of contact in [`Rules`]) decides what a collision
+//! does ([`Decision`]); the executor here applies it to an engine through [`Host`]: its
+//! particle state, its transients and its predictions. The event engine of this crate
+//! and the hybrid engine's event-driven part are both hosts.
 
 mod frictional;
 mod probe;
 mod recontact;
-mod rough;
+mod rule;
 
-pub use probe::{FrictionalFallback, NONE, RotationProbe, pushes_deeper};
+pub use probe::{NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
+pub use rule::{
+    Decision, Kick, PairImpact, Party, Restitution, Rule, RuleContext, Rules, Transient,
+};
 
 use crate::error::Result;
-use crate::physics::{Interference, Physics};
-use crate::rules::{HertzRestitution, restitution_kick};
+use crate::physics::Interference;
 use crate::stats::Stats;
-use emdstar_contact::vec3::{dot, from_na, sub, to_na};
-use emdstar_contact::{Friction, Impact, Walton, scale};
-use emdstar_mor::rule::{Body, Outcome, resolve, resolve_wall};
+use emdstar_contact::vec3::{dot, sub};
 use emdstar_system::Wall;
 
 /// What the collision rules need of an engine. Particles are numbered by the host;
@@ -91,16 +92,6 @@ pub trait Host {
     /// The running exception-(a) probe.
     fn probe(&mut self) -> &mut Option<RotationProbe<Self::Saved>>;
     fn stats(&mut self) -> &mut Stats;
-    /// The collision rule and the cache of central restitution it uses.
-    fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution);
-    /// Walton's rule if collisions are frictional (hard spheres and eMD only), `None`
-    /// for smooth spheres.
-    fn walton(&self) -> Option<Walton>;
-    /// eMD*'s frictional spheres (the history spring solved exactly per collision), if
-    /// collisions are frictional.
-    fn exact_friction(&self) -> Option<Friction> {
-        None
-    }
 }
 
 /// The part of gravity that acts on a particle's velocity over an eMD* transient
@@ -159,10 +150,9 @@ fn interrupt_transient<H: Host>(h: &mut H, i: usize, interference: Interference)
 
 /// Handles exception (b) for the parties of a collision about to happen. Returns
 /// false if one of them was in a transient.
-fn settle_transients<H: Host>(h: &mut H, parties: &[usize]) -> bool {
-    let interference = match h.rule().0 {
-        Physics::EmdStar { interference, .. } => *interference,
-        _ => return true,
+fn settle_transients<H: Host>(h: &mut H, rules: &Rules, parties: &[usize]) -> bool {
+    let Some(interference) = rules.interference() else {
+        return true;
     };
     let mut clean = true;
     for &p in parties {
@@ -177,24 +167,37 @@ fn settle_transients<H: Host>(h: &mut H, parties: &[usize]) -> bool {
     clean
 }
 
-/// Adds the instantaneous kick of restitution `eps` to the pair (see
-/// [`restitution_kick`]), with friction by Walton's rule where the host has it.
-fn kick_pair<H: Host>(h: &mut H, i: usize, j: usize, r: [f64; 3], v: [f64; 3], eps: f64) {
-    if let Some(w) = h.walton() {
-        return rough::pair(h, i, j, r, eps, &w);
+/// Particle `p` as a rule sees it, placed at `position`.
+fn party<H: Host>(h: &H, p: usize, position: [f64; 3]) -> Party {
+    Party {
+        position,
+        velocity: h.velocity(p),
+        spin: h.spin(p),
+        radius: h.radius(p),
+        mass: h.mass(p),
     }
-    let (di, dj) = restitution_kick(r, v, h.mass(i), h.mass(j), eps);
-    let (vi, vj) = (h.velocity(i), h.velocity(j));
-    h.set_velocity(i, std::array::from_fn(|k| vi[k] + di[k]));
-    h.set_velocity(j, std::array::from_fn(|k| vj[k] + dj[k]));
 }
 
-/// Executes the predicted collision of `i` and `j` now. Returns false if an eMD*
-/// transient had to end first and the pair then no longer approached.
-pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
+/// Applies `kick` to the parties `who` (one for a wall).
+fn apply_kick<H: Host>(h: &mut H, who: &[usize], kick: &Kick) {
+    if kick.substitute {
+        h.stats().frictional_fallback_kicks += 1;
+    }
+    for (slot, &p) in who.iter().enumerate() {
+        h.set_velocity(p, kick.velocity[slot]);
+        if let Some(spin) = kick.spin {
+            h.set_spin(p, spin[slot]);
+        }
+    }
+}
+
+/// Executes the predicted collision of `i` and `j` now by their rule in `rules`.
+/// Returns false if an eMD* transient had to end first and the pair then no longer
+/// approached.
+pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize) -> Result<bool> {
     h.sync(i);
     h.sync(j);
-    if !settle_transients(h, &[i, j]) {
+    if !settle_transients(h, rules, &[i, j]) {
         let r = h.min_image(sub(h.position(i), h.position(j)));
         if dot(r, sub(h.velocity(i), h.velocity(j))) >= 0.0 {
             h.stats().interference_resolved += 1;
@@ -207,7 +210,7 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
     let v = sub(h.velocity(i), h.velocity(j));
     let contact = h.radius(i) + h.radius(j);
     let distance = dot(r, r).sqrt();
-    let emdstar = matches!(h.rule().0, Physics::EmdStar { .. });
+    let emdstar = rules.is_emdstar();
     let overlap = contact - distance;
     // Only eMD* places pairs overlapping; the last contacts are read only then.
     let placed = (emdstar && overlap > 0.0)
@@ -218,21 +221,43 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
         None => h.stats().record_impact(distance, contact),
     }
     h.stats().pair_collisions += 1;
+    // i unwrapped next to j, so that the pair is contiguous.
+    let pj = h.position(j);
+    let parties = [
+        party(h, i, std::array::from_fn(|k| pj[k] + r[k])),
+        party(h, j, pj),
+    ];
+    let impact = PairImpact { r, distance, v };
     let (si, sj) = (h.species(i), h.species(j));
-    let eps = match h.rule() {
-        (Physics::HardSpheres { restitution }, _) => Some(*restitution),
-        (Physics::Emd(m), hertz) => {
-            let vn = -dot(r, v) / distance;
-            Some(m.pair(si, sj).central.at(vn, hertz)?)
-        }
-        (Physics::EmdStar { .. }, _) => emdstar_pair(h, i, j, r, v)?,
+    let decision = {
+        let (rule, mut ctx) = rules.pair(si, sj, h.stats());
+        rule.pair(&mut ctx, &parties, &impact)?
     };
-    if emdstar && eps.is_some() {
-        // No E^φ placed the pair (exception a): it leaves from outside contact.
-        note_contact(h, i, j, 0.0);
-    }
-    if let Some(eps) = eps {
-        kick_pair(h, i, j, r, v, eps);
+    let mut fallback = None;
+    match decision {
+        Decision::Kick(kick) => {
+            if emdstar {
+                // No E^φ placed the pair: it leaves from outside contact.
+                note_contact(h, i, j, 0.0);
+            }
+            apply_kick(h, &[i, j], &kick);
+        }
+        Decision::Transient(t) if walls_block(h, &[i, j], &t.placed, None) => {
+            h.stats().exception_rotation += 1;
+            note_contact(h, i, j, 0.0);
+            apply_kick(h, &[i, j], &t.fallback);
+        }
+        Decision::Transient(t) => {
+            *h.probe() = Some(RotationProbe {
+                parties: [i as u32, j as u32],
+                before: [h.save(i), h.save(j)],
+                old_position: [h.position(i), h.position(j)],
+                blocked: false,
+            });
+            fallback = Some(t.fallback);
+            note_contact(h, i, j, t.overlap_left);
+            begin_transients(h, &[i, j], &t, [j as u32, i as u32]);
+        }
     }
     h.changed(i);
     h.changed(j);
@@ -246,14 +271,10 @@ pub fn pair_collision<H: Host>(h: &mut H, i: usize, j: usize) -> Result<bool> {
         for (slot, &p) in probe.parties.iter().enumerate() {
             h.restore(p as usize, probe.before[slot]);
             h.clear_transient(p as usize);
-            if let Some(f) = probe.friction {
-                h.set_spin(p as usize, f.spins_before[slot]);
-            }
         }
         note_contact(h, i, j, 0.0);
-        match probe.friction {
-            Some(f) => frictional::impulse_kick(h, i, j, r, v, f.impulse, probe.fallback),
-            None => kick_pair(h, i, j, r, v, probe.fallback),
+        if let Some(kick) = fallback {
+            apply_kick(h, &[i, j], &kick);
         }
         h.predict(i);
         h.predict(j);
@@ -279,91 +300,22 @@ fn note_contact<H: Host>(h: &mut H, i: usize, j: usize, overlap: f64) {
     );
 }
 
-/// The E^φ event of eMD* for a pair (Sec. VI B 2). Returns the eMD restitution to
-/// use instead if the rotation would push a party into a wall (exception a; third
-/// particles are checked by the predictions that follow, see [`RotationProbe`]).
-fn emdstar_pair<H: Host>(
-    h: &mut H,
-    i: usize,
-    j: usize,
-    r: [f64; 3],
-    v: [f64; 3],
-) -> Result<Option<f64>> {
-    if let Some(friction) = h.exact_friction() {
-        return frictional::pair(h, i, j, r, v, &friction);
-    }
-    let (si, sj) = (h.species(i), h.species(j));
-    let (m, fallback, l, tau_scale) = {
-        let Physics::EmdStar { materials, mor, .. } = h.rule().0 else {
-            unreachable!("eMD* event without eMD* physics")
-        };
-        let entry = materials.pair(si, sj).interaction;
-        let impact = Impact::from_relative(&to_na(r), &to_na(v))?;
-        let scaled = scale(&entry.law, &entry.props, &impact)?;
-        let (m, fallback) = mor.mor(entry.law.model(), &scaled.params)?;
-        (m, fallback, entry.props.l, scaled.time)
-    };
-    h.stats().mor_fallbacks += u64::from(fallback);
-    // Unwrap i next to j so that the pair is contiguous.
-    let pj = h.position(j);
-    let pi: [f64; 3] = std::array::from_fn(|k| pj[k] + r[k]);
-    let bodies = [
-        Body {
-            position: to_na(pi),
-            velocity: to_na(h.velocity(i)),
-            mass: h.mass(i),
-        },
-        Body {
-            position: to_na(pj),
-            velocity: to_na(h.velocity(j)),
-            mass: h.mass(j),
-        },
-    ];
-    let out = resolve(&bodies, l, &m, tau_scale);
-    let new = [
-        from_na(&out.rotated_positions[0]),
-        from_na(&out.rotated_positions[1]),
-    ];
-    if walls_block(h, &[i, j], &new, None) {
-        h.stats().exception_rotation += 1;
-        return Ok(Some(-m.eps_rdot));
-    }
-    *h.probe() = Some(RotationProbe {
-        parties: [i as u32, j as u32],
-        before: [h.save(i), h.save(j)],
-        old_position: [h.position(i), h.position(j)],
-        fallback: -m.eps_rdot,
-        friction: None,
-        blocked: false,
-    });
-    // Eq. (28): the pair overlaps by l(1 − ε_r) until it has separated.
-    note_contact(h, i, j, l - l * m.eps_r);
-    begin_pair_transients(h, [i, j], new, &out, None);
-    Ok(None)
-}
-
-/// eMD*'s E^φ for a pair (Müller & Pöschel 2013, Sec. VI B): both particles placed
-/// where the contact leaves them (`new`), moving with the transient velocity (and, with
-/// friction, given their new `spins`), their E^v scheduled at t + τ with the
-/// post-collision velocities plus gravity's share over τ.
-fn begin_pair_transients<H: Host>(
-    h: &mut H,
-    pair: [usize; 2],
-    new: [[f64; 3]; 2],
-    out: &Outcome,
-    spins: Option<[[f64; 3]; 2]>,
-) {
-    let g = h.gravity();
-    let end = h.now() + out.duration;
-    let partners = [pair[1] as u32, pair[0] as u32];
-    for (slot, &p) in pair.iter().enumerate() {
-        h.place(p, new[slot]);
-        h.set_velocity(p, from_na(&out.transient_velocity));
-        if let Some(spins) = spins {
+/// eMD*'s E^φ (Müller & Pöschel 2013, Sec. VI B): the parties `who` placed where the
+/// contact leaves them (`t.placed`, relative to `origin`), moving with the transient
+/// velocity (and, with friction, given their new spins), their E^v scheduled at t + τ
+/// with the post-collision velocities plus gravity's share over τ (see
+/// [`transient_gravity`]); `partners[k]` shares the transient of `who[k]`.
+fn begin_transients<H: Host>(h: &mut H, who: &[usize], t: &Transient, partners: [u32; 2]) {
+    let end = h.now() + t.duration;
+    for (slot, &p) in who.iter().enumerate() {
+        let g = transient_gravity(h.gravity(), h.walls(), h.particles(), partners[slot]);
+        h.place(p, t.placed[slot]);
+        h.set_velocity(p, t.moving);
+        if let Some(spins) = t.spin {
             h.set_spin(p, spins[slot]);
         }
-        let post = out.post_velocities[slot];
-        let after = std::array::from_fn(|k| post[k] + g[k] * out.duration);
+        let post = t.after[slot];
+        let after = std::array::from_fn(|k| post[k] + g[k] * t.duration);
         h.begin_transient(p, end, after, partners[slot]);
     }
 }
@@ -392,10 +344,10 @@ fn walls_block<H: Host>(
     false
 }
 
-/// Executes the predicted collision of `i` with wall `w` now.
-pub fn wall_collision<H: Host>(h: &mut H, i: usize, w: usize) -> Result<()> {
+/// Executes the predicted collision of `i` with wall `w` now by its rule in `rules`.
+pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize) -> Result<()> {
     h.sync(i);
-    settle_transients(h, &[i]);
+    settle_transients(h, rules, &[i]);
     let wall = h.walls()[w];
     let n = wall.normal;
     let vn = dot(n, h.velocity(i));
@@ -404,28 +356,42 @@ pub fn wall_collision<H: Host>(h: &mut H, i: usize, w: usize) -> Result<()> {
     if height < h.radius(i) && vn >= 0.0 {
         h.stats().stabilising += 1;
     }
-    let species = h.species(i);
-    let eps = if vn >= 0.0 {
+    if vn >= 0.0 {
         // A stabilising event at the top of a flight (Bannerman 2014, Alg. 2,
         // line 9): the sphere does not approach, so its velocity stays.
-        None
-    } else {
-        match h.rule() {
-            (Physics::HardSpheres { restitution }, _) => Some(*restitution),
-            (Physics::Emd(m), hertz) => Some(m.wall(species).central.at(-vn, hertz)?),
-            (Physics::EmdStar { .. }, _) => emdstar_wall(h, i, w, -vn)?,
-        }
+        h.changed(i);
+        h.predict(i);
+        return Ok(());
+    }
+    let me = party(h, i, sub(h.position(i), wall.point));
+    let decision = {
+        let (rule, mut ctx) = rules.wall(h.species(i), w, h.stats());
+        rule.wall(&mut ctx, &me, &wall, -vn)?
     };
-    let kick_wall = |h: &mut H, eps: f64| {
-        if let Some(walton) = h.walton() {
-            return rough::wall(h, i, n, eps, &walton);
+    let mut fallback = None;
+    match decision {
+        Decision::Kick(kick) => apply_kick(h, &[i], &kick),
+        Decision::Transient(t) => {
+            let placed = std::array::from_fn(|k| t.placed[0][k] + wall.point[k]);
+            if walls_block(h, &[i], &[placed], Some(w)) {
+                h.stats().exception_rotation += 1;
+                apply_kick(h, &[i], &t.fallback);
+            } else {
+                *h.probe() = Some(RotationProbe {
+                    parties: [i as u32; 2],
+                    before: [h.save(i); 2],
+                    old_position: [h.position(i); 2],
+                    blocked: false,
+                });
+                fallback = Some(t.fallback);
+                let t = Transient {
+                    placed: [placed; 2],
+                    ..t
+                };
+                let partner = (h.particles() + w) as u32;
+                begin_transients(h, &[i], &t, [partner; 2]);
+            }
         }
-        let kick = (1.0 + eps) * vn;
-        let v = h.velocity(i);
-        h.set_velocity(i, std::array::from_fn(|k| v[k] - kick * n[k]));
-    };
-    if let Some(eps) = eps {
-        kick_wall(h, eps);
     }
     h.changed(i);
     h.predict(i);
@@ -436,60 +402,10 @@ pub fn wall_collision<H: Host>(h: &mut H, i: usize, w: usize) -> Result<()> {
         h.stats().exception_rotation += 1;
         h.restore(i, probe.before[0]);
         h.clear_transient(i);
-        kick_wall(h, probe.fallback);
+        if let Some(kick) = fallback {
+            apply_kick(h, &[i], &kick);
+        }
         h.predict(i);
     }
     Ok(())
-}
-
-/// The E^φ event of eMD* against a flat wall: a central collision along the normal
-/// (Sec. IV applied with R₂, m₂ → ∞; see `emdstar_mor::rule::resolve_wall`).
-fn emdstar_wall<H: Host>(h: &mut H, i: usize, w: usize, v_n: f64) -> Result<Option<f64>> {
-    let species = h.species(i);
-    let (m, fallback, l, tau_scale) = {
-        let Physics::EmdStar { materials, mor, .. } = h.rule().0 else {
-            unreachable!("eMD* event without eMD* physics")
-        };
-        let entry = materials.wall(species).interaction;
-        let impact = Impact {
-            normal_speed: v_n,
-            tangential_speed: 0.0,
-        };
-        let scaled = scale(&entry.law, &entry.props, &impact)?;
-        let (m, fallback) = mor.mor(entry.law.model(), &scaled.params)?;
-        (m, fallback, entry.props.l, scaled.time)
-    };
-    h.stats().mor_fallbacks += u64::from(fallback);
-    let wall = h.walls()[w];
-    let body = Body {
-        position: to_na(sub(h.position(i), wall.point)),
-        velocity: to_na(h.velocity(i)),
-        mass: h.mass(i),
-    };
-    let out = resolve_wall(&body, &to_na(wall.normal), l, &m, tau_scale);
-    let rel = out.rotated_positions[0];
-    let new = std::array::from_fn(|k| rel[k] + wall.point[k]);
-    if walls_block(h, &[i], &[new], Some(w)) {
-        h.stats().exception_rotation += 1;
-        return Ok(Some(-m.eps_rdot));
-    }
-    *h.probe() = Some(RotationProbe {
-        parties: [i as u32; 2],
-        before: [h.save(i); 2],
-        old_position: [h.position(i); 2],
-        fallback: -m.eps_rdot,
-        friction: None,
-        blocked: false,
-    });
-    h.place(i, new);
-    h.set_velocity(i, from_na(&out.transient_velocity));
-    // The wall carries the normal part of gravity during the contact (an elastic
-    // sphere leaves it with its impact speed), so only the tangential part acts over
-    // τ; see `transient_gravity`.
-    let post = out.post_velocities[0];
-    let partner = (h.particles() + w) as u32;
-    let g = transient_gravity(h.gravity(), h.walls(), h.particles(), partner);
-    let after = std::array::from_fn(|k| post[k] + g[k] * out.duration);
-    h.begin_transient(i, h.now() + out.duration, after, partner);
-    Ok(None)
 }

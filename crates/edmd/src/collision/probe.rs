@@ -11,8 +11,8 @@ pub const NONE: u32 = u32::MAX;
 ///
 /// The parties already sit at their rotated positions. A prediction of a party that
 /// meets a third particle within contact of the party's new position, and closer to
-/// it than to the old one, calls [`RotationProbe::observe`], which marks the rotation
-/// blocked; the collision step then undoes the E^φ and applies the eMD rule instead.
+/// it than to the old one, marks the rotation blocked ([`RotationProbe::blocks`]); the
+/// collision step then undoes the E^φ and applies the rule's kick instead.
 /// The predictions must visit every particle that could be within contact (the
 /// contract of [`crate::collision::Host::predict`]), so no scan of its own is needed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,22 +23,7 @@ pub struct RotationProbe<S: Copy> {
     pub before: [S; 2],
     /// Each party's position before the rotation.
     pub old_position: [[f64; 3]; 2],
-    /// The eMD restitution to apply instead.
-    pub fallback: f64,
-    /// With friction: the parties' spins before the E^φ changed them (put back with
-    /// the rotation) and the impulse of the exact contact (applied instead of the
-    /// restitution); `None` without friction.
-    pub friction: Option<FrictionalFallback>,
     pub blocked: bool,
-}
-
-/// What exception (a) of a frictional collision needs (see
-/// `collision::frictional::impulse_kick`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrictionalFallback {
-    pub spins_before: [[f64; 3]; 2],
-    /// m_eff (v_after − v_before) of the relative velocity, on i.
-    pub impulse: [f64; 3],
 }
 
 impl<S: Copy> RotationProbe<S> {

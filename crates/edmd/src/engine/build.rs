@@ -3,11 +3,10 @@
 use super::EventEngine;
 use crate::broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};
 use crate::cells::{NONE, auto_cell_width};
-use crate::collision::LastContact;
+use crate::collision::{LastContact, Rules};
 use crate::error::{EngineError, Result};
 use crate::physics::{BroadPhaseKind, Physics};
 use crate::queue::EventQueue;
-use crate::rules::HertzRestitution;
 use crate::state::{EventRec, Kin, Slot, State};
 use crate::stats::Stats;
 use emdstar_contact::vec3::dot;
@@ -46,7 +45,7 @@ fn check_particles(p: &Particles, domain: &Domain, physics: &Physics) -> Result<
             return invalid(format!("particle {i}: mass {} must be positive", p.mass[i]));
         }
     }
-    if let Some(m) = physics.materials()
+    if let Some(m) = physics.interactions()
         && let Some((i, s)) = p
             .species
             .iter()
@@ -56,13 +55,6 @@ fn check_particles(p: &Particles, domain: &Domain, physics: &Physics) -> Result<
         return invalid(format!(
             "particle {i} has species {s}, but materials were given for {} species",
             m.species()
-        ));
-    }
-    if let Physics::HardSpheres { restitution } = physics
-        && !(0.0..=1.0).contains(restitution)
-    {
-        return invalid(format!(
-            "coefficient of restitution {restitution} must lie in [0, 1]"
         ));
     }
     if !domain.gravity.iter().all(|g| g.is_finite()) {
@@ -158,6 +150,7 @@ const RESORT_MIN_PARTICLES: usize = 1000;
 /// A checked input, ready for a broad phase.
 pub(crate) struct Prepared<Q: EventQueue> {
     pub state: State<Q>,
+    pub rules: Rules,
     pub max_contact: f64,
     /// Cells the crossing broad phase would use (also the re-sorting's cells).
     pub cell_width: f64,
@@ -180,6 +173,7 @@ impl<Q: EventQueue> Prepared<Q> {
             ..domain.clone()
         };
         check_particles(particles, &domain, &physics)?;
+        let rules = Rules::new(physics, domain.walls.len())?;
         let max_contact = 2.0 * particles.radius.iter().copied().fold(0.0, f64::max);
         // An impossible packing fraction first: it would also show as an overlap.
         let region = region_of(particles, domain.sim_box, max_contact)?;
@@ -237,10 +231,6 @@ impl<Q: EventQueue> Prepared<Q> {
             }),
             domain,
             has_gravity,
-            physics,
-            walton: None,
-            exact_friction: None,
-            hertz: HertzRestitution::default(),
             stats: Stats::default(),
             zero_streak: 0,
             probe: None,
@@ -251,6 +241,7 @@ impl<Q: EventQueue> Prepared<Q> {
         }
         Ok(Self {
             state,
+            rules,
             max_contact,
             cell_width,
         })
@@ -289,7 +280,7 @@ impl<Q: EventQueue> Prepared<Q> {
             .map(|p| p.kin.radius)
             .fold(f64::INFINITY, f64::min);
         !s.has_gravity
-            && !matches!(s.physics, Physics::EmdStar { .. })
+            && !self.rules.is_emdstar()
             && self.max_contact <= 4.0 * smallest
             && Neighbours::fits(&s.region, self.max_contact, s.len())
     }
@@ -304,14 +295,23 @@ impl<Q: EventQueue> Prepared<Q> {
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// The engine on broad phase `broad` from a prepared input: files every particle,
     /// re-sorts them (large systems) and predicts every first event.
-    pub(crate) fn start(Prepared { mut state, .. }: Prepared<Q>, mut broad: B) -> Self {
+    pub(crate) fn start(
+        Prepared {
+            mut state, rules, ..
+        }: Prepared<Q>,
+        mut broad: B,
+    ) -> Self {
         state.queue = Q::new(state.len() + B::OWN_EVENTS);
         broad.file(&state);
         if state.resort_every > 0 {
             broad.resort(&mut state);
         }
         broad.start(&mut state);
-        Self { state, broad }
+        Self {
+            state,
+            broad,
+            rules,
+        }
     }
 }
 

@@ -1,17 +1,20 @@
-//! The event engine as a host of the shared collision rules.
+//! The event engine as a host of the shared collision rules: its state and broad
+//! phase, apart from the rules that act on them.
 
-use super::EventEngine;
 use crate::broad_phase::BroadPhase;
 use crate::collision::{Host, LastContact, NONE, RotationProbe};
-use crate::physics::Physics;
 use crate::queue::EventQueue;
-use crate::rules::HertzRestitution;
-use crate::state::Saved;
+use crate::state::{Saved, State};
 use crate::stats::Stats;
-use emdstar_contact::{Friction, Walton};
 use emdstar_system::Wall;
 
-impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
+/// The parts of an [`super::EventEngine`] the collision rules act on.
+pub(crate) struct EngineHost<'a, B, Q: EventQueue> {
+    pub(crate) state: &'a mut State<Q>,
+    pub(crate) broad: &'a mut B,
+}
+
+impl<B: BroadPhase, Q: EventQueue> Host for EngineHost<'_, B, Q> {
     type Saved = Saved;
 
     #[inline]
@@ -155,7 +158,7 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
 
     #[inline]
     fn predict(&mut self, i: usize) {
-        self.broad.predict(&mut self.state, i);
+        self.broad.predict(self.state, i);
     }
 
     #[inline]
@@ -166,19 +169,5 @@ impl<B: BroadPhase, Q: EventQueue> Host for EventEngine<B, Q> {
     #[inline]
     fn stats(&mut self) -> &mut Stats {
         &mut self.state.stats
-    }
-
-    #[inline]
-    fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution) {
-        (&mut self.state.physics, &mut self.state.hertz)
-    }
-
-    #[inline]
-    fn walton(&self) -> Option<Walton> {
-        self.state.walton
-    }
-
-    fn exact_friction(&self) -> Option<Friction> {
-        self.state.exact_friction
     }
 }

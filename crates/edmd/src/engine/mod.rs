@@ -12,12 +12,12 @@ mod tests;
 
 use crate::broad_phase::BroadPhase;
 use crate::calendar::CalendarQueue;
-use crate::collision;
+use crate::collision::{self, Rules};
 use crate::error::{EngineError, Result};
 use crate::queue::EventQueue;
 use crate::state::State;
 use crate::stats::Stats;
-use emdstar_contact::{Friction, TangentialModel, Walton};
+use host::EngineHost;
 
 /// What [`EventEngine::step`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,6 +46,9 @@ pub enum Event {
 pub struct EventEngine<B, Q: EventQueue = CalendarQueue> {
     state: State<Q>,
     broad: B,
+    /// Not saved: a restored engine keeps the rules it was built with.
+    #[serde(skip)]
+    rules: Rules,
 }
 
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
@@ -71,81 +74,9 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         &self.state.stats
     }
 
-    /// The collision rule.
-    pub fn physics(&self) -> &crate::physics::Physics {
-        &self.state.physics
-    }
-
-    /// Friction by Walton's rule, if collisions are frictional.
-    pub fn friction(&self) -> Option<Walton> {
-        self.state.walton
-    }
-
-    /// Makes collisions of spheres and with walls frictional by Walton's rule
-    /// (`emdstar_contact::Walton`; docs/physics.md): spins change at collisions. For
-    /// hard spheres and eMD; eMD* refuses (it solves the history spring exactly:
-    /// [`EventEngine::with_exact_friction`]). µ = 0 is
-    /// frictionless and keeps the frictionless rule, bit for bit.
-    pub fn with_friction(mut self, walton: Walton) -> Result<Self> {
-        if let crate::physics::Physics::EmdStar { .. } = self.state.physics {
-            return Err(EngineError::Invalid(
-                "eMD* does not run Walton's rule: its frictional collisions are the exact \
-                 contact with the history spring (tangential_stiffness); Walton's rule runs on \
-                 hard spheres and eMD"
-                    .into(),
-            ));
-        }
-        Walton::new(walton.friction, walton.tangential_restitution)?;
-        self.state.walton = (walton.friction > 0.0).then_some(walton);
-        Ok(self)
-    }
-
-    /// eMD*'s frictional spheres, if collisions are frictional.
-    pub fn exact_friction(&self) -> Option<Friction> {
-        self.state.exact_friction
-    }
-
-    /// Makes eMD*'s pair collisions frictional: each is the exact contact of the
-    /// normal law with the history spring of `friction` and both spins
-    /// (`emdstar_mor::frictional`; docs/physics.md, "eMD* with friction"). For eMD* only,
-    /// spheres without walls (a wall's frictional contact is not solved yet), and the
-    /// history spring (pure Coulomb sliding has no exact solve). µ = 0 keeps the
-    /// frictionless rule, bit for bit.
-    pub fn with_exact_friction(mut self, friction: Friction) -> Result<Self> {
-        let crate::physics::Physics::EmdStar { .. } = self.state.physics else {
-            return Err(EngineError::Invalid(
-                "the exact frictional contact is eMD*'s rule; hard spheres and eMD run \
-                 friction by Walton's rule (tangential_restitution)"
-                    .into(),
-            ));
-        };
-        if !friction.is_active() {
-            return Ok(self);
-        }
-        if friction.model != TangentialModel::History || friction.tangential_restitution.is_some() {
-            return Err(EngineError::Invalid(
-                "eMD* with friction solves the history spring exactly: give the material \
-                 tangential_stiffness (and tangential_damping) with tangential = \"history\", \
-                 not tangential_restitution (Walton's rule, run by --engine emd) or tangential = \
-                 \"coulomb\""
-                    .into(),
-            ));
-        }
-        if !self.state.domain.walls.is_empty() {
-            return Err(EngineError::Invalid(
-                "eMD* with friction has no frictional wall contact yet: remove the walls \
-                 (periodic box or free space), or run friction with walls on --engine md"
-                    .into(),
-            ));
-        }
-        let checked = Friction::new(
-            friction.friction,
-            friction.stiffness,
-            friction.damping,
-            friction.model,
-        )?;
-        self.state.exact_friction = Some(checked);
-        Ok(self)
+    /// The collision rules.
+    pub fn rules(&self) -> &Rules {
+        &self.rules
     }
 
     /// Full prediction for particle `i` at the current time: all neighbours, walls and
@@ -153,6 +84,14 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     #[inline]
     pub(crate) fn predict(&mut self, i: usize) {
         self.broad.predict(&mut self.state, i);
+    }
+
+    /// The parts the collision rules act on.
+    fn host(&mut self) -> EngineHost<'_, B, Q> {
+        EngineHost {
+            state: &mut self.state,
+            broad: &mut self.broad,
+        }
     }
 
     /// Processes the next event.
@@ -202,7 +141,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             return self.step();
         }
         if s.slot[i].ev.pending_time <= t {
-            collision::velocity_event(self, i);
+            collision::velocity_event(&mut self.host(), i);
             return Ok(Event::Velocity(self.state.id[i]));
         }
         let (cross_time, axis, dir) = s.next_crossing(i);
@@ -214,7 +153,11 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         let j = s.slot[i].ev.coll_partner as usize;
         let n = s.len();
         if j >= n {
-            collision::wall_collision(self, i, j - n)?;
+            let mut host = EngineHost {
+                state: &mut self.state,
+                broad: &mut self.broad,
+            };
+            collision::wall_collision(&mut host, &mut self.rules, i, j - n)?;
             return Ok(Event::Wall(self.state.id[i], (j - n) as u32));
         }
         if s.slot[j].ev.counter != s.slot[i].ev.coll_counter {
@@ -226,7 +169,11 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             s.stats.stabilising += 1;
         }
         let (id_i, id_j) = (s.id[i], s.id[j]);
-        if collision::pair_collision(self, i, j)? {
+        let mut host = EngineHost {
+            state: &mut self.state,
+            broad: &mut self.broad,
+        };
+        if collision::pair_collision(&mut host, &mut self.rules, i, j)? {
             Ok(Event::Collision(id_i, id_j))
         } else {
             Ok(Event::Resolved(id_i, id_j))

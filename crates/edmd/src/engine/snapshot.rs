@@ -12,14 +12,14 @@ where
     B: BroadPhase + Serialize + DeserializeOwned,
     Q: EventQueue + Serialize + DeserializeOwned,
 {
-    /// The whole state (everything but the physics, which the engine was built with),
+    /// The whole state (everything but the rules, which the engine was built with),
     /// in the checkpoint encoding.
     pub fn save_state(&self) -> Vec<u8> {
         postcard::to_allocvec(self).expect("an engine state serialises")
     }
 
     /// Replaces the state by one [`EventEngine::save_state`] gave, keeping this engine's
-    /// physics and friction (the same config and options must have built both).
+    /// rules (the same config and options must have built both).
     pub fn restore_state(&mut self, bytes: &[u8]) -> Result<()> {
         let mut saved: Self = postcard::from_bytes(bytes).map_err(|e| {
             EngineError::Invalid(format!(
@@ -45,9 +45,7 @@ where
                      resume with the config and the version of emdstar that wrote it"
                 ))
             })?;
-        std::mem::swap(&mut saved.state.physics, &mut self.state.physics);
-        saved.state.walton = self.state.walton;
-        saved.state.exact_friction = self.state.exact_friction;
+        std::mem::swap(&mut saved.rules, &mut self.rules);
         *self = saved;
         Ok(())
     }

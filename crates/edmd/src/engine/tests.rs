@@ -28,7 +28,7 @@ fn three_body_overlap_resolves_by_a_stabilising_collision() {
     let mut e: EventEngine<Crossings> = EventEngine::crossings(
         &line(&[-2.0, 0.0, 1.5], &[10.0, 0.0, 1e-7]),
         &Domain::default(),
-        Physics::HardSpheres { restitution: 1.0 },
+        Physics::hard_spheres(1.0),
         0.0,
     )
     .unwrap();
@@ -87,9 +87,11 @@ impl EventEngine<Crossings> {
 }
 
 fn soft_pair() -> (Particles, Physics) {
-    use crate::physics::{Interference, Materials};
+    use crate::physics::Interference;
     use crate::rules::ExactMor;
+    use emdstar_contact::Tangential;
     use emdstar_contact::{ForceLaw, LinearDashpot, Sphere};
+    use emdstar_system::Interactions;
     let s = Sphere::from_density(0.1, 1140.0).unwrap();
     let law = ForceLaw::Linear(LinearDashpot::new(2000.0, 0.0).unwrap());
     let setup = Particles::from_columns(
@@ -101,7 +103,7 @@ fn soft_pair() -> (Particles, Physics) {
     )
     .unwrap();
     let physics = Physics::EmdStar {
-        materials: Materials::of_spheres(&law, &[s]).unwrap(),
+        interactions: Interactions::of_spheres(&law, Tangential::None, &[s]).unwrap(),
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };
@@ -214,7 +216,7 @@ where
 #[test]
 fn decoded_checkpoints_that_do_not_fit_the_config_are_refused() {
     let (particles, domain) = lattice_gas(5);
-    let hard = || Physics::HardSpheres { restitution: 1.0 };
+    let hard = || Physics::hard_spheres(1.0);
     let crossings = || EventEngine::crossings(&particles, &domain, hard(), 0.0).unwrap();
     let epochs = || EventEngine::<Epochs>::epochs(&particles, &domain, hard()).unwrap();
     // The fuzzing finding: no spins although the gas has particles.
@@ -264,8 +266,7 @@ fn a_ball_coming_to_rest_on_a_floor_stops_as_an_inelastic_collapse() {
         ..Domain::default()
     };
     let mut e: EventEngine<Crossings> =
-        EventEngine::crossings(&p, &domain, Physics::HardSpheres { restitution: eps }, 0.0)
-            .unwrap();
+        EventEngine::crossings(&p, &domain, Physics::hard_spheres(eps), 0.0).unwrap();
     let err = e.run_until(100.0).unwrap_err().to_string();
     assert!(
         err.contains("inelastic collapse") && err.contains("--engine hybrid"),

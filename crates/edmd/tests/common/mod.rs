@@ -57,7 +57,7 @@ pub fn first_collisions(
     broad_phase: BroadPhaseKind,
     n: usize,
 ) -> (Vec<(u32, u32, f64)>, Stats) {
-    let physics = Physics::HardSpheres { restitution: 1.0 };
+    let physics = Physics::hard_spheres(1.0);
     let mut e: Engine = Engine::with_broad_phase(&setup.0, &setup.1, physics, broad_phase)
         .expect("an engine for a valid gas");
     let mut out = vec![];

@@ -214,15 +214,22 @@ impl Hybrid {
             }
             let j = self.ed[i].coll_partner as usize;
             let n = self.mode.len();
-            self.choose_walton(i, j);
-            if j >= n {
-                collision::wall_collision(self, i, j - n)?;
-            } else if self.mode[j] != Mode::Event || self.ed[j].counter != self.ed[i].coll_counter {
+            if j < n
+                && (self.mode[j] != Mode::Event || self.ed[j].counter != self.ed[i].coll_counter)
+            {
                 self.stats.ed.stale += 1;
                 self.predict(i, t);
-            } else {
-                collision::pair_collision(self, i, j)?;
+                continue;
             }
+            // The rules act on the rest of the engine, its host.
+            let mut rules = std::mem::take(&mut self.rules);
+            let done = if j >= n {
+                collision::wall_collision(self, &mut rules, i, j - n)
+            } else {
+                collision::pair_collision(self, &mut rules, i, j).map(|_| ())
+            };
+            self.rules = rules;
+            done?;
         }
         Ok(())
     }

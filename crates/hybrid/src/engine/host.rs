@@ -4,11 +4,9 @@
 use super::Hybrid;
 use super::record::Saved;
 use crate::options::Mode;
-use emdstar_contact::Walton;
 use emdstar_contact::vec3::{add, sub};
+use emdstar_edmd::Stats;
 use emdstar_edmd::collision::{Host, LastContact, NONE, RotationProbe};
-use emdstar_edmd::rules::HertzRestitution;
-use emdstar_edmd::{Physics, Stats};
 use emdstar_system::Wall;
 
 impl Host for Hybrid {
@@ -175,17 +173,5 @@ impl Host for Hybrid {
     #[inline]
     fn stats(&mut self) -> &mut Stats {
         &mut self.stats.ed
-    }
-
-    #[inline]
-    fn rule(&mut self) -> (&mut Physics, &mut HertzRestitution) {
-        (&mut self.physics, &mut self.hertz)
-    }
-
-    /// Walton's rule of the collision being executed (set by the event loop from the
-    /// species of its parties), `None` for a frictionless material.
-    #[inline]
-    fn walton(&self) -> Option<Walton> {
-        self.walton_now
     }
 }

@@ -15,12 +15,14 @@ mod time_driven;
 use crate::options::{HybridError, HybridOptions, HybridStats, Mode};
 use crate::phi::{DenseScratch, local_volume_fractions, region, volume_fractions_on};
 use emdstar_contact::vec3::norm;
-use emdstar_dem::{MdError, NeighbourList, check_and_wrap, prepare_system};
+use emdstar_dem::{
+    ContactScratch, MdError, NeighbourList, Rotation, check_and_wrap, prepare_system,
+};
 use emdstar_edmd::cells::LinkedCells;
-use emdstar_edmd::collision::RotationProbe;
-use emdstar_edmd::rules::{HertzRestitution, MorSource};
-use emdstar_edmd::{CalendarQueue, EventQueue, Interference, Materials, Physics};
-use emdstar_system::System;
+use emdstar_edmd::collision::{RotationProbe, Rules};
+use emdstar_edmd::rules::MorSource;
+use emdstar_edmd::{CalendarQueue, EventQueue, Interference, Physics};
+use emdstar_system::{Method, System};
 use record::{EdRec, Saved};
 
 /// A hybrid TD/ED simulation of one [`System`] (see the crate docs).
@@ -37,14 +39,10 @@ pub struct Hybrid {
     /// TD contact accelerations at the current time (zero for ED particles).
     pub(crate) contact_acc: Vec<[f64; 3]>,
     pub(crate) new_acc: Vec<[f64; 3]>,
-    /// The pair physics (not saved: a restored engine keeps its own).
+    /// The collision rules of the ED particles (not saved: a restored engine keeps
+    /// its own).
     #[serde(skip)]
-    pub(crate) materials: Materials,
-    /// The collision rule of the ED particles (eMD*) and its cache (not saved).
-    #[serde(skip, default = "snapshot::unset_physics")]
-    pub(crate) physics: Physics,
-    #[serde(skip)]
-    pub(crate) hertz: HertzRestitution,
+    pub(crate) rules: Rules,
     /// The time of the ED event being executed.
     pub(crate) now: f64,
     /// eMD*: exception (a) of the E^φ being executed, checked by the predictions
@@ -85,14 +83,12 @@ pub struct Hybrid {
     pub(crate) jump: Vec<f64>,
     pub(crate) max_jump: f64,
     pub(crate) stats: HybridStats,
-    /// Friction: the TD part's spins and springs (`None` for a frictionless material).
-    pub(crate) rotation: Option<Box<friction::TdRotation>>,
-    /// Walton's rules of the ED collisions (not saved), and the one of the collision
-    /// being executed.
+    /// Friction: the TD part's spins and springs (`None` where every contact is
+    /// frictionless).
+    pub(crate) rotation: Option<Box<Rotation>>,
+    /// Scratch: the TD contacts of a step.
     #[serde(skip)]
-    pub(crate) ed_friction: Option<friction::EdFriction>,
-    #[serde(skip)]
-    pub(crate) walton_now: Option<emdstar_contact::Walton>,
+    pub(crate) contacts: ContactScratch,
 }
 
 impl Hybrid {
@@ -127,19 +123,22 @@ impl Hybrid {
                 "max_events_per_step must be at least 1".into(),
             ));
         }
-        let materials = Materials::from_system(&system)?;
-        let (rotation, ed_friction) = friction::set_up(&system, &materials)?.unzip();
-        // eMD*'s three events have no frictional rule: frictional ED collisions are
-        // instantaneous, eMD's (HAET, Eqs. 1.1a-b) with Walton's rule.
-        let physics = if ed_friction.is_some() {
-            Physics::Emd(materials.clone())
+        let walls = system.domain.walls.len();
+        system.interactions.check_runs_on(Method::Hybrid, walls)?;
+        let frictional = system.interactions.is_frictional();
+        // Frictional ED collisions are instantaneous, eMD's (HAET, Eqs. 1.1a-b) with
+        // Walton's rule.
+        let physics = if frictional {
+            Physics::Emd(friction::event_contacts(&system.interactions)?)
         } else {
             Physics::EmdStar {
-                materials: materials.clone(),
+                interactions: system.interactions.clone(),
                 mor,
                 interference: Interference::HitOnly,
             }
         };
+        let rules = Rules::new(physics, walls)?;
+        let rotation = frictional.then(|| Box::new(Rotation::new(&system.particles)));
         let n = system.particles.len();
         let inv_mass = system.particles.mass.iter().map(|m| 1.0 / m).collect();
         let mut h = Self {
@@ -152,9 +151,7 @@ impl Hybrid {
             inv_mass,
             contact_acc: vec![[0.0; 3]; n],
             new_acc: vec![[0.0; 3]; n],
-            physics,
-            materials,
-            hertz: HertzRestitution::default(),
+            rules,
             now: 0.0,
             probe: None,
             ed: vec![EdRec::default(); n],
@@ -176,9 +173,8 @@ impl Hybrid {
             jump: vec![0.0; n],
             max_jump: 0.0,
             stats: HybridStats::default(),
-            rotation: rotation.map(Box::new),
-            ed_friction,
-            walton_now: None,
+            rotation,
+            contacts: ContactScratch::default(),
         };
         // Forces at t = 0 with the velocities themselves, as MD starts.
         h.rebuild(h.opts.adaptive)?;
@@ -204,10 +200,7 @@ impl Hybrid {
     /// The name of the source of the matrix of restitution ("table+exact", …; empty
     /// with friction, whose ED collisions are eMD's).
     pub fn mor_name(&self) -> &'static str {
-        match &self.physics {
-            Physics::EmdStar { mor, .. } => mor.name(),
-            _ => "",
-        }
+        self.rules.mor_name()
     }
 
     /// The options in use.

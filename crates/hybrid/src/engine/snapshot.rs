@@ -2,14 +2,8 @@
 
 use super::Hybrid;
 use crate::options::HybridError;
+use emdstar_edmd::EventQueue;
 use emdstar_edmd::collision::NONE;
-use emdstar_edmd::{EventQueue, Physics};
-
-/// The physics of a state just read from a checkpoint, until the engine's own is put
-/// back.
-pub(super) fn unset_physics() -> Physics {
-    Physics::HardSpheres { restitution: 1.0 }
-}
 
 impl Hybrid {
     /// The whole state (everything but the pair physics and the MoR source, which the
@@ -28,8 +22,6 @@ impl Hybrid {
             ))
         })?;
         let same_system = saved.system.species == self.system.species
-            && saved.system.material == self.system.material
-            && saved.system.friction == self.system.friction
             && saved.system.domain == self.system.domain
             && saved.mode.len() == self.mode.len();
         if !same_system {
@@ -52,9 +44,11 @@ impl Hybrid {
                  the config and the version of emdstar that wrote it"
             ))
         })?;
-        std::mem::swap(&mut saved.materials, &mut self.materials);
-        std::mem::swap(&mut saved.physics, &mut self.physics);
-        std::mem::swap(&mut saved.ed_friction, &mut self.ed_friction);
+        std::mem::swap(
+            &mut saved.system.interactions,
+            &mut self.system.interactions,
+        );
+        std::mem::swap(&mut saved.rules, &mut self.rules);
         *self = saved;
         Ok(())
     }

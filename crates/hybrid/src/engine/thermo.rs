@@ -30,7 +30,12 @@ impl Hybrid {
     pub fn thermo(&self) -> Thermo {
         let p = self.particles();
         let g = self.system.domain.gravity;
-        let model = force_model(&p.radius, &p.species, &self.materials, &self.system.domain);
+        let model = force_model(
+            &p.radius,
+            &p.species,
+            &self.system.interactions,
+            &self.system.domain,
+        );
         let mut potential = self.spring_energy();
         let mut contacts = 0;
         let mut kinetic = 0.0;

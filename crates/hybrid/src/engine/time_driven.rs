@@ -6,21 +6,20 @@ use super::Hybrid;
 use crate::options::Mode;
 use emdstar_contact::vec3::{norm, norm2};
 use emdstar_dem::{
-    AddForces, ContactEnd, ForceKernel, ForceModel, FrictionKernel, Motion, NeighbourList,
-    SpinMotion, add_contact_forces, step_subset, step_subset_frictional,
+    Accelerations, ContactEnd, ContactRecord, ForceKernel, ForceModel, Frictional, Motion,
+    NeighbourList, Smooth, SpinMotion, TangentialSlot, WALL, apply_contacts, step_subset,
 };
-use emdstar_edmd::Materials;
-use emdstar_system::Domain;
+use emdstar_system::{Domain, Interactions};
 
-/// MD's force model for particles of `radius` and `species`: the laws of `materials`,
-/// clipped (F ≥ 0: the only contact end the hybrid supports, see the crate docs).
+/// MD's force model for particles of `radius` and `species`: the contacts of
+/// `interactions`, clipped (F ≥ 0: the only contact end the hybrid supports, see the
+/// crate docs).
 pub(crate) fn force_model<'a>(
     radius: &'a [f64],
     species: &'a [u32],
-    materials: &'a Materials,
+    interactions: &'a Interactions,
     domain: &'a Domain,
 ) -> ForceModel<'a> {
-    let interactions = materials.interactions();
     ForceModel::new(radius, species, interactions, domain, ContactEnd::ForceZero)
 }
 
@@ -51,15 +50,20 @@ impl Hybrid {
     }
 
     /// One velocity-Verlet step of the TD particles: [`emdstar_dem::step_subset`] on
-    /// them (with friction [`emdstar_dem::step_subset_frictional`]), with the pairs of
-    /// the upper list (each once) whose partner is TD too (there are no mixed contacts,
-    /// see the crate docs).
+    /// them (with their spins where contacts have friction), with the pairs of the upper
+    /// list (each once) whose partner is TD too (there are no mixed contacts, see the
+    /// crate docs).
     #[inline(never)]
     pub(crate) fn td_step(&mut self) {
         self.refresh_td();
         let mode = &self.mode;
         let p = &mut self.system.particles;
-        let model = force_model(&p.radius, &p.species, &self.materials, &self.system.domain);
+        let model = force_model(
+            &p.radius,
+            &p.species,
+            &self.system.interactions,
+            &self.system.domain,
+        );
         let motion = Motion {
             position: &mut p.position,
             velocity: &mut p.velocity,
@@ -69,21 +73,13 @@ impl Hybrid {
         };
         let time_driven = |j: usize| mode[j] == Mode::Time;
         let (list, td, dt) = (&self.list, &self.td, self.opts.dt);
-        let bounds = match self.rotation.as_deref_mut() {
-            None => step_subset(&model, list, motion, td, time_driven, dt),
-            Some(rot) => {
-                let spins = SpinMotion {
-                    angular_velocity: &mut p.angular_velocity,
-                    angular_acc: &mut rot.angular_acc,
-                    inv_inertia: &rot.inv_inertia,
-                    id: &p.id,
-                    springs: &mut rot.springs,
-                    contacts: &mut rot.contacts,
-                };
-                let friction = rot.friction;
-                step_subset_frictional(&model, friction, list, motion, spins, td, time_driven, dt)
-            }
-        };
+        let spins = self.rotation.as_deref_mut().map(|rotation| SpinMotion {
+            angular_velocity: &mut p.angular_velocity,
+            rotation,
+            id: &p.id,
+        });
+        let scratch = &mut self.contacts;
+        let bounds = step_subset(&model, list, motion, spins, scratch, td, time_driven, dt);
         self.v_max_td = bounds.v_max;
         self.a_max_td = bounds.a_max;
         self.steps += 1;
@@ -91,102 +87,110 @@ impl Hybrid {
         self.stats.td_particle_steps += self.td.len() as u64;
     }
 
-    /// Adds the contact forces of the particles switched to TD at this boundary to
-    /// their and their TD partners' accelerations: the kernel of emdstar-dem with their
-    /// velocities now (h = 0), as MD's first step does.
+    /// Adds the contact forces (and torques) of the particles switched to TD at this
+    /// boundary to their and their TD partners' accelerations: the kernel of
+    /// emdstar-dem with their velocities now (h = 0), as MD's first step does; the
+    /// springs of their new contacts join the others.
     pub(crate) fn add_converted_forces(&mut self) {
         if self.converted.is_empty() {
             return;
         }
         let converted = std::mem::take(&mut self.converted);
-        let mut fresh = vec![false; 0];
-        fresh.resize(self.mode.len(), false);
+        let mut fresh = vec![false; self.mode.len()];
         for &i in &converted {
             fresh[i as usize] = self.mode[i as usize] == Mode::Time;
         }
-        if self.rotation.is_some() {
-            self.add_converted_frictional_forces(&converted, &fresh);
-            return;
-        }
-        let p = &self.system.particles;
-        let kernel = ForceKernel {
-            model: force_model(&p.radius, &p.species, &self.materials, &self.system.domain),
-            list: &self.list,
-            // Not read with h = 0 (zero between steps).
-            contact_acc: &self.new_acc,
-            h: 0.0,
-        };
-        let mut sink = AddForces {
-            acc: &mut self.contact_acc,
-            inv_mass: &self.inv_mass,
-        };
-        let mut a2_max = self.a_max_td * self.a_max_td;
-        for &i in &converted {
-            let i = i as usize;
-            if !fresh[i] {
-                continue;
-            }
-            let partners = fresh_partners(&self.list, &self.mode, i, &fresh);
-            let (xi, vi) = (p.position[i], p.velocity[i]);
-            kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, &mut sink);
-            a2_max = a2_max.max(norm2(sink.acc[i]));
-            self.v_max_td = self.v_max_td.max(norm(vi));
-        }
-        self.a_max_td = a2_max.sqrt();
-    }
-
-    /// [`Self::add_converted_forces`] with friction: MD's frictional kernel with h = 0
-    /// (forces, torques, and the springs of the new contacts, as MD's first step).
-    fn add_converted_frictional_forces(&mut self, converted: &[u32], fresh: &[bool]) {
+        let mut scratch = std::mem::take(&mut self.contacts);
+        let mut ends = Vec::new();
         let Some(mut rot) = self.rotation.take() else {
+            let c = &mut scratch.smooth;
+            self.v_max_td = self.fresh_contacts(Smooth, &converted, &fresh, c, &mut ends);
+            // Each fresh particle's acceleration once its own contacts are in.
+            let mut a2_max = self.a_max_td * self.a_max_td;
+            let mut to = Accelerations {
+                inv_mass: &self.inv_mass,
+                acc: &mut self.contact_acc,
+                angular: None,
+            };
+            let mut start = 0;
+            for &(i, end) in &ends {
+                apply_contacts(&c[start..end], &mut to, None);
+                a2_max = a2_max.max(norm2(to.acc[i]));
+                start = end;
+            }
+            self.a_max_td = a2_max.sqrt();
+            self.contacts = scratch;
             return;
         };
-        let mut contacts = std::mem::take(&mut rot.contacts);
-        contacts.clear();
         let p = &self.system.particles;
-        let kernel = FrictionKernel {
-            base: ForceKernel {
-                model: force_model(&p.radius, &p.species, &self.materials, &self.system.domain),
-                list: &self.list,
-                // Not read with h = 0 (zero between steps).
-                contact_acc: &self.new_acc,
-                h: 0.0,
-            },
-            friction: rot.friction,
+        let slot = Frictional {
             id: &p.id,
             angular_velocity: &p.angular_velocity,
             angular_acc: &rot.angular_acc,
             springs: &rot.springs,
         };
+        let c = &mut scratch.frictional;
+        self.v_max_td = self.fresh_contacts(slot, &converted, &fresh, c, &mut ends);
+        let mut to = Accelerations {
+            inv_mass: &self.inv_mass,
+            acc: &mut self.contact_acc,
+            angular: Some((&rot.inv_inertia, &mut rot.angular_acc)),
+        };
+        apply_contacts(c.iter(), &mut to, None);
+        let mut a2_max = self.a_max_td * self.a_max_td;
+        for contact in c.iter() {
+            a2_max = a2_max.max(norm2(self.contact_acc[contact.i as usize]));
+            if contact.j != WALL {
+                a2_max = a2_max.max(norm2(self.contact_acc[contact.j as usize]));
+            }
+        }
+        self.a_max_td = a2_max.sqrt();
+        let fresh_springs = c.iter().filter_map(ContactRecord::spring);
+        let springs: Vec<_> = rot.springs.iter().copied().chain(fresh_springs).collect();
+        rot.springs.replace(springs.into_iter());
+        self.rotation = Some(rot);
+        self.contacts = scratch;
+    }
+
+    /// The contacts of the fresh TD particles among `converted` with their fresh and
+    /// older TD partners (a pair of fresh ones once), in order, into `out` (cleared),
+    /// with where each particle's end (`ends`: the particle, the length of `out`
+    /// after it). Returns the TD speed bound with their speeds.
+    fn fresh_contacts<S: TangentialSlot>(
+        &self,
+        slot: S,
+        converted: &[u32],
+        fresh: &[bool],
+        out: &mut Vec<S::Contact>,
+        ends: &mut Vec<(usize, usize)>,
+    ) -> f64 {
+        out.clear();
+        let p = &self.system.particles;
+        let kernel = ForceKernel {
+            model: force_model(
+                &p.radius,
+                &p.species,
+                &self.system.interactions,
+                &self.system.domain,
+            ),
+            list: &self.list,
+            // Not read with h = 0 (zero between steps).
+            contact_acc: &self.new_acc,
+            h: 0.0,
+            slot,
+        };
+        let mut v_max = self.v_max_td;
         for &i in converted {
             let i = i as usize;
             if fresh[i] {
                 let partners = fresh_partners(&self.list, &self.mode, i, fresh);
                 let (xi, vi) = (p.position[i], p.velocity[i]);
-                kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, &mut contacts);
-                self.v_max_td = self.v_max_td.max(norm(vi));
+                kernel.particle(i, xi, vi, partners, &p.position, &p.velocity, out);
+                ends.push((i, out.len()));
+                v_max = v_max.max(norm(vi));
             }
         }
-        add_contact_forces(
-            &contacts,
-            &self.inv_mass,
-            &rot.inv_inertia,
-            &mut self.contact_acc,
-            &mut rot.angular_acc,
-        );
-        let mut a2_max = self.a_max_td * self.a_max_td;
-        for c in &contacts {
-            a2_max = a2_max.max(norm2(self.contact_acc[c.i as usize]));
-            if c.j != emdstar_dem::WALL {
-                a2_max = a2_max.max(norm2(self.contact_acc[c.j as usize]));
-            }
-        }
-        self.a_max_td = a2_max.sqrt();
-        let fresh_springs = contacts.iter().map(|c| (c.key, c.spring));
-        let springs: Vec<_> = rot.springs.iter().copied().chain(fresh_springs).collect();
-        rot.springs.replace(springs.into_iter());
-        rot.contacts = contacts;
-        self.rotation = Some(rot);
+        v_max
     }
 
     /// The guard (crate docs): ED particles that could reach a TD particle within the

@@ -3,7 +3,7 @@
 use emdstar_contact::Vec3;
 use emdstar_dem::{ContactEnd, Md, MdOptions, shortest_contact_time};
 use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{Engine, Interference, Materials, Physics, Stats};
+use emdstar_edmd::{Engine, Interference, Physics, Stats};
 use emdstar_hybrid::{Hybrid, HybridOptions};
 use emdstar_system::{Config, Particles, System};
 
@@ -58,7 +58,7 @@ pub fn hybrid_with(system: &System, opts: HybridOptions, t_end: f64) -> Hybrid {
 /// The eMD* engine (exact MoR) run to `t_end`: the final state and its counters.
 pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
     let physics = Physics::EmdStar {
-        materials: Materials::from_system(system).unwrap(),
+        interactions: system.interactions().clone(),
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };

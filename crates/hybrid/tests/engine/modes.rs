@@ -62,7 +62,8 @@ fn an_event_driven_collision_equals_the_exact_two_body_solution() {
         velocity: Vec3::from(p.velocity[i]),
         mass: p.mass[i],
     });
-    let emdstar_system::Interaction { law, props } = *sys.interactions().unwrap().pair(0, 0);
+    let contact = *sys.interactions().pair(0, 0);
+    let (law, props) = (contact.model.normal, contact.props);
     let (out, _) = exact_collision(&law, &props, &bodies).unwrap();
     let rest = t_end - t_touch - out.duration;
     assert!(rest > 0.0, "the collision must be over by t_end");
@@ -331,7 +332,8 @@ fn both_modes_bounce_off_an_inclined_wall_under_gravity_like_md() {
     // the normal part of g during the contact, what remains is of second order in
     // g·τ/v_n (τ the contact duration, v_n ≥ 2 m/s the impact speed here) in velocity,
     // plus the sinking ½·g·τ² during the transient in position.
-    let emdstar_system::Interaction { law, props } = *sys.interactions().unwrap().wall(0);
+    let contact = *sys.interactions().wall(0, 0);
+    let (law, props) = (contact.model.normal, contact.props);
     let tau = law.elastic_duration(props.m_eff, 2.0).unwrap();
     let g_tau = 9.81 * tau;
     let dv_bound = g_tau * g_tau / 2.0;
