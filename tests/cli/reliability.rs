@@ -324,6 +324,14 @@ fn a_reader_that_leaves_early_ends_the_output_without_a_panic() {
     assert!(stderr.is_empty(), "{stderr}");
 }
 
+/// Runs the config at `path` with `engine` and `extra` arguments in `dir`, expects a
+/// clean failure and returns its message.
+fn refused(dir: &Path, path: &Path, engine: &str, extra: &[&str]) -> String {
+    let mut args = vec!["run", path.to_str().unwrap(), "--engine", engine, "--quiet"];
+    args.extend_from_slice(extra);
+    error_in(dir, &args)
+}
+
 /// A bed that settles on a floor is an inelastic collapse for the event engines: eMD
 /// (which ran for ever, its flights shrinking to one ulp) and eMD* stop with the same
 /// error, which names the hybrid.
@@ -333,20 +341,8 @@ fn a_bed_settling_on_a_floor_stops_every_event_engine_naming_the_hybrid() {
     let dir = scratch("settles");
     for engine in ["emd", "emdstar"] {
         let start = Instant::now();
-        let err = error_in(
-            &dir,
-            &[
-                "run",
-                config.to_str().unwrap(),
-                "--engine",
-                engine,
-                "--quiet",
-                "--trajectory",
-                "none",
-                "--log",
-                "none",
-            ],
-        );
+        let none = ["--trajectory", "none", "--log", "none"];
+        let err = refused(&dir, &config, engine, &none);
         assert!(
             err.contains("inelastic collapse") && err.contains("--engine hybrid"),
             "{engine}: {err}"
@@ -424,16 +420,7 @@ fn a_closed_axis_without_walls_is_refused_by_every_engine_before_the_start() {
         .join("tests/md/configs/bad/closed_axis_without_walls.toml");
     for engine in ["md", "emd", "emdstar", "hybrid"] {
         let start = Instant::now();
-        let err = error_in(
-            &dir,
-            &[
-                "run",
-                config.to_str().unwrap(),
-                "--engine",
-                engine,
-                "--quiet",
-            ],
-        );
+        let err = refused(&dir, &config, engine, &[]);
         assert!(
             err.contains("no wall holds the particles at its high end")
                 && err.contains("normal = [0.0, 0.0, -1.0]"),

@@ -1,6 +1,8 @@
 //! When an output is due: every interval of simulated time, k·interval for k = 0, 1, …
 //! (lumol's `OutputFrequency`, in time rather than steps).
 
+use emdstar_system::KeepUntil;
+
 /// Output times k·interval (k = 0, 1, …). For an engine that takes steps of dt the
 /// interval is a whole number of steps, at least one, and a time within half a step of
 /// a tick counts as the tick.
@@ -86,6 +88,61 @@ impl Cadence {
     /// The ticks in [`from`, `to`], about (for size estimates).
     pub fn ticks_between(&self, from: f64, to: f64) -> f64 {
         ((to - from) / self.interval).floor().max(0.0) + 1.0
+    }
+}
+
+/// When a file of records (log lines, frames) is written: at the ticks of its cadence,
+/// and once more where a run ends between two; what a resumed run keeps of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Schedule {
+    cadence: Cadence,
+    /// The time of the last record written (or kept).
+    last: Option<f64>,
+}
+
+impl Schedule {
+    pub fn new(cadence: Cadence) -> Self {
+        Self {
+            cadence,
+            last: None,
+        }
+    }
+
+    /// A fresh run from `t`: its first record is due at once.
+    pub fn open(&mut self, t: f64) {
+        self.cadence.start_at(t, true);
+    }
+
+    /// What a run resumed at `t` keeps of the file: the records before `t`, and the one
+    /// at `t` if it is a tick (one written there only because a run stopped is cut).
+    /// The next record is due after `t`.
+    pub fn resume(&mut self, t: f64) -> KeepUntil {
+        let keep = KeepUntil {
+            t,
+            at_t: self.cadence.is_tick(t),
+        };
+        // A record at a tick `t` is the earlier run's, kept: none is due again there.
+        self.last = keep.at_t.then_some(t);
+        self.cadence.start_at(t, false);
+        keep
+    }
+
+    /// The time the next record is due.
+    pub fn next_due(&self) -> f64 {
+        self.cadence.time()
+    }
+
+    /// Notes a record written at `t`; `due` moves on to the next tick.
+    pub fn wrote(&mut self, t: f64, due: bool) {
+        self.last = Some(t);
+        if due {
+            self.cadence.pass(t);
+        }
+    }
+
+    /// Whether a run ending at `t` still needs its last record.
+    pub fn needs_last(&self, t: f64) -> bool {
+        self.last != Some(t)
     }
 }
 

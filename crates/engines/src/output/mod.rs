@@ -16,7 +16,7 @@ mod log;
 mod modes;
 mod trajectory;
 
-pub use cadence::Cadence;
+pub use cadence::{Cadence, Schedule};
 pub use checkpoint::CheckpointOutput;
 pub use log::LogOutput;
 pub use modes::{ModeCounts, ModePoint};

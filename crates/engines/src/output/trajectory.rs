@@ -1,11 +1,11 @@
 //! The trajectory as an output: a frame at every tick of its cadence, and one at the end
 //! of a run that reaches its end between two; extended XYZ or GSD.
 
-use super::{Cadence, End, Output};
+use super::{Cadence, End, Output, Schedule};
 use crate::AnyEngine;
 use anyhow::{Context, Result};
 use emdstar_system::gsd::GsdWriter;
-use emdstar_system::{Cut, KeepUntil, OutputFile, Particles, XyzWriter};
+use emdstar_system::{Cut, OutputFile, Particles, XyzWriter};
 use std::path::Path;
 
 /// The file format of a trajectory; OVITO reads both.
@@ -48,9 +48,7 @@ pub struct TrajectoryOutput {
     path: std::path::PathBuf,
     format: TrajectoryFormat,
     writer: Option<Writer>,
-    cadence: Cadence,
-    /// The time of the last frame written.
-    last: Option<f64>,
+    schedule: Schedule,
 }
 
 impl TrajectoryOutput {
@@ -63,8 +61,7 @@ impl TrajectoryOutput {
             claim: Some(file),
             path,
             writer: None,
-            cadence,
-            last: None,
+            schedule: Schedule::new(cadence),
         }
     }
 
@@ -73,7 +70,7 @@ impl TrajectoryOutput {
         self.format
     }
 
-    fn frame(&mut self, engine: &AnyEngine) -> Result<()> {
+    fn frame(&mut self, engine: &AnyEngine, due: bool) -> Result<()> {
         let sim = engine.sim();
         let (t, p) = (sim.time(), sim.particles());
         let sim_box = sim.domain().sim_box.as_ref();
@@ -82,7 +79,7 @@ impl TrajectoryOutput {
             Writer::Gsd(w) => w.write_frame(t, &p, species(&p), sim_box),
         }
         .with_context(|| format!("stopped at t = {t:e} s: writing the trajectory frame"))?;
-        self.last = Some(t);
+        self.schedule.wrote(t, due);
         Ok(())
     }
 }
@@ -107,16 +104,12 @@ impl Output for TrajectoryOutput {
             TrajectoryFormat::Xyz => Writer::Xyz(XyzWriter::start(file)?),
             TrajectoryFormat::Gsd => Writer::Gsd(GsdWriter::start(file)?),
         });
-        self.cadence.start_at(engine.sim().time(), true);
+        self.schedule.open(engine.sim().time());
         Ok(())
     }
 
     fn resume(&mut self, engine: &AnyEngine) -> Result<Cut> {
-        let t = engine.sim().time();
-        let keep = KeepUntil {
-            t,
-            at_t: self.cadence.is_tick(t),
-        };
+        let keep = self.schedule.resume(engine.sim().time());
         let p = engine.sim().particles();
         let file = self.claim.take().expect("opened once");
         let resumed = match self.format {
@@ -129,27 +122,22 @@ impl Output for TrajectoryOutput {
         let (writer, cut) =
             resumed.with_context(|| format!("resuming the trajectory {}", self.path.display()))?;
         self.writer = Some(writer);
-        // A frame at a tick `t` is the earlier run's, kept: none is due again there.
-        self.last = keep.at_t.then_some(t);
-        self.cadence.start_at(t, false);
         Ok(cut)
     }
 
     fn next_due(&self) -> f64 {
-        self.cadence.time()
+        self.schedule.next_due()
     }
 
     fn write(&mut self, engine: &AnyEngine) -> Result<()> {
-        self.frame(engine)?;
-        self.cadence.pass(engine.sim().time());
-        Ok(())
+        self.frame(engine, true)
     }
 
     /// The last frame of a run that reached its end; a stopped run writes none (its
     /// checkpoint holds the state).
     fn finish(&mut self, engine: &AnyEngine, end: End) -> Result<()> {
-        if end == End::Complete && self.last != Some(engine.sim().time()) {
-            self.frame(engine)?;
+        if end == End::Complete && self.schedule.needs_last(engine.sim().time()) {
+            self.frame(engine, false)?;
         }
         self.sync()
     }
