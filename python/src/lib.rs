@@ -407,15 +407,17 @@ fn resolve_collisions<'py>(
         ));
     }
     let v3 = |c: &[f64], i: usize| Vec3::new(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
-    for i in 0..n {
+    for (i, &contact) in l.iter().enumerate() {
         let distance = (v3(&x1, i) - v3(&x2, i)).norm();
-        if !((distance - l[i]).abs() <= CONTACT_TOLERANCE * l[i]) {
+        // Written so that NaN positions or distances are refused too.
+        let touching = (distance - contact).abs() <= CONTACT_TOLERANCE * contact;
+        if !touching {
             return Err(PyValueError::new_err(format!(
                 "pair {i} is not in contact: its centres are {distance:e} m apart, but spheres \
                  of radii summing to {:e} m touch at that distance; collide takes the two \
                  spheres at their first touch (|x1 - x2| = R1 + R2, within a relative \
                  {CONTACT_TOLERANCE:e})",
-                l[i]
+                contact
             )));
         }
     }
