@@ -268,3 +268,66 @@ pub fn read_input(path: &Path, what: &str, max_bytes: u64) -> Result<Vec<u8>> {
         .map_err(io_error(path))?;
     Ok(bytes)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("emdstar-files-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn a_claimed_file_is_locked_and_an_unused_new_one_is_removed() {
+        let dir = scratch("claim");
+        let path = dir.join("run.log");
+        let first = OutputFile::claim(&path).unwrap();
+        assert!(first.created() && path.exists());
+        // A second claim (another open file description) is refused while the first
+        // holds the lock.
+        let err = OutputFile::claim(&path).unwrap_err().to_string();
+        assert!(err.contains("another emdstar run"), "{err}");
+        drop(first);
+        assert!(!path.exists(), "an unused new file stays");
+        // Used, it stays; its lock goes with the file.
+        let file = OutputFile::claim(&path).unwrap().into_file();
+        assert!(OutputFile::claim(&path).is_err());
+        drop(file);
+        assert!(path.exists() && OutputFile::claim(&path).is_ok());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn devices_and_directories_are_neither_claimed_nor_read() {
+        let dir = scratch("devices");
+        for path in [
+            Path::new("/dev/null"),
+            Path::new("/dev/zero"),
+            dir.as_path(),
+        ] {
+            assert!(OutputFile::claim(path).is_err(), "{}", path.display());
+            let err = read_input(path, "config", 1 << 20).unwrap_err().to_string();
+            assert!(err.contains("regular file"), "{err}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn one_file_has_one_identity_whatever_the_path() {
+        let dir = scratch("identity");
+        let (a, b) = (dir.join("a.toml"), dir.join("sub/../a.toml"));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        // New paths: the same directory and name.
+        assert_eq!(FileIdentity::of(&a).unwrap(), FileIdentity::of(&b).unwrap());
+        std::fs::write(&a, "t_end = 1").unwrap();
+        std::fs::hard_link(&a, dir.join("link.toml")).unwrap();
+        let id = FileIdentity::of(&a).unwrap();
+        assert_eq!(id, FileIdentity::of(&b).unwrap());
+        assert_eq!(id, FileIdentity::of(&dir.join("link.toml")).unwrap());
+        assert_ne!(id, FileIdentity::of(&dir.join("other.toml")).unwrap());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
