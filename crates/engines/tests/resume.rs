@@ -164,11 +164,13 @@ fn killed_or_stopped_early_and_resumed_every_engine_writes_the_files_of_one_run(
             // (MD and the hybrid: 145 steps of dt = 0.02 s / 584, which ends 1 ulp
             // before 5 log intervals of 29 steps), and in the middle of writing the log
             // line and the frame of 0.005 s (torn: their last bytes never reached the
-            // files).
+            // files); and right after the checkpoint at the stop time, before the last
+            // records (MD's last log line is off its ticks), which resuming completes.
             let cases = [
                 (0.0037, Some(1), None, 0),
                 (0.0037, Some(2), None, 0),
                 (0.001, Some(5), None, 0),
+                (0.005, Some(4), None, 0),
                 (0.0037, None, Some(0.0051), 37),
             ];
             for (k, (restart, after, at, torn)) in cases.into_iter().enumerate() {

@@ -59,17 +59,28 @@ pub fn gigabytes(bytes: f64) -> String {
 
 /// Refuses a stop time `t_end` (from `source`: "t_end" or "--t-end") that is not a finite
 /// time after `now`, or that an engine stepping by `step` would need more than
-/// [`MAX_STEPS`] steps to reach.
-pub fn check_stop_time(t_end: f64, now: f64, step: Option<f64>, source: &str) -> Result<()> {
-    if !(t_end.is_finite() && t_end > now) {
+/// [`MAX_STEPS`] steps to reach. A run `resumed` from a checkpoint may stop where it
+/// starts (within half a step): a run killed right after its last checkpoint then
+/// only completes its files.
+pub fn check_stop_time(
+    t_end: f64,
+    now: f64,
+    step: Option<f64>,
+    source: &str,
+    resumed: bool,
+) -> Result<()> {
+    let slack = step.map_or(0.0, |dt| 0.5 * dt);
+    let later = t_end > now || (resumed && t_end >= now - slack);
+    if !(t_end.is_finite() && later) {
+        if resumed {
+            bail!(
+                "{source} = {t_end:e} s must be a finite time no earlier than the checkpoint's \
+                 (t = {now:e} s); give a later --t-end"
+            );
+        }
         bail!(
             "{source} = {t_end:e} s must be a finite time after the start of the run (t = \
-             {now:e} s){}",
-            if now > 0.0 {
-                "; give a later --t-end"
-            } else {
-                ""
-            }
+             {now:e} s)"
         );
     }
     if let Some(dt) = step {

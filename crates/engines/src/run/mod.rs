@@ -106,7 +106,7 @@ impl Run {
         let (now, step) = (engine.sim().time(), engine.sim().time_step());
         let stop_at = t_end.unwrap_or(config.t_end);
         let source = if t_end.is_some() { "--t-end" } else { "t_end" };
-        budget::check_stop_time(stop_at, now, step, source)?;
+        budget::check_stop_time(stop_at, now, step, source, resumed_at.is_some())?;
         let output = config.output.clone().unwrap_or_default();
         let mut notes = Vec::new();
         let mut estimates = Vec::new();
