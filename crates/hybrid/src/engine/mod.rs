@@ -229,10 +229,14 @@ impl Hybrid {
         self.mode.iter().filter(|&&m| m == mode).count()
     }
 
-    /// Advances `n` steps of dt. Velocities are synchronous with positions at step
+    /// Advances `n` steps of dt, fewer when a stop is requested
+    /// ([`emdstar_system::stop`]). Velocities are synchronous with positions at step
     /// boundaries.
     pub fn advance(&mut self, n: u64) -> Result<(), HybridError> {
         for _ in 0..n {
+            if emdstar_system::stop::is_requested() {
+                break;
+            }
             self.step()?;
         }
         Ok(())
