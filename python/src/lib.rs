@@ -361,6 +361,10 @@ fn exact_scaled<'py>(
     Ok(out.into_arrays(py))
 }
 
+/// How far the centre distance of a pair given to `collide` may be from the sum of the
+/// radii, relative to it (the round-off of positions computed at first touch).
+const CONTACT_TOLERANCE: f64 = 1e-6;
+
 /// The eMD* lab-frame collision rule (Müller & Pöschel 2013, Sec. IV) applied to
 /// given MoRs: positions and velocities (n×3, flattened) of both spheres at first
 /// touch, their masses and contact distances, the MoR columns and time scales.
@@ -403,6 +407,20 @@ fn resolve_collisions<'py>(
         ));
     }
     let v3 = |c: &[f64], i: usize| Vec3::new(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    for (i, &contact) in l.iter().enumerate() {
+        let distance = (v3(&x1, i) - v3(&x2, i)).norm();
+        // Written so that NaN positions or distances are refused too.
+        let touching = (distance - contact).abs() <= CONTACT_TOLERANCE * contact;
+        if !touching {
+            return Err(PyValueError::new_err(format!(
+                "pair {i} is not in contact: its centres are {distance:e} m apart, but spheres \
+                 of radii summing to {:e} m touch at that distance; collide takes the two \
+                 spheres at their first touch (|x1 - x2| = R1 + R2, within a relative \
+                 {CONTACT_TOLERANCE:e})",
+                contact
+            )));
+        }
+    }
     let mut out: [Vec<f64>; 8] = std::array::from_fn(|_| Vec::with_capacity(3 * n));
     for i in 0..n {
         let m = Mor {

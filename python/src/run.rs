@@ -25,6 +25,56 @@ fn mor_choice(name: &str) -> PyResult<MorChoice> {
     }
 }
 
+/// While it lives, SIGINT (Ctrl-C) also raises the stop request that every engine reads
+/// at each event or step; Python's own handler still runs (the registration chains to
+/// it), so that `check_signals` then raises `KeyboardInterrupt`.
+struct StopOnInterrupt(Option<signal_hook::SigId>);
+
+impl StopOnInterrupt {
+    fn install() -> Self {
+        emdstar_system::stop::clear();
+        #[cfg(unix)]
+        {
+            let sigint = signal_hook::consts::SIGINT;
+            // SAFETY: the action is one atomic store, which is async-signal-safe.
+            let id = unsafe {
+                signal_hook::low_level::register(sigint, move || {
+                    emdstar_system::stop::request(sigint)
+                })
+            };
+            Self(id.ok())
+        }
+        #[cfg(not(unix))]
+        Self(None)
+    }
+}
+
+impl Drop for StopOnInterrupt {
+    fn drop(&mut self) {
+        if let Some(id) = self.0.take() {
+            signal_hook::low_level::unregister(id);
+        }
+        emdstar_system::stop::clear();
+    }
+}
+
+/// Advances `engine` to `time`; a Ctrl-C on the way stops it at its next event or step
+/// and raises `KeyboardInterrupt` (unless a Python handler of SIGINT chooses otherwise:
+/// then the run goes on).
+fn advance(py: Python<'_>, engine: &mut AnyEngine, time: f64) -> PyResult<()> {
+    loop {
+        engine
+            .sim_mut()
+            .advance_to(time)
+            .map_err(|e| error(format!("at t = {time:e} s: {e}")))?;
+        if !emdstar_system::stop::is_requested() {
+            return Ok(());
+        }
+        emdstar_system::stop::clear();
+        py.check_signals()?;
+    }
+}
+
 /// Runs the config `toml` (its text) with `engine` to `t_end` (the config's if None)
 /// and samples `frames` evenly spaced times from 0 to `t_end`. Returns flat arrays:
 /// t, id, radius, position and velocity (frames × n × 3), the thermo columns, and the
@@ -54,7 +104,10 @@ pub fn run_config<'py>(
             "frames = {frames}: at least 2 (the start and t_end)"
         )));
     }
+    let _stop = StopOnInterrupt::install();
+    py.check_signals()?;
     let system = config.build().map_err(|e| error(format!("config: {e}")))?;
+    py.check_signals()?;
     let options = EngineOptions {
         engine: kind,
         edmd: EventChoice {
@@ -65,6 +118,7 @@ pub fn run_config<'py>(
     };
     let mut engine = AnyEngine::build(&options, &config, system, DT_FRACTION)
         .map_err(|e| error(format!("{e:#}")))?;
+    py.check_signals()?;
 
     let first = engine.sim().particles();
     let n = first.len();
@@ -76,10 +130,7 @@ pub fn run_config<'py>(
     for k in 0..frames {
         let time = config.t_end * k as f64 / (frames - 1) as f64;
         if k > 0 {
-            engine
-                .sim_mut()
-                .advance_to(time)
-                .map_err(|e| error(format!("at t = {time:e} s: {e}")))?;
+            advance(py, &mut engine, time)?;
         }
         let sim = engine.sim();
         let p = sim.particles();

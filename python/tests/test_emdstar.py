@@ -192,3 +192,70 @@ def test_run_reads_files_and_refuses_bad_input(tmp_path):
         emdstar.run(toml=HEAD_ON.replace("stiffness = 2000.0", "stiffness = -1.0"))
     with pytest.raises(TypeError):
         emdstar.run()
+
+
+def test_collide_refuses_pairs_not_in_contact():
+    # Touching (|x1 - x2| = 2R) passes; 0.5 m apart with R = 0.01 m, or overlapping,
+    # is refused: the rule would move them to where they never were.
+    law = dict(young=1e9, poisson=0.3, dissipation=0.0, radius=0.01, density=2500.0)
+    v1, v2 = [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+    out = emdstar.collide(x1=[0, 0, 0], v1=v1, x2=[0.02, 0, 0], v2=v2, model="hertz", **law)
+    assert out["v2"][0] > 0.0
+    for x2 in ([0.5, 0, 0], [0.019, 0, 0]):
+        with pytest.raises(ValueError, match="not in contact"):
+            emdstar.collide(x1=[0, 0, 0], v1=v1, x2=x2, v2=v2, model="hertz", **law)
+
+
+# A gas whose run takes minutes, sampled once at its end: only a stop request seen at
+# each step or event ends it early.
+LONG_GAS = """
+t_end = 1e6
+[material]
+model = "hertz"
+young = 1e9
+poisson = 0.4
+dissipation = 0.0
+density = 1140.0
+[gas]
+count = 500
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.2
+rms_speed = 1.0
+seed = 42
+"""
+
+
+@pytest.mark.parametrize("engine", ["md", "emd", "emdstar", "hybrid"])
+def test_run_raises_keyboard_interrupt_within_a_second_of_ctrl_c(engine):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = (
+        "import sys, time, emdstar\n"
+        "print('started', flush=True)\n"
+        "try:\n"
+        "    emdstar.run(toml=sys.argv[1], engine=sys.argv[2], frames=2)\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', time.time(), flush=True)\n"
+    )
+    child = subprocess.Popen([sys.executable, "-c", script, LONG_GAS, engine],
+                             stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip() == "started"
+    time.sleep(3.0)  # set-up done, the run under way
+    sent = time.time()
+    child.send_signal(signal.SIGINT)
+    try:
+        out, _ = child.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        child.communicate()
+        raise
+    words = out.split()
+    assert words[0] == "interrupted", out
+    took = float(words[1]) - sent
+    print(f"{engine}: KeyboardInterrupt {1e3 * took:.1f} ms after Ctrl-C")
+    assert took < 1.0, f"{engine}: KeyboardInterrupt {took:.2f} s after Ctrl-C"

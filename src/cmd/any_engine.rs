@@ -1,5 +1,5 @@
 //! How `pair` and `run` report an engine (emdstar_engines::AnyEngine): the progress
-//! bar's note, the hybrid's mode counts, the summary fields.
+//! bar's note, the summary fields.
 
 use super::{edmd_engine, hybrid_engine};
 use emdstar_engines::AnyEngine;
@@ -10,9 +10,6 @@ use serde_json::{Value, json};
 pub trait EngineReport {
     /// The progress bar's note.
     fn status(&self) -> String;
-    /// The hybrid's mode counts now (recorded at every log line), `None` for the other
-    /// engines.
-    fn mode_point(&self, wall_seconds: f64) -> Option<Value>;
     /// The summary fields of this engine: its step, counters and rates over
     /// `wall_seconds` of work on `steps` steps.
     fn summary_fields(&self, wall_seconds: f64, steps: u64, threads: usize) -> Value;
@@ -34,18 +31,6 @@ impl EngineReport for AnyEngine {
                 e.count(Mode::Event),
                 e.count(Mode::Time)
             ),
-        }
-    }
-
-    fn mode_point(&self, wall_seconds: f64) -> Option<Value> {
-        match self {
-            Self::Hybrid(e) => Some(json!({
-                "t": e.time(),
-                "event_driven": e.count(Mode::Event),
-                "time_driven": e.count(Mode::Time),
-                "wall_time_s": wall_seconds,
-            })),
-            _ => None,
         }
     }
 

@@ -40,7 +40,7 @@ fn time(config: &std::path::Path, engine: EngineKind) -> Result<(f64, Value)> {
             "--trajectory",
             "none",
             "--log",
-            "/dev/null",
+            "none",
             "--engine",
         ])
         .arg(engine.name())

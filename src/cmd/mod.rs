@@ -16,7 +16,6 @@ pub mod mor;
 pub mod pair;
 pub mod resources;
 pub mod run;
-pub mod run_loop;
 pub mod stop;
 pub mod table;
 pub mod validate;

@@ -1,8 +1,9 @@
 //! Resources checked before a run starts: the memory its particles need against what
-//! the machine has free, and the size of its trajectory against the free space of the
-//! disk it goes to. `--force` runs anyway.
+//! the machine has free, and the sizes of its trajectory and log against the free space
+//! of the disks they go to. `--force` runs anyway.
 
 use anyhow::{Result, bail};
+use emdstar_engines::run::{Estimate, MAX_CHECKPOINTS, gigabytes};
 use emdstar_system::Config;
 use std::path::Path;
 
@@ -44,39 +45,68 @@ pub fn check_memory(config: &Config, force: bool) -> Result<()> {
         bail!(
             "{n} particles need about {} of memory, but only {} is available on this \
              machine; lower the particle count (gas.count), or give --force to try anyway",
-            gigabytes(need),
-            gigabytes(available)
+            gigabytes(need as f64),
+            gigabytes(available as f64)
         );
     }
     Ok(())
 }
 
-/// Refuses a trajectory of about `bytes` that would not fit into the free space of the
-/// disk holding `path`, unless `force`.
-pub fn check_disk(path: &Path, bytes: f64, force: bool) -> Result<()> {
-    let Some(free) = free_disk_space(path) else {
+/// Refuses outputs that would not fit into the free space of their disks (those in one
+/// directory counted together), unless `force`.
+pub fn check_outputs(estimates: &[Estimate], force: bool) -> Result<()> {
+    if force {
         return Ok(());
-    };
-    if bytes > free as f64 && !force {
-        bail!(
-            "the trajectory {} would take about {}, but its disk has {} free; write frames \
-             less often (output.trajectory_interval), write a .gsd file (a fifth of the \
-             size), no trajectory (--trajectory none), or give --force to start anyway",
-            path.display(),
-            gigabytes(bytes as u64),
-            gigabytes(free)
-        );
+    }
+    for e in estimates {
+        if e.what == "checkpoint" && e.records > MAX_CHECKPOINTS {
+            bail!(
+                "output.restart_interval writes about {:.1e} checkpoints to {}, each synced to \
+                 the disk (a millisecond or more): more than {MAX_CHECKPOINTS:.0e}, which take \
+                 a day; raise restart_interval, or give --force to start anyway",
+                e.records,
+                e.path.display()
+            );
+        }
+        let Some(free) = free_disk_space(&e.path) else {
+            continue;
+        };
+        // The outputs in the same directory share its disk: the largest is named.
+        let together: Vec<&Estimate> = estimates
+            .iter()
+            .filter(|o| o.path.parent() == e.path.parent())
+            .collect();
+        let total: f64 = together.iter().map(|o| o.bytes).sum();
+        let largest = together
+            .iter()
+            .copied()
+            .max_by(|a, b| a.bytes.total_cmp(&b.bytes))
+            .is_some_and(|l| std::ptr::eq(l, e));
+        if e.bytes > free as f64 || (total > free as f64 && largest) {
+            let advice = match e.what {
+                "log" => "write lines less often (output.log_interval)",
+                "checkpoint" => "write the checkpoint elsewhere (--checkpoint)",
+                _ => {
+                    "write frames less often (output.trajectory_interval), write a .gsd file \
+                     (a fifth of the size), no trajectory (--trajectory none)"
+                }
+            };
+            let others = if total > e.bytes {
+                format!(" ({} with the other outputs there)", gigabytes(total))
+            } else {
+                String::new()
+            };
+            bail!(
+                "the {} {} would take about {}{others}, but its disk has {} free; {advice}, \
+                 or give --force to start anyway",
+                e.what,
+                e.path.display(),
+                gigabytes(e.bytes),
+                gigabytes(free as f64)
+            );
+        }
     }
     Ok(())
-}
-
-fn gigabytes(bytes: u64) -> String {
-    let gb = bytes as f64 / 1e9;
-    if gb >= 1e4 {
-        format!("{gb:.1e} GB")
-    } else {
-        format!("{gb:.1} GB")
-    }
 }
 
 /// `MemAvailable` of /proc/meminfo (Linux): memory that can be given to a new process

@@ -2,6 +2,7 @@
 
 mod edmd;
 mod examples;
+mod files;
 mod hybrid;
 mod md;
 mod mor;

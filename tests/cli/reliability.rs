@@ -126,12 +126,40 @@ fn count(text: &str, what: &str) -> usize {
     text.matches(what).count()
 }
 
+/// Runs `emdstar` in `dir` where no file may grow beyond `max_bytes` (RLIMIT_FSIZE, as
+/// `ulimit -f` sets it): a write beyond fails as on a full disk. Returns its stderr.
+fn error_with_file_limit(dir: &Path, args: &[&str], max_bytes: u64) -> String {
+    use std::os::unix::process::CommandExt;
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_emdstar"));
+    command.current_dir(dir).args(args);
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        command.pre_exec(move || {
+            let limit = libc::rlimit {
+                rlim_cur: max_bytes,
+                rlim_max: max_bytes,
+            };
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let out = command.output().unwrap();
+    assert!(!out.status.success(), "{args:?} should fail");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
 #[test]
 fn a_full_disk_is_reported_once_with_the_path_and_the_log_is_kept() {
     let dir = scratch("full");
     let config = write(&dir, "gas.toml", &gas("1.0", 64, ""));
+    // Frames of 64 spheres take about 10 kB: the second one does not fit into 16 kB.
     for engine in ["md", "emdstar", "hybrid"] {
-        let err = error_in(
+        let err = error_with_file_limit(
             &dir,
             &[
                 "run",
@@ -139,19 +167,20 @@ fn a_full_disk_is_reported_once_with_the_path_and_the_log_is_kept() {
                 "--engine",
                 engine,
                 "--trajectory",
-                "/dev/full",
+                "big.xyz",
                 "--log",
                 "kept.log",
                 "--quiet",
             ],
+            16_000,
         );
-        assert_eq!(count(&err, "/dev/full"), 1, "{engine}: {err}");
-        assert_eq!(count(&err, "No space left"), 1, "{engine}: {err}");
+        assert_eq!(count(&err, "big.xyz"), 1, "{engine}: {err}");
+        assert_eq!(count(&err, "File too large"), 1, "{engine}: {err}");
         assert!(
-            err.contains("trajectory") && err.contains("free space"),
+            err.contains("trajectory") && err.contains("largest size"),
             "{err}"
         );
-        // The log's line at t = 0 was written before the first frame failed.
+        // The log's line at t = 0 was written before the second frame failed.
         let log = std::fs::read_to_string(dir.join("kept.log")).unwrap();
         assert!(log.lines().count() >= 2, "{engine}: {log}");
     }
@@ -168,27 +197,6 @@ fn a_full_disk_is_reported_once_with_the_path_and_the_log_is_kept() {
     );
     assert_eq!(count(&err, "no/such/dir/t.xyz"), 1, "{err}");
     assert!(err.contains("check the path"), "{err}");
-    // A device that cannot be synced is no error: a run may write to /dev/null.
-    let out = emdstar_in(
-        &dir,
-        &[
-            "run",
-            &config,
-            "--trajectory",
-            "/dev/null",
-            "--log",
-            "/dev/null",
-            "--quiet",
-        ],
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let err = error_in(&dir, &["run", &config, "--log", "/dev/full", "--quiet"]);
-    assert_eq!(count(&err, "/dev/full"), 1, "{err}");
-    assert_eq!(count(&err, "No space left"), 1, "{err}");
 }
 
 #[test]
@@ -314,4 +322,115 @@ fn a_reader_that_leaves_early_ends_the_output_without_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(stderr.is_empty(), "{stderr}");
+}
+
+/// Runs the config at `path` with `engine` and `extra` arguments in `dir`, expects a
+/// clean failure and returns its message.
+fn refused(dir: &Path, path: &Path, engine: &str, extra: &[&str]) -> String {
+    let mut args = vec!["run", path.to_str().unwrap(), "--engine", engine, "--quiet"];
+    args.extend_from_slice(extra);
+    error_in(dir, &args)
+}
+
+/// A bed that settles on a floor is an inelastic collapse for the event engines: eMD
+/// (which ran for ever, its flights shrinking to one ulp) and eMD* stop with the same
+/// error, which names the hybrid.
+#[test]
+fn a_bed_settling_on_a_floor_stops_every_event_engine_naming_the_hybrid() {
+    let config = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/configs/walls_gravity.toml");
+    let dir = scratch("settles");
+    for engine in ["emd", "emdstar"] {
+        let start = Instant::now();
+        let none = ["--trajectory", "none", "--log", "none"];
+        let err = refused(&dir, &config, engine, &none);
+        assert!(
+            err.contains("inelastic collapse") && err.contains("--engine hybrid"),
+            "{engine}: {err}"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "{engine} took {:?}",
+            start.elapsed()
+        );
+    }
+}
+
+/// A stop request is seen at the next event or step, not at the next output: with no
+/// output due for the whole run, SIGINT still ends every engine within a second.
+#[test]
+fn a_signal_stops_every_engine_within_a_second_whatever_the_output_intervals() {
+    let dir = scratch("prompt");
+    let config = write(
+        &dir,
+        "gas.toml",
+        &gas(
+            "1.0",
+            500,
+            "[output]\ntrajectory_interval = 1e4\nlog_interval = 1e4\n",
+        )
+        .replace("t_end = 1.0", "t_end = 1e4"),
+    );
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_emdstar"))
+            .current_dir(&dir)
+            .args(["run", &config, "--engine", engine, "--quiet"])
+            .args(["--trajectory", "none", "--log", &format!("{engine}.log")])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The run has started once its log holds the line of t = 0.
+        let start = Instant::now();
+        while std::fs::read_to_string(dir.join(format!("{engine}.log")))
+            .map_or(0, |t| t.lines().count())
+            < 2
+        {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "{engine} did not start"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::thread::sleep(Duration::from_millis(500));
+        let sent = Instant::now();
+        // SAFETY: a signal to the child started above.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+        let out = child.wait_with_output().unwrap();
+        let took = sent.elapsed();
+        assert_eq!(
+            out.status.code(),
+            Some(130),
+            "{engine}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            took < Duration::from_secs(1),
+            "{engine} took {took:?} to stop"
+        );
+        eprintln!("{engine}: stopped {took:?} after SIGINT");
+    }
+}
+
+/// A box axis that is closed without a wall at each end lets particles out: every
+/// engine refuses it before the start, and writes nothing.
+#[test]
+fn a_closed_axis_without_walls_is_refused_by_every_engine_before_the_start() {
+    let dir = scratch("closed");
+    let config = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/md/configs/bad/closed_axis_without_walls.toml");
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
+        let start = Instant::now();
+        let err = refused(&dir, &config, engine, &[]);
+        assert!(
+            err.contains("no wall holds the particles at its high end")
+                && err.contains("normal = [0.0, 0.0, -1.0]"),
+            "{engine}: {err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(2), "{engine}");
+    }
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "files were written"
+    );
 }

@@ -3,7 +3,7 @@
 //! SIGINT and SIGTERM stop a run with whole files, a checkpoint and a summary; wrong
 //! checkpoints are refused with a message that says why.
 
-use crate::{emdstar_in, error_in, stdout_in};
+use crate::{error_in, stdout_in};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -35,7 +35,7 @@ fn last_frame(path: &Path) -> String {
 #[test]
 fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
     let cfg = config();
-    for engine in ["md", "emdstar", "hybrid"] {
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
         let dir = scratch(engine);
         let run = |extra: &[&str]| {
             let mut args = vec!["run", cfg.as_str(), "--engine", engine, "--quiet"];
@@ -70,10 +70,25 @@ fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
             last_frame(&dir.join("two.xyz")),
             "{engine}: the resumed run ends elsewhere"
         );
-        // The log of the two parts is the log of the one run.
-        let one = std::fs::read_to_string(dir.join("one.log")).unwrap();
-        let two = std::fs::read_to_string(dir.join("two.log")).unwrap();
-        assert_eq!(one.lines().last(), two.lines().last(), "{engine}");
+        // The files of the two parts are those of the one run, byte for byte, also when
+        // the first part stopped between two log lines and two frames (it wrote a last
+        // line and frame there, which resuming cut).
+        for t_half in ["0.01", "0.0123"] {
+            let three = |ext: &str| format!("three-{t_half}.{ext}");
+            let (traj, log, ckpt) = (three("xyz"), three("log"), three("ckpt"));
+            let files = ["--trajectory", &traj, "--log", &log, "--checkpoint", &ckpt];
+            let mut first = files.to_vec();
+            first.extend(["--t-end", t_half]);
+            run(&first);
+            let mut second = files.to_vec();
+            second.extend(["--resume", &ckpt]);
+            run(&second);
+            for (a, b) in [(&traj, "one.xyz"), (&log, "one.log")] {
+                let x = std::fs::read(dir.join(a)).unwrap();
+                let y = std::fs::read(dir.join(b)).unwrap();
+                assert!(x == y, "{engine}: {a} differs from {b} of one run");
+            }
+        }
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
@@ -283,7 +298,7 @@ fn long_config(dir: &Path) -> PathBuf {
 fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
     let dir = scratch("signals");
     let cfg = long_config(&dir);
-    for (engine, signal, code) in ["md", "emdstar", "hybrid"]
+    for (engine, signal, code) in ["md", "emd", "emdstar", "hybrid"]
         .into_iter()
         .flat_map(|e| [(e, "INT", 130), (e, "TERM", 143)])
     {
@@ -339,29 +354,32 @@ fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
         // The checkpoint next to the trajectory resumes the run.
         let ckpt = format!("{engine}-{signal}.ckpt");
         assert!(dir.join(&ckpt).exists(), "{engine}");
-        let resumed = emdstar_in(
-            &dir,
-            &[
-                "run",
-                cfg.to_str().unwrap(),
-                "--engine",
-                engine,
-                "--quiet",
-                "--resume",
-                &ckpt,
-                "--trajectory",
-                &traj,
-                "--log",
-                &log,
-                "--t-end",
-                &format!("{}", t + 1e-3),
-            ],
+        let t_end = format!("{}", t + 1e-3);
+        let run = |traj: &str, log: &str, extra: &[&str]| {
+            let mut args = vec!["run", cfg.to_str().unwrap(), "--engine", engine, "--quiet"];
+            args.extend(["--trajectory", traj, "--log", log, "--t-end", &t_end]);
+            args.extend_from_slice(extra);
+            stdout_in(&dir, &args)
+        };
+        run(&traj, &log, &["--resume", &ckpt]);
+        // It ends with the files of a run that went through, byte for byte: the log
+        // line written at the stop time (off every log tick) was cut when it resumed.
+        let (one_traj, one_log) = (
+            format!("{engine}-{signal}-one.xyz"),
+            format!("{engine}-{signal}-one.log"),
         );
-        assert!(
-            resumed.status.success(),
-            "{}",
-            String::from_utf8_lossy(&resumed.stderr)
-        );
+        run(&one_traj, &one_log, &[]);
+        for (stopped, through) in [(&traj, &one_traj), (&log, &one_log)] {
+            let a = std::fs::read(dir.join(stopped)).unwrap();
+            let b = std::fs::read(dir.join(through)).unwrap();
+            assert!(
+                a == b,
+                "{stopped}, stopped by SIG{signal} and resumed, differs from {through} of one \
+                 run ({} against {} bytes)",
+                a.len(),
+                b.len()
+            );
+        }
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -146,7 +146,8 @@ pub struct State<Q: EventQueue> {
     pub(crate) domain: Domain,
     pub(crate) has_gravity: bool,
     pub(crate) stats: Stats,
-    /// Consecutive events at one instant (an inelastic collapse never ends).
+    /// Consecutive events with time advancing by round-off at most (an inelastic
+    /// collapse never ends).
     pub(crate) zero_streak: u64,
     /// eMD*: exception (a) of the E^φ being executed, checked by the predictions
     /// (none between events).

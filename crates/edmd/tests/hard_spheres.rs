@@ -166,7 +166,8 @@ fn epochs_agree_with_crossings_between_walls() {
 }
 
 /// The automatic choice takes epochs only where the gas cannot spread out of the grid:
-/// periodic axes, or closed axes held by walls from both sides.
+/// periodic axes, or closed axes held by walls from both sides (a closed axis without
+/// them is refused at the set-up).
 #[test]
 fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
     let periodic = fcc(4, 0.01, 1.0, 1.0, 1.0, 13);
@@ -184,14 +185,19 @@ fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
         periodic: [true, true, false],
         ..region
     });
-    assert!(!uses_epochs(&open_z), "closed z without walls");
+    let refused = |setup: &(Particles, Domain)| {
+        Engine::<emdstar_edmd::IndexedHeap>::new(&setup.0, &setup.1, elastic())
+            .err()
+            .is_some_and(|e| e.to_string().contains("no wall holds"))
+    };
+    assert!(refused(&open_z), "closed z without walls");
     let floor = |sign: f64, z: f64| Wall {
         normal: [0.0, 0.0, sign],
         point: [0.0, 0.0, z],
     };
-    let z = (region.lo[2] - 0.5, region.lo[2] + region.size[2] + 0.5);
+    let z = (region.lo[2], region.lo[2] + region.size[2]);
     open_z.1.walls.push(floor(1.0, z.0));
-    assert!(!uses_epochs(&open_z), "a floor but no lid");
+    assert!(refused(&open_z), "a floor but no lid");
     open_z.1.walls.push(floor(-1.0, z.1));
     assert!(uses_epochs(&open_z), "floor and lid");
 }
@@ -232,6 +238,11 @@ fn bad_input_gets_clear_errors() {
         normal: [1.0, 0.0, 0.0],
         point: [x[0] - 0.2, 0.0, 0.0],
     });
+    let b = walled.1.sim_box.unwrap();
+    walled.1.walls.push(Wall {
+        normal: [-1.0, 0.0, 0.0],
+        point: [b.lo[0] + b.size[0], 0.0, 0.0],
+    });
     let err = Engine::<emdstar_edmd::IndexedHeap>::new(&walled.0, &walled.1, elastic())
         .err()
         .unwrap();
@@ -270,10 +281,17 @@ fn ball_between_walls_under_gravity_keeps_its_energy() {
             size: [4.0, 4.0, 10.0],
             periodic: [true, true, false],
         }),
-        walls: vec![Wall {
-            normal: [0.0, 0.0, 1.0],
-            point: [0.0; 3],
-        }],
+        walls: vec![
+            Wall {
+                normal: [0.0, 0.0, 1.0],
+                point: [0.0; 3],
+            },
+            // A lid the ball never reaches (it bounces up to z = 3).
+            Wall {
+                normal: [0.0, 0.0, -1.0],
+                point: [0.0, 0.0, 10.0],
+            },
+        ],
         gravity: [0.0, 0.0, -9.81],
     };
     let setup = (ball, domain);

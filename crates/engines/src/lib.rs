@@ -4,8 +4,10 @@
 //! here choose and tune the engine that simulates it: MD (`emdstar-dem`), classic eMD
 //! or eMD* (`emdstar-edmd`), or the hybrid (`emdstar-hybrid`). [`AnyEngine`] holds
 //! whichever was chosen and hands it out behind the one simulation interface
-//! ([`emdstar_system::Simulation`]). The command line, the Python package and anyone
-//! who embeds a whole run use this crate; it links the default MoR tables.
+//! ([`emdstar_system::Simulation`]). [`run`] drives it through a whole run with its
+//! [`output`]s: the thermo log, the trajectory, checkpoints, resumption and clean
+//! stops. The command line, the Python package and anyone who embeds a whole run use
+//! this crate; it links the default MoR tables.
 //!
 //! ```no_run
 //! use emdstar_engines::{AnyEngine, EngineKind, EngineOptions};
@@ -23,6 +25,8 @@
 
 mod engine;
 mod options;
+pub mod output;
+pub mod run;
 mod setup;
 
 pub use engine::AnyEngine;

@@ -5,10 +5,11 @@
 //! engine name and the options tag (each u32 length + UTF-8), the config digest (u64),
 //! the time (f64), the state (u64 length + bytes), and the CRC-32 of everything before
 //! it (u32). Files are written to a temporary name and renamed, so a crash never leaves
-//! a half-written file under the real name.
+//! a half-written file under the real name ([`CheckpointFile`], which also locks it
+//! against a second run).
 
 use crate::error::{Result, SystemError};
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::Path;
 
 const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
@@ -153,14 +154,125 @@ impl Checkpoint {
         write_atomically(path, &self.to_bytes())
     }
 
-    /// Reads a checkpoint file.
+    /// Reads a checkpoint file: a regular file whose size is the one its header
+    /// declares (read before the rest).
     pub fn read(path: &Path) -> Result<Self> {
         let name = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|io| SystemError::Io {
+        let io = |io| SystemError::Io {
             path: name.clone(),
             io,
-        })?;
+        };
+        let (file, len) = crate::files::open_input(path, "checkpoint")?;
+        let mut head = Vec::new();
+        (&file)
+            .take(HEAD_BYTES.min(len))
+            .read_to_end(&mut head)
+            .map_err(io)?;
+        let declared = Self::declared_len(&head, &name)?;
+        if declared != len {
+            return Err(corrupt(
+                &name,
+                &format!("its header declares {declared} bytes, the file has {len}"),
+            ));
+        }
+        let mut bytes = head;
+        bytes.reserve((len - bytes.len() as u64) as usize);
+        (&file)
+            .take(len - bytes.len() as u64)
+            .read_to_end(&mut bytes)
+            .map_err(io)?;
         Self::from_bytes(&bytes, &name)
+    }
+
+    /// The size of the file whose first bytes are `head`, as its header declares it.
+    fn declared_len(head: &[u8], path: &str) -> Result<u64> {
+        let mut c = Cursor {
+            bytes: head,
+            at: 0,
+            path,
+        };
+        if c.take(MAGIC.len(), "magic number")? != MAGIC {
+            return Err(corrupt(path, "it does not start with the checkpoint magic"));
+        }
+        c.u32("format version")?;
+        c.string("engine name")?;
+        c.string("options")?;
+        c.u64("config digest")?;
+        c.u64("time")?;
+        let state = c.u64("state length")?;
+        (c.at as u64)
+            .checked_add(state)
+            .and_then(|n| n.checked_add(4))
+            .ok_or_else(|| corrupt(path, "its state length is absurd"))
+    }
+}
+
+/// How much of a checkpoint is read before its declared size is known: the header,
+/// whose names are short.
+const HEAD_BYTES: u64 = 4096;
+
+/// Where a run writes its checkpoints, held for the run: the checkpoint's path and its
+/// temporary file `PATH.partial`, claimed and locked, so that no second run writes the
+/// same checkpoint. Each checkpoint is written whole to the temporary file, synced, and
+/// renamed over the path; a fresh temporary file is then claimed for the next one.
+#[derive(Debug)]
+pub struct CheckpointFile {
+    path: std::path::PathBuf,
+    partial: Option<crate::files::OutputFile>,
+}
+
+impl CheckpointFile {
+    /// The temporary file of the checkpoint at `path`.
+    pub fn partial_path(path: &Path) -> std::path::PathBuf {
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".partial");
+        tmp.into()
+    }
+
+    /// Claims `path` (a regular file or a new path) and its temporary file.
+    pub fn claim(path: &Path) -> Result<Self> {
+        crate::files::check_writable(path)?;
+        let partial = crate::files::OutputFile::claim(&Self::partial_path(path))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            partial: Some(partial),
+        })
+    }
+
+    /// The checkpoint's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Writes `checkpoint` (see the type); `last` leaves no temporary file behind.
+    pub fn write(&mut self, checkpoint: &Checkpoint, last: bool) -> Result<()> {
+        let io = |io| SystemError::Io {
+            path: self.path.display().to_string(),
+            io,
+        };
+        crate::files::check_writable(&self.path)?;
+        let partial = self
+            .partial
+            .take()
+            .expect("the temporary file is claimed between checkpoints");
+        let tmp = partial.path().to_path_buf();
+        let mut file = partial.into_file();
+        let written = file
+            .set_len(0)
+            .and_then(|()| file.write_all(&checkpoint.to_bytes()))
+            .and_then(|()| file.sync_all());
+        if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, &self.path)) {
+            // A full disk: no part-file left behind, the old checkpoint (if any) kept.
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(e));
+        }
+        if !last {
+            // The renamed file keeps its lock until `file` closes: claim the next one
+            // first, so that the checkpoint is never left unlocked.
+            self.partial = Some(crate::files::OutputFile::claim(&tmp)?);
+        }
+        drop(file);
+        Ok(())
     }
 }
 

@@ -180,6 +180,9 @@ pub struct MdConfig {
 }
 
 impl Config {
+    /// The largest config file read (1 GiB: ten million `[[particles]]` entries).
+    pub const MAX_BYTES: u64 = 1 << 30;
+
     /// Parses TOML text; unknown keys are errors.
     pub fn from_toml(text: &str) -> Result<Self> {
         let config: Self = crate::parse::from_toml(text)?;
@@ -189,9 +192,13 @@ impl Config {
 
     /// Reads and parses a config file.
     pub fn from_file(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|io| SystemError::Io {
+        let bytes = crate::files::read_input(path, "config", Self::MAX_BYTES)?;
+        let text = String::from_utf8(bytes).map_err(|_| SystemError::Io {
             path: path.display().to_string(),
-            io,
+            io: std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                "a config is UTF-8 text; this file is not",
+            ),
         })?;
         Self::from_toml(&text)
     }

@@ -43,10 +43,12 @@ impl Domain {
         }
     }
 
-    /// Checks what every engine relies on: walls parallel to the periodic axes, finite
-    /// state, particles inside the box along closed axes, in front of every wall, and
-    /// no two particles overlapping. Particles are named by their config number.
+    /// Checks what every engine relies on: walls parallel to the periodic axes, walls
+    /// that close every closed axis on both sides, finite state, particles inside the
+    /// box along closed axes, in front of every wall, and no two particles overlapping.
+    /// Particles are named by their config number.
     pub fn check(&self, p: &Particles) -> Result<()> {
+        self.check_closed_axes(p)?;
         if let Some(b) = &self.sim_box {
             for (w_index, w) in self.walls.iter().enumerate() {
                 if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
@@ -131,6 +133,41 @@ impl Domain {
         self.check_overlaps(p)
     }
 
+    /// Refuses a box axis that is closed (not periodic) without a wall on each side to
+    /// hold the particles in: they would leave the box along it. A wall facing along the
+    /// axis (normal ±e_k) must lie within the box, up to the smallest radius.
+    fn check_closed_axes(&self, p: &Particles) -> Result<()> {
+        let Some(b) = &self.sim_box else {
+            return Ok(());
+        };
+        let r_min = p.radius.iter().copied().fold(f64::INFINITY, f64::min);
+        let slack = if r_min.is_finite() { r_min } else { 0.0 };
+        for k in (0..3).filter(|&k| !b.periodic[k]) {
+            let axis = ["x", "y", "z"][k];
+            let (lo, hi) = (b.lo[k], b.lo[k] + b.size[k]);
+            for (sign, side, at) in [(1.0, "low", lo), (-1.0, "high", hi)] {
+                let holds = self.walls.iter().any(|w| {
+                    let facing = sign * w.normal[k] > 0.0;
+                    let aligned = (1.0 - w.normal[k].abs()).abs() < 1e-12;
+                    let inside = w.point[k] >= lo - slack && w.point[k] <= hi + slack;
+                    facing && (!aligned || inside)
+                });
+                if !holds {
+                    let normal: [f64; 3] = std::array::from_fn(|j| if j == k { sign } else { 0.0 });
+                    let mut point = [0.0; 3];
+                    point[k] = at;
+                    return invalid!(
+                        "box.periodic leaves the {axis} axis closed, but no wall holds the \
+                         particles at its {side} end ({axis} = {at:e} m): they would leave the \
+                         box; add a [[walls]] entry with normal = {normal:?} and point = \
+                         {point:?}, or make the axis periodic"
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// The first overlapping pair (in config numbering), found with a cell grid.
     fn check_overlaps(&self, p: &Particles) -> Result<()> {
         if p.len() < 2 {
@@ -174,6 +211,7 @@ impl Domain {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::{SimBox, Wall};
     use crate::state::Species;
 
     fn two(v: [f64; 3]) -> Particles {
@@ -182,6 +220,58 @@ mod tests {
         p.push(&s, 0, [0.0; 3], v);
         p.push(&s, 0, [1.0, 0.0, 0.0], [0.0; 3]);
         p
+    }
+
+    #[test]
+    fn a_closed_axis_needs_a_wall_at_each_end_inside_the_box() {
+        let mut p = Particles::default();
+        let s = [Species::new(0.1, 1.0)];
+        p.push(&s, 0, [0.5; 3], [0.0; 3]);
+        let sim_box = SimBox {
+            lo: [0.0; 3],
+            size: [1.0; 3],
+            periodic: [true, true, false],
+        };
+        let wall = |z: f64, n: f64| Wall {
+            normal: [0.0, 0.0, n],
+            point: [0.0, 0.0, z],
+        };
+        let mut d = Domain::periodic(sim_box);
+        let err = d.check(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("z axis closed") && err.contains("low end"),
+            "{err}"
+        );
+        d.walls.push(wall(0.0, 1.0));
+        let err = d.check(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("high end") && err.contains("[0.0, 0.0, -1.0]"),
+            "{err}"
+        );
+        // A lid far above the box holds nothing in.
+        d.walls.push(wall(5.0, -1.0));
+        assert!(d.check(&p).is_err());
+        d.walls[1] = wall(1.0, -1.0);
+        assert!(d.check(&p).is_ok());
+        // A tilted floor holds the particles as well (its position is not checked).
+        let sim_box = SimBox {
+            lo: [0.0; 3],
+            size: [1.0; 3],
+            periodic: [true, false, false],
+        };
+        d.sim_box = Some(sim_box);
+        let err = d.check(&p).unwrap_err().to_string();
+        assert!(err.contains("y axis closed"), "{err}");
+        let tilted = Wall {
+            normal: [0.0, 0.6, 0.8],
+            point: [0.0; 3],
+        };
+        d.walls.push(tilted);
+        let err = d.check(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("y axis closed") && err.contains("high end"),
+            "{err}"
+        );
     }
 
     #[test]

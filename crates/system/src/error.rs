@@ -38,6 +38,10 @@ pub enum SystemError {
     /// A checkpoint could not be read or does not belong to this run.
     #[error("checkpoint: {0}")]
     Checkpoint(String),
+    /// A path that a run may not read or write (not a regular file, an input, locked
+    /// by another run); the message says which and what to do.
+    #[error("{0}")]
+    File(String),
     /// A file could not be read or written.
     #[error("{path}: {io}{}", io_hint(io))]
     Io { path: String, io: std::io::Error },
@@ -50,6 +54,11 @@ fn io_hint(e: &std::io::Error) -> &'static str {
         ErrorKind::StorageFull | ErrorKind::QuotaExceeded => {
             "; free space on that disk or write the file elsewhere (what was written before \
              is kept)"
+        }
+        ErrorKind::FileTooLarge => {
+            "; the file reached the largest size allowed here (`ulimit -f`, or the file \
+             system's limit): write less (longer output intervals) or elsewhere (what was \
+             written before is kept)"
         }
         ErrorKind::PermissionDenied | ErrorKind::ReadOnlyFilesystem => {
             "; choose a path you may write to"

@@ -23,9 +23,10 @@
 //! frame's centre that holds every sphere of the frame.
 
 use crate::error::{Result, SystemError};
+use crate::files::OutputFile;
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
-use crate::tail::Cut;
+use crate::tail::{Cut, KeepUntil};
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::Path;
@@ -98,10 +99,17 @@ pub struct GsdWriter {
 }
 
 impl GsdWriter {
-    /// Creates (truncates) the file and writes the header, name list and an empty index.
+    /// Claims the file at `path`, empties it and writes the header, name list and an
+    /// empty index.
     pub fn create(path: &Path) -> Result<Self> {
-        let name = path.display().to_string();
-        let file = File::create(path).map_err(io_error(&name))?;
+        Self::start(OutputFile::claim(path)?)
+    }
+
+    /// [`GsdWriter::create`] on the claimed file `out`.
+    pub fn start(out: OutputFile) -> Result<Self> {
+        let name = out.path().display().to_string();
+        let file = out.into_file();
+        file.set_len(0).map_err(io_error(&name))?;
         let names = name_list();
         let namelist_location = HEADER_BYTES;
         let index_location = namelist_location + names.len() as u64;
@@ -131,19 +139,27 @@ impl GsdWriter {
     /// and a last frame left unfinished. The file must be one this writer wrote for
     /// `particles` spheres of `species` kinds; a missing file is created.
     pub fn resume(path: &Path, t: f64, particles: usize, species: usize) -> Result<(Self, Cut)> {
-        if !path.exists() {
-            return Ok((Self::create(path)?, Cut::default()));
-        }
-        let name = path.display().to_string();
+        let keep = KeepUntil { t, at_t: true };
+        Self::resume_in(OutputFile::claim(path)?, keep, particles, species)
+    }
+
+    /// [`GsdWriter::resume`] on the claimed file `out`, keeping the frames `keep`
+    /// keeps; an empty file is started afresh.
+    pub fn resume_in(
+        out: OutputFile,
+        keep: KeepUntil,
+        particles: usize,
+        species: usize,
+    ) -> Result<(Self, Cut)> {
+        let name = out.path().display().to_string();
         let err = io_error(&name);
-        let mut file = std::fs::OpenOptions::new()
-            .read(true)
-            .write(true)
-            .open(path)
-            .map_err(&err)?;
+        if out.file().metadata().map_err(&err)?.len() == 0 {
+            return Ok((Self::start(out)?, Cut::default()));
+        }
+        let mut file = out.into_file();
         let names = name_list();
         let kept =
-            crate::gsd_tail::keep_until(&mut file, &names, t, particles as u64, species as u64)
+            crate::gsd_tail::keep_until(&mut file, &names, keep, particles as u64, species as u64)
                 .map_err(&err)?;
         let mut w = Self {
             file,
@@ -320,9 +336,9 @@ impl GsdWriter {
         Ok(())
     }
 
-    /// Flushes written frames to disk.
+    /// Writes what the operating system still buffers to the disk.
     pub fn flush(&mut self) -> Result<()> {
-        self.file.flush().map_err(io_error(&self.path))
+        crate::writers::sync_data(&self.file).map_err(io_error(&self.path))
     }
 
     fn free_box(&mut self, particles: &Particles) -> ([f64; 3], [f64; 3]) {

@@ -2,6 +2,7 @@
 //! index, and for each frame whether it is whole and its time (see the writer's module
 //! documentation for the layout).
 
+use crate::tail::KeepUntil;
 use std::fs::File;
 use std::io::{self, ErrorKind, Read, Seek, SeekFrom};
 
@@ -53,12 +54,12 @@ fn type_size(kind: u8) -> Option<u64> {
 
 /// Reads the GSD file `file`, which must be one this crate wrote (its magic, application
 /// and name list `names`), and keeps its frames up to the first that is unfinished or
-/// stamped after `t`. Errors on a frame of other than `particles` particles and
+/// that `keep` does not keep. Errors on a frame of other than `particles` particles and
 /// `species` species.
 pub(crate) fn keep_until(
     file: &mut File,
     names: &[u8],
-    t: f64,
+    keep: KeepUntil,
     particles: u64,
     species: u64,
 ) -> io::Result<Kept> {
@@ -125,7 +126,7 @@ pub(crate) fn keep_until(
                  this run has {particles} of {species}"
             )));
         }
-        if time > t || kept.cut_frames > 0 {
+        if !keep.keeps(time) || kept.cut_frames > 0 {
             kept.cut_frames += 1;
             continue;
         }

@@ -15,7 +15,8 @@
 //! - [`CellGrid`] for neighbour searches;
 //! - [`Simulation`], the one interface of every engine, and [`Checkpoint`] files of
 //!   their saved states;
-//! - writers: extended XYZ trajectories for OVITO and a thermo log.
+//! - writers: extended XYZ trajectories for OVITO and a thermo log;
+//! - [`stop`]: the request to stop a run that every engine reads at each event or step.
 
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
@@ -24,6 +25,7 @@ mod checkpoint;
 mod config;
 mod domain;
 mod error;
+mod files;
 mod gas;
 mod geometry;
 pub mod gsd;
@@ -35,14 +37,16 @@ mod methods;
 mod parse;
 mod simulation;
 mod state;
+pub mod stop;
 mod system;
 mod tail;
 mod writers;
 
-pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, write_atomically};
+pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
 pub use config::{BoxConfig, Config, MdConfig, OutputConfig, ParticleConfig, WallConfig};
 pub use domain::Domain;
 pub use error::{Result, SystemError};
+pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};
 pub use geometry::{
     CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
@@ -55,5 +59,5 @@ pub use methods::Method;
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
 pub use system::System;
-pub use tail::Cut;
+pub use tail::{Cut, KeepUntil};
 pub use writers::{Thermo, ThermoLog, XyzWriter};

@@ -39,7 +39,9 @@ pub trait Simulation {
     /// Steps or events done so far (the `step` column of the thermo log).
     fn steps_done(&self) -> u64;
 
-    /// Advances to time `t` (no earlier than now).
+    /// Advances to time `t` (no earlier than now). Stops earlier, between two events
+    /// or steps, when a stop is requested ([`crate::stop`]): the engine checks at each
+    /// event or step, and its time is then that of the last one.
     fn advance_to(&mut self, t: f64) -> Result<(), SimulationError>;
 
     /// Brings the stored state to the present (delayed updates, pending half kicks).

@@ -12,7 +12,6 @@
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, ErrorKind, Read, Seek, SeekFrom};
-use std::path::Path;
 
 /// What cutting a file back to a checkpoint took off its end.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
@@ -48,42 +47,54 @@ pub(crate) trait Records {
     fn read(&self, reader: &mut impl BufRead) -> io::Result<Option<Record>>;
 }
 
-/// Cuts the file at `path` after its last whole record stamped at or before `t`
-/// (everything from the first record after `t` on goes). A missing file is left
-/// missing.
-pub(crate) fn cut_after(path: &Path, t: f64, records: &impl Records) -> io::Result<Cut> {
-    let mut file = match std::fs::OpenOptions::new()
-        .read(true)
-        .write(true)
-        .open(path)
-    {
-        Err(e) if e.kind() == ErrorKind::NotFound => return Ok(Cut::default()),
-        other => other?,
-    };
-    // Step back to the last whole record at or before `t`, which is kept; read forward
-    // from its end (from the start of the file if there is none).
+/// Which records a resumed run keeps: those stamped before the time `t` it resumes
+/// from, and the one stamped at `t` if `at_t` (a record the run writes at that time
+/// anyway; one written only because a run stopped there is cut, and the resumed run
+/// goes on past it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeepUntil {
+    pub t: f64,
+    pub at_t: bool,
+}
+
+impl KeepUntil {
+    /// Whether a record stamped `time` is kept.
+    pub fn keeps(&self, time: f64) -> bool {
+        time < self.t || (self.at_t && time == self.t)
+    }
+}
+
+/// Cuts `file` after its last whole record that `keep` keeps (everything from the first
+/// record it does not keep on goes).
+pub(crate) fn cut_after(
+    file: &mut File,
+    keep: KeepUntil,
+    records: &impl Records,
+) -> io::Result<Cut> {
+    // Step back to the last whole record kept; read forward from its end (from the
+    // start of the file if there is none).
     let mut start = file.metadata()?.len();
     let from = loop {
-        let Some(s) = records.previous_start(&mut file, start)? else {
+        let Some(s) = records.previous_start(file, start)? else {
             break 0;
         };
         start = s;
         file.seek(SeekFrom::Start(s))?;
-        if let Some(Record::Whole { len, time }) = records.read(&mut BufReader::new(&mut file))?
-            && time <= t
+        if let Some(Record::Whole { len, time }) = records.read(&mut BufReader::new(&mut *file))?
+            && keep.keeps(time)
         {
             break s + len;
         }
     };
     // Keep whole records up to `t`, cut what follows.
     file.seek(SeekFrom::Start(from))?;
-    let mut reader = BufReader::with_capacity(1 << 20, &mut file);
+    let mut reader = BufReader::with_capacity(1 << 20, &mut *file);
     let (mut kept, mut at, mut cut) = (from, from, Cut::default());
     while let Some(record) = records.read(&mut reader)? {
         match record {
             Record::Whole { len, time } => {
                 at += len;
-                if cut.records == 0 && time <= t {
+                if cut.records == 0 && keep.keeps(time) {
                     kept = at;
                 } else {
                     cut.records += 1;
@@ -95,8 +106,9 @@ pub(crate) fn cut_after(path: &Path, t: f64, records: &impl Records) -> io::Resu
     drop(reader);
     if !cut.is_empty() {
         file.set_len(kept)?;
-        crate::writers::sync_data(&file)?;
+        crate::writers::sync_data(file)?;
     }
+    file.seek(SeekFrom::Start(kept))?;
     Ok(cut)
 }
 

@@ -1,11 +1,12 @@
 //! Trajectory (extended XYZ) and thermo-log writers.
 
 use crate::error::{Result, SystemError};
+use crate::files::OutputFile;
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
-use crate::tail::{Cut, LogLines, XyzFrames, cut_after};
+use crate::tail::{Cut, KeepUntil, LogLines, XyzFrames, cut_after};
 use std::fs::File;
-use std::io::Write;
+use std::io::{Seek, SeekFrom, Write};
 use std::path::Path;
 
 fn io_error(path: &str) -> impl Fn(std::io::Error) -> SystemError + '_ {
@@ -25,16 +26,15 @@ pub(crate) fn sync_data(file: &File) -> std::io::Result<()> {
     }
 }
 
-/// Opens `path` for writing: truncated, or (`append`) extended at its end.
-fn open(path: &Path, append: bool) -> Result<(File, String)> {
-    let name = path.display().to_string();
-    let file = std::fs::OpenOptions::new()
-        .write(true)
-        .create(true)
-        .append(append)
-        .truncate(!append)
-        .open(path)
-        .map_err(io_error(&name))?;
+/// Takes the claimed file `out`, emptied unless `keep` (resuming), for writing at its
+/// end.
+fn take(out: OutputFile, keep: bool) -> Result<(File, String)> {
+    let name = out.path().display().to_string();
+    let mut file = out.into_file();
+    if !keep {
+        file.set_len(0).map_err(io_error(&name))?;
+    }
+    file.seek(SeekFrom::End(0)).map_err(io_error(&name))?;
     Ok((file, name))
 }
 
@@ -53,9 +53,19 @@ pub struct XyzWriter {
 }
 
 impl XyzWriter {
-    /// Creates (truncates) the file.
+    /// Claims the file at `path` and empties it.
     pub fn create(path: &Path) -> Result<Self> {
-        Self::open(path, false)
+        Self::start(OutputFile::claim(path)?)
+    }
+
+    /// Empties the claimed file `out` and writes frames to it.
+    pub fn start(out: OutputFile) -> Result<Self> {
+        let (out, path) = take(out, false)?;
+        Ok(Self {
+            out,
+            frame: Vec::new(),
+            path,
+        })
     }
 
     /// Opens the trajectory of a run resumed from a checkpoint at time `t`, to add
@@ -63,18 +73,23 @@ impl XyzWriter {
     /// frames, and a last frame left unfinished. The frames must hold `particles`
     /// particles.
     pub fn resume(path: &Path, t: f64, particles: usize) -> Result<(Self, Cut)> {
-        let cut = cut_after(path, t, &XyzFrames { particles })
-            .map_err(io_error(&path.display().to_string()))?;
-        Ok((Self::open(path, true)?, cut))
+        let keep = KeepUntil { t, at_t: true };
+        Self::resume_in(OutputFile::claim(path)?, keep, particles)
     }
 
-    fn open(path: &Path, append: bool) -> Result<Self> {
-        let (out, path) = open(path, append)?;
-        Ok(Self {
-            out,
-            frame: Vec::new(),
-            path,
-        })
+    /// [`XyzWriter::resume`] on the claimed file `out`, keeping the frames `keep` keeps.
+    pub fn resume_in(out: OutputFile, keep: KeepUntil, particles: usize) -> Result<(Self, Cut)> {
+        let name = out.path().display().to_string();
+        let mut file = out.into_file();
+        let cut = cut_after(&mut file, keep, &XyzFrames { particles }).map_err(io_error(&name))?;
+        Ok((
+            Self {
+                out: file,
+                frame: Vec::new(),
+                path: name,
+            },
+            cut,
+        ))
     }
 
     /// Appends one frame at time `t`.
@@ -180,26 +195,52 @@ pub struct ThermoLog {
 }
 
 impl ThermoLog {
-    /// Creates (truncates) the file and writes the header.
+    /// The header line.
+    const HEADER: &str = "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
+                          granular_temperature[J] px[kg*m/s] py pz contacts \
+                          rotational_energy[J] rotational_temperature[J]\n";
+
+    /// Bytes a line takes at most: twelve numbers of up to 24 characters.
+    pub const LINE_BYTES: u64 = 12 * 25;
+
+    /// Claims the file at `path`, empties it and writes the header.
     pub fn create(path: &Path) -> Result<Self> {
-        let (mut out, name) = open(path, false)?;
-        writeln!(
-            out,
-            "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
-             granular_temperature[J] px[kg*m/s] py pz contacts rotational_energy[J] \
-             rotational_temperature[J]"
-        )
-        .map_err(io_error(&name))?;
-        Ok(Self { out, path: name })
+        Self::start(OutputFile::claim(path)?)
+    }
+
+    /// Empties the claimed file `out` and writes the header.
+    pub fn start(out: OutputFile) -> Result<Self> {
+        let (mut out, path) = take(out, false)?;
+        out.write_all(Self::HEADER.as_bytes())
+            .map_err(io_error(&path))?;
+        Ok(Self { out, path })
     }
 
     /// Opens the log of a run resumed from a checkpoint at time `t`, to add lines at
     /// its end, after cutting off what a killed run wrote after `t`: whole lines, and a
     /// last line left unfinished.
     pub fn resume(path: &Path, t: f64) -> Result<(Self, Cut)> {
-        let cut = cut_after(path, t, &LogLines).map_err(io_error(&path.display().to_string()))?;
-        let (out, path) = open(path, true)?;
-        Ok((Self { out, path }, cut))
+        Self::resume_in(OutputFile::claim(path)?, KeepUntil { t, at_t: true })
+    }
+
+    /// [`ThermoLog::resume`] on the claimed file `out`, keeping the lines `keep` keeps;
+    /// an empty file gets the header.
+    pub fn resume_in(out: OutputFile, keep: KeepUntil) -> Result<(Self, Cut)> {
+        let name = out.path().display().to_string();
+        let mut file = out.into_file();
+        let cut = cut_after(&mut file, keep, &LogLines).map_err(io_error(&name))?;
+        let empty = file.metadata().map_err(io_error(&name))?.len() == 0;
+        if empty {
+            file.write_all(Self::HEADER.as_bytes())
+                .map_err(io_error(&name))?;
+        }
+        Ok((
+            Self {
+                out: file,
+                path: name,
+            },
+            cut,
+        ))
     }
 
     /// Appends one line.

@@ -144,11 +144,42 @@ impl Table {
         crate::npz::write_npz(&members)
     }
 
-    /// Reads a table file from disk.
+    /// The largest table file read (the default tables take about 2 MB).
+    pub const MAX_FILE_BYTES: u64 = 4 << 30;
+
+    /// Reads a table file from disk: only a regular file (a device or a pipe could be
+    /// endless or block), of at most [`Table::MAX_FILE_BYTES`], and no more than the
+    /// size it had when opened.
     pub fn open(path: impl AsRef<std::path::Path>) -> Result<Self, TableError> {
+        use std::io::Read;
         let path = path.as_ref();
-        let bytes =
-            std::fs::read(path).map_err(|e| TableError::Io(format!("{}: {e}", path.display())))?;
+        let io = |e: std::io::Error| TableError::Io(format!("{}: {e}", path.display()));
+        let irregular = || {
+            TableError::Io(format!(
+                "{} is not a regular file (a directory, a device or a pipe); a table is read \
+                 only from a regular file",
+                path.display()
+            ))
+        };
+        // Looked at before it is opened too: opening a pipe blocks until someone writes.
+        if !std::fs::metadata(path).map_err(io)?.is_file() {
+            return Err(irregular());
+        }
+        let file = std::fs::File::open(path).map_err(io)?;
+        let meta = file.metadata().map_err(io)?;
+        if !meta.is_file() {
+            return Err(irregular());
+        }
+        if meta.len() > Self::MAX_FILE_BYTES {
+            return Err(TableError::Io(format!(
+                "{} has {} bytes, more than a table file can have ({}); is it a table?",
+                path.display(),
+                meta.len(),
+                Self::MAX_FILE_BYTES
+            )));
+        }
+        let mut bytes = Vec::with_capacity(meta.len() as usize);
+        file.take(meta.len()).read_to_end(&mut bytes).map_err(io)?;
         Self::from_bytes(&bytes)
     }
 

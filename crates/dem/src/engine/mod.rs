@@ -98,11 +98,17 @@ impl Md {
         self.synchronise()
     }
 
-    /// Advances `n` steps of velocity Verlet leaving the last half kick pending: the
+    /// Advances `n` steps of velocity Verlet (fewer when a stop is requested,
+    /// [`emdstar_system::stop`]) leaving the last half kick pending: the
     /// trajectory does not depend on how a run is cut into strides (a run stopped,
     /// read or saved between strides goes on bitwise as one that ran through).
     pub fn stride(&mut self, n: u64) -> Result<(), MdError> {
         for _ in 0..n {
+            if emdstar_system::stop::is_requested() {
+                // Between steps: the state is whole, and a later stride goes on as
+                // this one would have (the pending half kick is fused either way).
+                break;
+            }
             self.step()?;
         }
         Ok(())

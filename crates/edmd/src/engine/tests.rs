@@ -240,3 +240,44 @@ fn decoded_checkpoints_that_do_not_fit_the_config_are_refused() {
     let err = spoiled_restore_is_refused(epochs, |e| e.broad.grid.spans.pop().map(drop).unwrap());
     assert!(err.contains("epoch grid"), "{err}");
 }
+
+/// A ball dropped onto a floor under gravity with ε = 0.8 bounces ever lower; its
+/// flights shrink geometrically to one ulp of the time each (the inelastic collapse of
+/// Bannerman et al. 2014, Sec. 5: time stands still in all but round-off). The engine
+/// must stop with the collapse named and the hybrid offered, not run for ever (as it
+/// did while only events at exactly the same time counted).
+#[test]
+fn a_ball_coming_to_rest_on_a_floor_stops_as_an_inelastic_collapse() {
+    let (radius, height, g, eps) = (0.005, 0.045, 9.81, 0.8);
+    let p = Particles::from_columns(
+        vec![[0.0, 0.0, radius + height]],
+        vec![[0.0; 3]],
+        vec![radius],
+        vec![1.3e-3],
+        vec![0],
+    )
+    .unwrap();
+    let domain = Domain {
+        walls: vec![emdstar_system::Wall {
+            normal: [0.0, 0.0, 1.0],
+            point: [0.0; 3],
+        }],
+        gravity: [0.0, 0.0, -g],
+        ..Domain::default()
+    };
+    let mut e: EventEngine<Crossings> =
+        EventEngine::crossings(&p, &domain, Physics::hard_spheres(eps), 0.0).unwrap();
+    let err = e.run_until(100.0).unwrap_err().to_string();
+    assert!(
+        err.contains("inelastic collapse") && err.contains("--engine hybrid"),
+        "{err}"
+    );
+    // It comes to rest after the fall and the geometric series of bounces:
+    // t = √(2h/g) (1 + 2ε/(1 − ε)).
+    let t_rest = (2.0 * height / g).sqrt() * (1.0 + 2.0 * eps / (1.0 - eps));
+    assert!(
+        (e.time() - t_rest).abs() < 1e-8 * t_rest,
+        "{} vs {t_rest}",
+        e.time()
+    );
+}

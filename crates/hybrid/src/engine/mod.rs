@@ -208,9 +208,14 @@ impl Hybrid {
         self.modes.count(mode)
     }
 
-    /// Advances `n` steps of dt.
+    /// Advances `n` steps of dt, fewer when a stop is requested
+    /// ([`emdstar_system::stop`]). Velocities are synchronous with positions at step
+    /// boundaries.
     pub fn advance(&mut self, n: u64) -> Result<(), HybridError> {
         for _ in 0..n {
+            if emdstar_system::stop::is_requested() {
+                break;
+            }
             self.step()?;
         }
         Ok(())
