@@ -25,6 +25,15 @@ impl AnyEngine {
         system: System,
         dt_fraction: f64,
     ) -> Result<Self> {
+        // A bad value is refused whatever the engine (the config checks its numbers).
+        if let Some(end) = config.md.as_ref().and_then(|m| m.contact_end.as_ref()) {
+            end.parse::<ContactEnd>().map_err(|e| {
+                anyhow::anyhow!(
+                    "config: {}",
+                    config.keys.locate(&format!("md.contact_end: {e}"))
+                )
+            })?;
+        }
         Ok(match options.engine {
             EngineKind::Md => {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
