@@ -39,11 +39,11 @@ impl AnyEngine {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 Self::Md(Box::new(Md::new(system, md, config.t_end)?))
             }
-            EngineKind::Emd | EngineKind::EmdStar => Self::Event(Box::new(event_engine(
-                options.engine,
-                &system,
-                &options.edmd,
-            )?)),
+            EngineKind::Emd | EngineKind::EmdStar => {
+                let mut engine = event_engine(options.engine, &system, &options.edmd)?;
+                engine.set_tc(config.events.as_ref().and_then(|e| e.tc))?;
+                Self::Event(Box::new(engine))
+            }
             EngineKind::Hybrid => {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 if md.contact_end != ContactEnd::ForceZero {
