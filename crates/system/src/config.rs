@@ -486,7 +486,7 @@ fn representable_mass(sphere: &Sphere, key: &str, value: f64, unit: &str) -> Res
         "{key} = {value:e} {unit} is out of range: it gives a sphere of radius {r:e} m the mass \
          {m:.3e} kg, \
          which double precision cannot hold with the products of masses every engine forms; \
-         give {key} a physical size"
+         give it a physical size"
     )
 }
 

@@ -96,7 +96,7 @@ impl System {
         if !(v.is_finite() && (0.5 * m_max * v * v).is_finite()) {
             return invalid!(
                 "gravity = {gravity:?} m/s² is too large: a particle falling in it reaches {:.3e} m/s, \
-                 whose kinetic energy overflows double precision; give a gravity of a physical \
+                 whose kinetic energy overflows double precision; give it a physical \
                  size",
                 approach.fall
             );
@@ -152,7 +152,7 @@ impl System {
             return invalid!(
                 "{key} gives {what} ({}) a contact whose time or length scale at the impact \
                  speed {v:.3e} m/s ({why}) is not a finite number greater than zero in double \
-                 precision; give {key} a physical size",
+                 precision; give it a physical size",
                 interactions.describe(i)
             );
         };
@@ -171,7 +171,7 @@ impl System {
                     return invalid!(
                         "{key} is out of range: over the time scale {:.3e} s of the contact of \
                          {what} ({}) it gives a rate that double precision cannot hold; give \
-                         {key} a physical size",
+                         it a physical size",
                         scales.time,
                         interactions.describe(i)
                     );
@@ -192,7 +192,7 @@ impl System {
             "{key} is too soft for the speeds of this run: {what} ({}) meeting at \
              {v:.3e} m/s ({why}) would be compressed by {compression:.3e} m, more than \
              their contact distance {contact:.3e} m, so that their centres pass through \
-             each other; raise {key} by a factor of at least {factor:.3e} or lower the speeds",
+             each other; raise it by a factor of at least {factor:.3e} or lower the speeds",
             interactions.describe(i)
         )
     }
