@@ -1,29 +1,39 @@
-//! The check every engine relies on before it starts: the fastest approach a run can
-//! plausibly see keeps every derived quantity finite (energies, contact times and
-//! lengths) and compresses no contact so deeply that the centres pass through each
+//! The check every engine relies on before it starts: the approaches a run can
+//! plausibly see keep every derived quantity finite (energies, contact times and
+//! lengths) and compress no contact so deeply that the centres pass through each
 //! other.
 //!
-//! The approach speed is an estimate: twice the fastest particle's speed plus twice
-//! the speed gained by falling, for two spheres (head on, one of them back from a
-//! wall); the fastest speed plus the fall, against a wall. A particle falls at most
-//! for `t_end` and at most across the region it moves in (the box or the particles'
-//! bounding box, or its distance from a wall). The maximal compression of a central
-//! impact at normal speed v follows from the law's scales (Müller & Pöschel 2013,
-//! Eqs. 41 and 53): ξ_max = ξ̃·vT, with ξ̃ = 1 for the linear spring (T = 1/ω) and
-//! ξ̃ = (5/4)^{2/5} for Hertz's law (T = κ^{−2/5} v^{−1/5}, from energy conservation,
-//! Eq. 54); dissipation only lowers it. The centres meet at ξ = R₁ + R₂ (R at a wall).
+//! The approach speed is an estimate of a typical impact, not a bound: for two
+//! spheres the rms relative speed of the particles, √(2⟨|v − ⟨v⟩|²⟩), plus the speed
+//! gained by falling (one sphere falling onto another at rest); against a wall the
+//! rms speed √⟨|v|²⟩ plus the fall. A particle falls at most for `t_end` and at most
+//! across the region it moves in (the diagonal of the box or of the particles'
+//! bounding box, or its height above a wall). Impacts much faster than these are
+//! rare in a gas; a bound such as twice the fastest speed refuses sound runs (a
+//! contracting cloud whose neighbours approach slowly). The extreme approach, twice
+//! the fastest speed plus twice the fall, must still keep the kinetic energy finite.
+//!
+//! The maximal compression of a central impact at normal speed v follows from the
+//! law's scales (Müller & Pöschel 2013, Eqs. 41 and 53): ξ_max = ξ̃·vT, with ξ̃ = 1
+//! for the linear spring (T = 1/ω) and ξ̃ = (5/4)^{2/5} for Hertz's law
+//! (T = κ^{−2/5} v^{−1/5}, from energy conservation, Eq. 54); dissipation only lowers
+//! it. The centres meet at ξ = R₁ + R₂ (R at a wall).
 
 use crate::error::{Result, invalid};
 use crate::interactions::Interaction;
 use crate::system::System;
-use emdstar_contact::vec3::{dot, norm, sub};
+use emdstar_contact::vec3::{dot, norm, norm2, sub};
 use emdstar_contact::{Impact, PairLaw, Tangential};
 
-/// The fastest approaches of a run to `t_end`: of two spheres and of a sphere and a
-/// wall, in m/s, with what makes them up for messages.
+/// The typical approaches of a run to `t_end` (module docs): of two spheres and of a
+/// sphere and a wall, in m/s, with what makes them up for messages.
 struct Approach {
     pair: f64,
     wall: f64,
+    /// Twice the fastest speed plus twice the fall.
+    extreme: f64,
+    relative_rms: f64,
+    rms: f64,
     fastest: f64,
     fall: f64,
 }
@@ -31,7 +41,13 @@ struct Approach {
 impl Approach {
     fn of(system: &System, t_end: f64) -> Self {
         let p = &system.particles;
+        let n = p.velocity.len().max(1) as f64;
         let fastest = p.velocity.iter().map(|v| norm(*v)).fold(0.0, f64::max);
+        let mean: [f64; 3] =
+            std::array::from_fn(|k| p.velocity.iter().map(|v| v[k]).sum::<f64>() / n);
+        let square = |c: [f64; 3]| p.velocity.iter().map(|v| norm2(sub(*v, c))).sum::<f64>() / n;
+        let relative_rms = (2.0 * square(mean)).sqrt();
+        let rms = square([0.0; 3]).sqrt();
         let [gx, gy, gz] = system.domain.gravity;
         let g = gx.hypot(gy).hypot(gz);
         let (_, extent, _) = system.search_region();
@@ -47,8 +63,11 @@ impl Approach {
             0.0
         };
         Self {
-            pair: 2.0 * (fastest + fall),
-            wall: fastest + fall,
+            pair: relative_rms + fall,
+            wall: rms + fall,
+            extreme: 2.0 * (fastest + fall),
+            relative_rms,
+            rms,
             fastest,
             fall,
         }
@@ -56,15 +75,17 @@ impl Approach {
 
     fn describe(&self, wall: bool) -> String {
         let fall = if self.fall > 0.0 {
-            format!(" and {:.3e} m/s gained by falling", self.fall)
+            format!(" plus {:.3e} m/s gained by falling", self.fall)
         } else {
             String::new()
         };
-        let times = if wall { "" } else { "twice " };
-        format!(
-            "{times}the fastest particle's speed {:.3e} m/s{fall}",
-            self.fastest
-        )
+        match wall {
+            true => format!("the particles' rms speed {:.3e} m/s{fall}", self.rms),
+            false => format!(
+                "the particles' rms relative speed {:.3e} m/s{fall}",
+                self.relative_rms
+            ),
+        }
     }
 }
 
@@ -85,24 +106,30 @@ fn scaled_compression(law: &PairLaw) -> f64 {
 }
 
 impl System {
-    /// Refuses a system whose fastest plausible approach up to `t_end` (module docs)
-    /// overflows an energy or a contact's scales, or compresses a contact until the
-    /// centres meet; the message names the key to change.
+    /// Refuses a system whose extreme approach up to `t_end` overflows the kinetic
+    /// energy, or whose typical approach (module docs) overflows a contact's scales or
+    /// compresses a contact until the centres meet; the message names the key to
+    /// change.
     pub fn check_contacts(&self, t_end: f64) -> Result<()> {
         let approach = Approach::of(self, t_end);
         let gravity = self.domain.gravity;
         let m_max = self.species.iter().map(|s| s.mass).fold(0.0, f64::max);
-        let v = approach.pair;
+        let v = approach.extreme;
         if !(v.is_finite() && (0.5 * m_max * v * v).is_finite()) {
+            if approach.fall > 0.0 {
+                return invalid!(
+                    "gravity = {gravity:?} m/s² is too large: a particle falling in it \
+                     reaches {:.3e} m/s, whose kinetic energy overflows double precision; give \
+                     it a physical size",
+                    approach.fall
+                );
+            }
             return invalid!(
-                "gravity = {gravity:?} m/s² is too large: a particle falling in it reaches {:.3e} m/s, \
-                 whose kinetic energy overflows double precision; give it a physical \
-                 size",
-                approach.fall
+                "the particles are too fast: two meeting head on at twice the fastest \
+                 speed, {:.3e} m/s, have a kinetic energy that overflows double precision; \
+                 give speeds of a physical size",
+                2.0 * approach.fastest
             );
-        }
-        if v == 0.0 {
-            return Ok(());
         }
         let interactions = self.interactions();
         let n = self.species.len();
@@ -131,6 +158,9 @@ impl System {
 
     /// One kind of contact at normal speed `v` (`why`: how `v` was estimated).
     fn check_contact(&self, i: &Interaction, what: &str, v: f64, why: &str) -> Result<()> {
+        if v == 0.0 {
+            return Ok(());
+        }
         let interactions = self.interactions();
         let [a, b] = i.materials;
         let name = name_of(i.law());
