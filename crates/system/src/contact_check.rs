@@ -227,3 +227,43 @@ impl System {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Config;
+
+    /// Two linear spheres at ±v: rms relative speed √2·v, ξ_max = √2·v·√(m_eff/k)
+    /// (the undamped spring, Müller & Pöschel 2013, Eq. 41). The stiffness that puts
+    /// ξ_max at the contact distance 2R is the bar, within a percent either side.
+    #[test]
+    fn the_stiffness_at_which_typical_impacts_reach_the_centres_is_the_bar() {
+        let (r, rho, v) = (0.01f64, 1000.0, 1.0);
+        let m = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) * rho;
+        let k_bar = 2.0 * v * v * (m / 2.0) / (2.0 * r).powi(2);
+        let build = |k: f64| {
+            Config::from_toml(&format!(
+                "t_end = 1.0\n[material]\nmodel = \"linear\"\nstiffness = {k:e}\n\
+                 density = {rho}\n[[particles]]\nradius = {r}\nposition = [0.0, 0.0, 0.0]\n\
+                 velocity = [{v}, 0.0, 0.0]\n[[particles]]\nradius = {r}\n\
+                 position = [0.03, 0.0, 0.0]\nvelocity = [-{v}, 0.0, 0.0]\n"
+            ))
+            .unwrap()
+            .build()
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+        };
+        let err = build(0.99 * k_bar).unwrap_err();
+        assert!(
+            err.contains("line 4: material.stiffness") && err.contains("pass through"),
+            "{err}"
+        );
+        build(1.01 * k_bar).unwrap();
+        // At rest and without gravity nothing collides: any stiffness goes.
+        let still = Config::from_toml(
+            "t_end = 1.0\n[material]\nmodel = \"linear\"\nstiffness = 1e-9\ndensity = 1.0\n\
+             [[particles]]\nradius = 0.1\nposition = [0.0, 0.0, 0.0]\n",
+        )
+        .unwrap();
+        still.build().unwrap();
+    }
+}
