@@ -189,30 +189,8 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         args.log.as_deref(),
         args.checkpoint.as_deref(),
     );
-    for (interval, value, file, written) in [
-        (
-            "trajectory_interval",
-            output.trajectory_interval,
-            "trajectory",
-            files.trajectory.is_some(),
-        ),
-        (
-            "log_interval",
-            output.log_interval,
-            "log",
-            files.log.is_some(),
-        ),
-    ] {
-        if value.is_some() && !written {
-            let at = config
-                .keys
-                .line(&format!("output.{interval}"))
-                .map_or(String::new(), |l| format!("line {l}: "));
-            eprintln!(
-                "warning: {at}[output] {interval} has no effect: this run writes no {file} \
-                 (--{file} none or {file} = \"none\")"
-            );
-        }
+    for warning in emdstar_engines::unwritten_intervals(&config, &files) {
+        eprintln!("warning: {warning}");
     }
     let mut inputs = vec![("the config", args.config.as_path())];
     if let Some(table) = &args.engine.edmd.table {

@@ -208,6 +208,47 @@ fn keys_an_engine_does_not_use_are_warned_about_on_that_engine_only() {
     }
 }
 
+/// An `[output]` interval whose output the run does not write is a warning with its
+/// line; with the output written, nothing is said.
+#[test]
+fn an_interval_of_an_output_not_written_is_warned_about() {
+    let dir = scratch("intervals");
+    let text = pair(GLASS, SPHERE, "") + "[output]\nlog_interval = 0.01\n";
+    std::fs::write(dir.join("out.toml"), &text).unwrap();
+    let line = line_of(&text, "log_interval");
+    let warnings = |log: &str| {
+        let out = emdstar_in(
+            &dir,
+            &[
+                "run",
+                "out.toml",
+                "--quiet",
+                "--log",
+                log,
+                "--trajectory",
+                "none",
+            ],
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .filter(|l| l.starts_with("warning:"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let none = warnings("none");
+    assert_eq!(none.len(), 1, "{none:?}");
+    assert!(
+        none[0].contains(&format!("line {line}: [output] log_interval has no effect")),
+        "{none:?}"
+    );
+    assert!(warnings("out.log").is_empty());
+}
+
 /// Two soft spheres that would pass through each other (Y = 1 kPa at ±1 m/s; the
 /// issue's case ran through on MD with +2.7 % energy) are refused up front. The
 /// message's speed and factor agree with Hertz's law: at that speed a Young's modulus

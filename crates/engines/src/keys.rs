@@ -1,8 +1,10 @@
 //! Which engine uses which config key and option: one table. A value is checked
 //! whatever the engine (the config's own checks); a key or option the chosen engine
-//! does not use gets a warning naming it and the engines that do.
+//! does not use gets a warning naming it and the engines that do, and so does an
+//! output interval whose output is not written.
 
 use crate::options::{EngineKind, EngineOptions, HybridChoice, InterferenceChoice, MorChoice};
+use crate::run::RunFiles;
 use EngineKind::{Emd, EmdStar, Hybrid, Md};
 use emdstar_system::Config;
 
@@ -98,6 +100,38 @@ const KEYS: &[Key] = &[
     },
 ];
 
+/// "line N: " for the key at `path` of `config`, where the text sets it.
+fn at(config: &Config, path: &str) -> String {
+    config
+        .keys
+        .line(path)
+        .map_or(String::new(), |l| format!("line {l}: "))
+}
+
+/// One line for each `[output]` interval of `config` whose output `files` does not
+/// write (`--log none`, `trajectory = "none"`).
+pub fn unwritten_intervals(config: &Config, files: &RunFiles) -> Vec<String> {
+    let output = config.output.clone().unwrap_or_default();
+    [
+        (
+            "trajectory",
+            output.trajectory_interval,
+            files.trajectory.is_some(),
+        ),
+        ("log", output.log_interval, files.log.is_some()),
+    ]
+    .into_iter()
+    .filter(|(_, interval, written)| interval.is_some() && !written)
+    .map(|(file, _, _)| {
+        format!(
+            "{}[output] {file}_interval has no effect: this run writes no {file} (--{file} \
+             none or {file} = \"none\")",
+            at(config, &format!("output.{file}_interval"))
+        )
+    })
+    .collect()
+}
+
 /// One line for each key of `config` and option of `options` that the chosen engine
 /// does not use: the key (with its line), the engine, and the engines that use it.
 pub fn unused_keys(config: &Config, options: &EngineOptions) -> Vec<String> {
@@ -110,11 +144,7 @@ pub fn unused_keys(config: &Config, options: &EngineOptions) -> Vec<String> {
                 Some(_) => (format!("option {}", k.name), String::new()),
                 None => {
                     let (section, key) = k.name.split_once('.').unwrap_or(("", k.name));
-                    let at = config
-                        .keys
-                        .line(k.name)
-                        .map_or(String::new(), |l| format!("line {l}: "));
-                    (format!("[{section}] {key}"), at)
+                    (format!("[{section}] {key}"), at(config, k.name))
                 }
             };
             format!(

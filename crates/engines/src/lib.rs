@@ -31,7 +31,7 @@ pub mod run;
 mod setup;
 
 pub use engine::AnyEngine;
-pub use keys::unused_keys;
+pub use keys::{unused_keys, unwritten_intervals};
 pub use options::{
     BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, EventsChoice, HybridChoice,
     InterferenceChoice, MdChoice, MorChoice, parse_engine,
