@@ -165,6 +165,21 @@ fn each_bad_value_names_its_key_once_with_its_line_on_every_engine() {
     assert!(written.is_empty(), "{written:?}");
 }
 
+/// Runs `emdstar run CONFIG --quiet --trajectory none` with `args` in `dir`, expects
+/// success and returns its warnings.
+fn warnings(dir: &std::path::Path, config: &str, args: &[&str]) -> Vec<String> {
+    let mut all = vec!["run", config, "--quiet", "--trajectory", "none"];
+    all.extend_from_slice(args);
+    let out = emdstar_in(dir, &all);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{all:?}: {stderr}");
+    stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .map(str::to_string)
+        .collect()
+}
+
 /// A key the chosen engine does not use is a one-line warning naming it, its line and
 /// the engine; the engines that use it say nothing.
 #[test]
@@ -174,36 +189,17 @@ fn keys_an_engine_does_not_use_are_warned_about_on_that_engine_only() {
     std::fs::write(dir.join("both.toml"), &text).unwrap();
     let (dt, tc) = (line_of(&text, "dt = "), line_of(&text, "tc = "));
     for engine in ENGINES {
-        let out = emdstar_in(
-            &dir,
-            &[
-                "run",
-                "both.toml",
-                "--engine",
-                engine,
-                "--quiet",
-                "--log",
-                "none",
-                "--trajectory",
-                "none",
-            ],
-        );
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{engine}: {stderr}");
-        let warnings: Vec<&str> = stderr
-            .lines()
-            .filter(|l| l.starts_with("warning:"))
-            .collect();
+        let warnings = warnings(&dir, "both.toml", &["--engine", engine, "--log", "none"]);
         let (unused, line) = match engine {
             "md" | "hybrid" => ("[events] tc", tc),
             _ => ("[md] dt", dt),
         };
-        assert_eq!(warnings.len(), 1, "{engine}: {stderr}");
+        assert_eq!(warnings.len(), 1, "{engine}: {warnings:?}");
         assert!(
             warnings[0].contains(&format!(
                 "line {line}: {unused} is not used by --engine {engine}"
             )),
-            "{engine}: {stderr}"
+            "{engine}: {warnings:?}"
         );
     }
 }
@@ -216,30 +212,7 @@ fn an_interval_of_an_output_not_written_is_warned_about() {
     let text = pair(GLASS, SPHERE, "") + "[output]\nlog_interval = 0.01\n";
     std::fs::write(dir.join("out.toml"), &text).unwrap();
     let line = line_of(&text, "log_interval");
-    let warnings = |log: &str| {
-        let out = emdstar_in(
-            &dir,
-            &[
-                "run",
-                "out.toml",
-                "--quiet",
-                "--log",
-                log,
-                "--trajectory",
-                "none",
-            ],
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stderr)
-            .lines()
-            .filter(|l| l.starts_with("warning:"))
-            .map(str::to_string)
-            .collect::<Vec<_>>()
-    };
+    let warnings = |log: &str| warnings(&dir, "out.toml", &["--log", log]);
     let none = warnings("none");
     assert_eq!(none.len(), 1, "{none:?}");
     assert!(
