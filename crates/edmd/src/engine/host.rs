@@ -144,7 +144,7 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
     fn place(&mut self, p: usize, x: [f64; 3]) {
         let d = self.state.min_image(sub(x, self.state.slot[p].kin.pos));
         self.hooks.jumped(p, norm(d));
-        let x = self.state.wrap(x);
+        let x = self.state.wrap_slot(p, x);
         self.state.slot[p].kin.pos = x;
         self.state.slot[p].kin.stamp = self.state.time;
         self.broad.placed(p, x);
