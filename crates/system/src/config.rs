@@ -75,8 +75,8 @@ use crate::error::{
     Result, SystemError, finite3, invalid, positive, representable_energy, representable_spin,
 };
 use crate::gas::{self, GasConfig};
-use crate::initial::InitialConfig;
 use crate::geometry::{SimBox, Wall};
+use crate::initial::InitialConfig;
 use crate::interactions::Interactions;
 use crate::material_config::{InteractionConfig, MaterialConfig, names};
 use crate::materials::MaterialTable;

@@ -40,7 +40,8 @@ damping = 0.0
 "#;
 
 /// The box of [`original`], closed along z between two walls.
-const BOX: &str = "[box]\nsize = [2.0, 1.5, 1.0]\nlo = [-1.0, 0.0, 0.5]\nperiodic = [true, true, false]\n";
+const BOX: &str =
+    "[box]\nsize = [2.0, 1.5, 1.0]\nlo = [-1.0, 0.0, 0.5]\nperiodic = [true, true, false]\n";
 const WALLS: &str = "[[walls]]\nnormal = [0, 0, 1]\npoint = [0, 0, 0.5]\nmaterial = \"steel\"\n\
                    [[walls]]\nnormal = [0, 0, -1]\npoint = [0, 0, 1.5]\nmaterial = \"steel\"\n";
 
@@ -71,8 +72,7 @@ fn original() -> System {
 }
 
 /// The materials of the species of [`original`], by species number.
-const SPECIES_MATERIALS: &str =
-    "types = { 0 = \"glass\", 1 = \"steel\", 2 = \"glass\", 3 = \"steel\", 4 = \"glass\", 5 = \"steel\" }\n";
+const SPECIES_MATERIALS: &str = "types = { 0 = \"glass\", 1 = \"steel\", 2 = \"glass\", 3 = \"steel\", 4 = \"glass\", 5 = \"steel\" }\n";
 
 /// The system `[initial]` with `keys` builds, the config in `dir`, with `extra` keys.
 fn read_back(dir: &Path, keys: &str, extra: &str) -> emdstar_system::Result<System> {
@@ -92,8 +92,10 @@ fn an_xyz_frame_reads_back_to_the_bit() {
     let mut w = XyzWriter::create(&dir.join("run.xyz")).unwrap();
     let mut moved = s.particles.clone();
     moved.position[0][0] += 0.25;
-    w.write_frame(0.0, &moved, s.domain.sim_box.as_ref()).unwrap();
-    w.write_frame(0.5, &s.particles, s.domain.sim_box.as_ref()).unwrap();
+    w.write_frame(0.0, &moved, s.domain.sim_box.as_ref())
+        .unwrap();
+    w.write_frame(0.5, &s.particles, s.domain.sim_box.as_ref())
+        .unwrap();
     drop(w);
     // This project's type names are its species numbers (radius, mass and material).
     let types = SPECIES_MATERIALS;
@@ -103,7 +105,12 @@ fn an_xyz_frame_reads_back_to_the_bit() {
     assert_eq!(back.species, s.species);
     assert_eq!(back.domain.sim_box, s.domain.sim_box);
     // Frame 0 (counted from the start) has the moved particle.
-    let first = read_back(&dir, &format!("file = \"run.xyz\"\nframe = 0\n{types}"), WALLS).unwrap();
+    let first = read_back(
+        &dir,
+        &format!("file = \"run.xyz\"\nframe = 0\n{types}"),
+        WALLS,
+    )
+    .unwrap();
     assert_eq!(first.particles.position, moved.position);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -114,7 +121,8 @@ fn a_gsd_frame_reads_back_within_single_precision() {
     let s = original();
     let mut w = GsdWriter::create(&dir.join("run.gsd")).unwrap();
     for t in [0.0, 0.5] {
-        w.write_frame(t, &s.particles, s.species.len(), s.domain.sim_box.as_ref()).unwrap();
+        w.write_frame(t, &s.particles, s.species.len(), s.domain.sim_box.as_ref())
+            .unwrap();
     }
     drop(w);
     let keys = &format!("file = \"run.gsd\"\n{SPECIES_MATERIALS}");
@@ -130,20 +138,39 @@ fn a_gsd_frame_reads_back_within_single_precision() {
         for k in 0..3 {
             assert!(close(a.position[i][k], b.position[i][k]), "x {i}");
             assert!(close(a.velocity[i][k], b.velocity[i][k]), "v {i}");
-            assert!(close(a.angular_velocity[i][k], b.angular_velocity[i][k]), "w {i}");
+            assert!(
+                close(a.angular_velocity[i][k], b.angular_velocity[i][k]),
+                "w {i}"
+            );
         }
     }
     // Out of range: the message names the range.
-    let err = read_back(&dir, &format!("{keys}frame = 2\n"), &format!("{BOX}{WALLS}")).unwrap_err().to_string();
-    assert!(err.contains("initial.frame = 2 is out of range") && err.contains("2 frames"), "{err}");
-    let err = read_back(&dir, &format!("{keys}frame = -3\n"), &format!("{BOX}{WALLS}")).unwrap_err().to_string();
+    let err = read_back(
+        &dir,
+        &format!("{keys}frame = 2\n"),
+        &format!("{BOX}{WALLS}"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("initial.frame = 2 is out of range") && err.contains("2 frames"),
+        "{err}"
+    );
+    let err = read_back(
+        &dir,
+        &format!("{keys}frame = -3\n"),
+        &format!("{BOX}{WALLS}"),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("out of range"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A LAMMPS data file as `write_data` writes `atom_style sphere`: ids out of order, a
 /// coefficient-free header, image flags, a Velocities section with spins.
-const LAMMPS_DATA: &str = "LAMMPS data file via write_data, version 2 Aug 2023, timestep = 0, units = si
+const LAMMPS_DATA: &str =
+    "LAMMPS data file via write_data, version 2 Aug 2023, timestep = 0, units = si
 
 3 atoms
 2 atom types
@@ -173,9 +200,15 @@ fn a_lammps_data_file_is_read_as_its_rows_say() {
     let s = read_back(&dir, keys, "").unwrap();
     let p = &s.particles;
     // Particles in the order of their atom ids.
-    assert_eq!(p.position, vec![[0.25, -0.5, 0.5], [1.5, 0.5, 0.75], [1.0, 0.0, 1.0]]);
+    assert_eq!(
+        p.position,
+        vec![[0.25, -0.5, 0.5], [1.5, 0.5, 0.75], [1.0, 0.0, 1.0]]
+    );
     assert_eq!(p.radius, vec![0.05, 0.1, 0.06]);
-    assert_eq!(p.velocity, vec![[0.5, -0.25, 0.0], [1.0, 2.0, 3.0], [0.0, 0.0, -1.0]]);
+    assert_eq!(
+        p.velocity,
+        vec![[0.5, -0.25, 0.0], [1.0, 2.0, 3.0], [0.0, 0.0, -1.0]]
+    );
     assert_eq!(p.angular_velocity[0], [0.0, 0.0, 4.0]);
     assert_eq!(p.image, vec![[0, 0, 0], [1, 0, -2], [0, -1, 0]]);
     let material = |i: usize| s.species[p.species[i] as usize].material;
@@ -184,34 +217,60 @@ fn a_lammps_data_file_is_read_as_its_rows_say() {
     let mass = 7800.0 * std::f64::consts::PI * 0.2f64.powi(3) / 6.0;
     assert!((p.mass[1] - mass).abs() < 1e-15 * mass);
     let b = s.domain.sim_box.unwrap();
-    assert_eq!((b.lo, b.size, b.periodic), ([0.0, -1.0, 0.0], [2.0, 2.0, 1.5], [true; 3]));
+    assert_eq!(
+        (b.lo, b.size, b.periodic),
+        ([0.0, -1.0, 0.0], [2.0, 2.0, 1.5], [true; 3])
+    );
 
     // A type the map leaves out.
-    let err = read_back(&dir, "file = \"packing.data\"\ntypes = { 1 = \"glass\" }\n", "")
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("type \"2\"") && err.contains("initial.types"), "{err}");
+    let err = read_back(
+        &dir,
+        "file = \"packing.data\"\ntypes = { 1 = \"glass\" }\n",
+        "",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("type \"2\"") && err.contains("initial.types"),
+        "{err}"
+    );
     // A map to no material.
-    let err = read_back(&dir, "file = \"packing.data\"\ntypes = { 1 = \"glass\", 2 = \"gold\" }\n", "")
-        .unwrap_err()
-        .to_string();
+    let err = read_back(
+        &dir,
+        "file = \"packing.data\"\ntypes = { 1 = \"glass\", 2 = \"gold\" }\n",
+        "",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("\"gold\", which is no material"), "{err}");
     // A data file holds one state.
-    let err = read_back(&dir, &format!("{keys}frame = 0\n"), "").unwrap_err().to_string();
-    assert!(err.contains("drop initial.frame"), "{err}");
-    // Another atom style (atomic: id type x y z).
-    let atomic = LAMMPS_DATA.split("Velocities").next().unwrap().replace(
-        "2 2 0.2 7800 1.5 0.5 0.75 1 0 -2",
-        "2 2 1.5 0.5 0.75",
-    );
-    std::fs::write(dir.join("atomic.data"), atomic).unwrap();
-    let err = read_back(&dir, "file = \"atomic.data\"\ntypes = { 1 = \"glass\", 2 = \"steel\" }\n", "")
+    let err = read_back(&dir, &format!("{keys}frame = 0\n"), "")
         .unwrap_err()
         .to_string();
+    assert!(err.contains("drop initial.frame"), "{err}");
+    // Another atom style (atomic: id type x y z).
+    let atomic = LAMMPS_DATA
+        .split("Velocities")
+        .next()
+        .unwrap()
+        .replace("2 2 0.2 7800 1.5 0.5 0.75 1 0 -2", "2 2 1.5 0.5 0.75");
+    std::fs::write(dir.join("atomic.data"), atomic).unwrap();
+    let err = read_back(
+        &dir,
+        "file = \"atomic.data\"\ntypes = { 1 = \"glass\", 2 = \"steel\" }\n",
+        "",
+    )
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("atom_style sphere"), "{err}");
     // Image flags along a closed axis of the config's box.
-    let err = read_back(&dir, keys, &format!("{BOX}{WALLS}")).unwrap_err().to_string();
-    assert!(err.contains("image flag") && err.contains("closed"), "{err}");
+    let err = read_back(&dir, keys, &format!("{BOX}{WALLS}"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("image flag") && err.contains("closed"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -223,7 +282,9 @@ fn files_are_checked_as_inline_particles_are() {
                    glass 0.5 0.5 0.5 0.1\nglass 0.6 0.5 0.5 0.1\n";
     std::fs::write(dir.join("overlap.xyz"), overlap).unwrap();
     let glass = "types = { glass = \"glass\" }\n";
-    let err = read_back(&dir, &format!("file = \"overlap.xyz\"\n{glass}"), "").unwrap_err().to_string();
+    let err = read_back(&dir, &format!("file = \"overlap.xyz\"\n{glass}"), "")
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("overlap"), "{err}");
     // OVITO's names (Position, Radius, Particle Type) read as this project's.
     let ovito = "1\nLattice=\"2 0 0 0 2 0 0 0 2\" Origin=\"-1 -1 -1\" pbc=\"T T T\" \
@@ -233,15 +294,33 @@ fn files_are_checked_as_inline_particles_are() {
     assert_eq!(s.particles.position, vec![[0.5; 3]]);
     assert_eq!(s.domain.sim_box.unwrap().lo, [-1.0; 3]);
     // A missing column.
-    std::fs::write(dir.join("noradius.xyz"), "1\nProperties=species:S:1:pos:R:3\nglass 0 0 0\n").unwrap();
-    let err = read_back(&dir, &format!("file = \"noradius.xyz\"\n{glass}"), "").unwrap_err().to_string();
-    assert!(err.contains("missing column") && err.contains("radius"), "{err}");
+    std::fs::write(
+        dir.join("noradius.xyz"),
+        "1\nProperties=species:S:1:pos:R:3\nglass 0 0 0\n",
+    )
+    .unwrap();
+    let err = read_back(&dir, &format!("file = \"noradius.xyz\"\n{glass}"), "")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("missing column") && err.contains("radius"),
+        "{err}"
+    );
     // Not a GSD file, a missing file, a format not read, and two sources at once.
-    let err = read_back(&dir, "file = \"ovito.xyz\"\nformat = \"gsd\"\n", "").unwrap_err().to_string();
-    assert!(err.contains("not a GSD file") || err.contains("GSD header"), "{err}");
-    let err = read_back(&dir, "file = \"absent.gsd\"\n", "").unwrap_err().to_string();
+    let err = read_back(&dir, "file = \"ovito.xyz\"\nformat = \"gsd\"\n", "")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("not a GSD file") || err.contains("GSD header"),
+        "{err}"
+    );
+    let err = read_back(&dir, "file = \"absent.gsd\"\n", "")
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("absent.gsd"), "{err}");
-    let err = read_back(&dir, "file = \"a.pdb\"\n", "").unwrap_err().to_string();
+    let err = read_back(&dir, "file = \"a.pdb\"\n", "")
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("initial.format"), "{err}");
     let mut config = Config::from_toml(&format!(
         "{MATERIALS}[[particles]]\nradius = 0.1\nposition = [0, 0, 0]\nmaterial = \"glass\"\n\
@@ -252,9 +331,11 @@ fn files_are_checked_as_inline_particles_are() {
     let err = config.build().unwrap_err().to_string();
     assert!(err.contains("[[particles]] and [initial]"), "{err}");
     // An unknown key of [initial] is named.
-    let err = Config::from_toml(&format!("{MATERIALS}[initial]\nfile = \"x.gsd\"\nframes = 1\n"))
-        .unwrap_err()
-        .to_string();
+    let err = Config::from_toml(&format!(
+        "{MATERIALS}[initial]\nfile = \"x.gsd\"\nframes = 1\n"
+    ))
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("frames"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -74,7 +74,10 @@ impl Gsd {
                 .map(|n| String::from_utf8_lossy(n).into_owned())
                 .collect()
         };
-        let index = g.bytes(index_at, index_entries.saturating_mul(crate::gsd::ENTRY_BYTES))?;
+        let index = g.bytes(
+            index_at,
+            index_entries.saturating_mul(crate::gsd::ENTRY_BYTES),
+        )?;
         for e in index.chunks_exact(crate::gsd::ENTRY_BYTES as usize) {
             let location = u64_at(e, 16);
             if location == 0 {
@@ -148,7 +151,14 @@ impl Gsd {
     }
 
     /// Per-particle chunk `name` of `cols` columns for `n` particles, or `default`.
-    fn column(&mut self, frame: u64, name: &str, n: usize, cols: u32, default: f64) -> Result<Vec<f64>> {
+    fn column(
+        &mut self,
+        frame: u64,
+        name: &str,
+        n: usize,
+        cols: u32,
+        default: f64,
+    ) -> Result<Vec<f64>> {
         match self.numbers(frame, name)? {
             None => Ok(vec![default; n * cols as usize]),
             Some((v, c)) if c == cols && v.len() == n * cols as usize => Ok(v),
@@ -162,13 +172,20 @@ impl Gsd {
     /// The type names (`particles/types`, default "A").
     fn types(&mut self, frame: u64) -> Result<Vec<String>> {
         let key = |f: u64| (f, "particles/types".to_string());
-        let Some(e) = self.chunks.get(&key(frame)).or_else(|| self.chunks.get(&key(0))) else {
+        let Some(e) = self
+            .chunks
+            .get(&key(frame))
+            .or_else(|| self.chunks.get(&key(0)))
+        else {
             return Ok(vec!["A".into()]);
         };
         let (location, rows, cols) = (e.location, e.rows, e.cols as u64);
         let b = self.bytes(location, rows.saturating_mul(cols))?;
         Ok(b.chunks(cols.max(1) as usize)
-            .map(|n| String::from_utf8_lossy(n.split(|&c| c == 0).next().unwrap_or_default()).into_owned())
+            .map(|n| {
+                String::from_utf8_lossy(n.split(|&c| c == 0).next().unwrap_or_default())
+                    .into_owned()
+            })
             .collect())
     }
 }

@@ -10,9 +10,24 @@ use std::collections::HashMap;
 
 /// The section names of a data file (LAMMPS `read_data`), which end the one before.
 const SECTIONS: [&str; 18] = [
-    "Atoms", "Velocities", "Masses", "Ellipsoids", "Lines", "Triangles", "Bodies", "Bonds",
-    "Angles", "Dihedrals", "Impropers", "Pair Coeffs", "PairIJ Coeffs", "Bond Coeffs",
-    "Angle Coeffs", "Dihedral Coeffs", "Improper Coeffs", "Extras",
+    "Atoms",
+    "Velocities",
+    "Masses",
+    "Ellipsoids",
+    "Lines",
+    "Triangles",
+    "Bodies",
+    "Bonds",
+    "Angles",
+    "Dihedrals",
+    "Impropers",
+    "Pair Coeffs",
+    "PairIJ Coeffs",
+    "Bond Coeffs",
+    "Angle Coeffs",
+    "Dihedral Coeffs",
+    "Improper Coeffs",
+    "Extras",
 ];
 
 fn section_of(line: &str) -> Option<&'static str> {
@@ -54,12 +69,15 @@ pub(super) fn read(text: &str) -> Result<FileState> {
                 let tail = &words[words.len().min(2)..].join(" ");
                 if words.len() == 2 && words[1] == "atoms" {
                     atoms = Some(parse::<usize>(words[0], "the atom count", no)?);
-                } else if words.len() == 4 && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&tail.as_str()) {
+                } else if words.len() == 4
+                    && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&tail.as_str())
+                {
                     let k = usize::from(words[2].as_bytes()[0] - b'x');
                     lo[k] = parse(words[0], "a box bound", no)?;
                     hi[k] = parse(words[1], "a box bound", no)?;
                 } else if words.ends_with(&["xy", "xz", "yz"]) {
-                    let tilts: Vec<f64> = words[..3].iter().filter_map(|w| w.parse().ok()).collect();
+                    let tilts: Vec<f64> =
+                        words[..3].iter().filter_map(|w| w.parse().ok()).collect();
                     if tilts.iter().any(|&t| t != 0.0) {
                         return invalid!(
                             "line {no}: a triclinic box (tilts {tilts:?}); only orthogonal \
@@ -80,7 +98,10 @@ pub(super) fn read(text: &str) -> Result<FileState> {
         return invalid!("it has no Atoms section");
     };
     if atom_rows.len() != n {
-        return invalid!("the Atoms section has {} rows for the header's {n} atoms", atom_rows.len());
+        return invalid!(
+            "the Atoms section has {} rows for the header's {n} atoms",
+            atom_rows.len()
+        );
     }
     let mut index = HashMap::with_capacity(n);
     let mut rows = Vec::with_capacity(n);
@@ -99,14 +120,24 @@ pub(super) fn read(text: &str) -> Result<FileState> {
         let diameter: f64 = parse(w[2], "the diameter", no)?;
         let density: f64 = parse(w[3], "the density", no)?;
         if !(diameter > 0.0) {
-            return invalid!("line {no}: atom {id} has diameter {diameter}; spheres need a positive one");
+            return invalid!(
+                "line {no}: atom {id} has diameter {diameter}; spheres need a positive one"
+            );
         }
         let mass = Sphere::from_density(0.5 * diameter, density)
             .map_err(|e| crate::SystemError::Invalid(format!("line {no}: atom {id}: {e}")))?
             .mass;
-        let x = [parse(w[4], "x", no)?, parse(w[5], "y", no)?, parse(w[6], "z", no)?];
+        let x = [
+            parse(w[4], "x", no)?,
+            parse(w[5], "y", no)?,
+            parse(w[6], "z", no)?,
+        ];
         let image = if w.len() == 10 {
-            [parse(w[7], "ix", no)?, parse(w[8], "iy", no)?, parse(w[9], "iz", no)?]
+            [
+                parse(w[7], "ix", no)?,
+                parse(w[8], "iy", no)?,
+                parse(w[9], "iz", no)?,
+            ]
         } else {
             [0; 3]
         };
@@ -124,7 +155,11 @@ pub(super) fn read(text: &str) -> Result<FileState> {
             image,
         });
     }
-    for (no, w) in sections.get("Velocities").map(Vec::as_slice).unwrap_or_default() {
+    for (no, w) in sections
+        .get("Velocities")
+        .map(Vec::as_slice)
+        .unwrap_or_default()
+    {
         let no = *no;
         if w.len() != 7 {
             return invalid!(

@@ -93,7 +93,11 @@ impl InitialConfig {
                 "{what} is of type \"{type_name}\", which initial.types does not map to a \
                  material (it maps {}); add it, e.g. initial.types = {{ \"{type_name}\" = \
                  \"{}\" }} (the materials are {names})",
-                if known.is_empty() { "none".to_string() } else { known.join(", ") },
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                },
                 table.materials[0].name
             );
         };
@@ -216,4 +220,3 @@ pub(crate) fn file_box(lo: [f64; 3], size: [f64; 3], periodic: [bool; 3]) -> Res
     }
     Ok(SimBox { lo, size, periodic })
 }
-

@@ -9,7 +9,10 @@ use crate::error::{Result, invalid};
 /// underscores).
 const COLUMNS: [(&str, &[&str]); 8] = [
     ("id", &["id", "particleidentifier"]),
-    ("type", &["species", "type", "particletype", "element", "typeid"]),
+    (
+        "type",
+        &["species", "type", "particletype", "element", "typeid"],
+    ),
     ("position", &["pos", "position", "positions"]),
     ("velocity", &["velo", "vel", "velocity", "velocities"]),
     ("radius", &["radius", "radii"]),
@@ -66,10 +69,17 @@ fn layout(properties: &str) -> Result<Layout> {
     let mut l = Layout::default();
     for p in parts.chunks(3) {
         let Ok(count) = p[2].parse::<usize>() else {
-            return invalid!("Properties: column {} has count '{}', not a number", p[0], p[2]);
+            return invalid!(
+                "Properties: column {} has count '{}', not a number",
+                p[0],
+                p[2]
+            );
         };
         let name = canonical(p[0]);
-        if let Some(c) = COLUMNS.iter().position(|(_, names)| names.contains(&name.as_str())) {
+        if let Some(c) = COLUMNS
+            .iter()
+            .position(|(_, names)| names.contains(&name.as_str()))
+        {
             l.at[c] = Some((l.width, count));
         }
         l.width += count;
@@ -77,7 +87,12 @@ fn layout(properties: &str) -> Result<Layout> {
     Ok(l)
 }
 
-fn numbers<const N: usize>(words: &[&str], at: Option<(usize, usize)>, what: &str, line: usize) -> Result<Option<[f64; N]>> {
+fn numbers<const N: usize>(
+    words: &[&str],
+    at: Option<(usize, usize)>,
+    what: &str,
+    line: usize,
+) -> Result<Option<[f64; N]>> {
     let Some((start, count)) = at else {
         return Ok(None);
     };
@@ -167,7 +182,10 @@ pub(super) fn read(text: &str, frame: i64) -> Result<FileState> {
             numbers::<3>(&words, at, what, line_no)
         };
         let image = ints(image, "image")?.unwrap_or([0.0; 3]);
-        if image.iter().any(|c| c.fract() != 0.0 || c.abs() > f64::from(i32::MAX)) {
+        if image
+            .iter()
+            .any(|c| c.fract() != 0.0 || c.abs() > f64::from(i32::MAX))
+        {
             return invalid!("line {line_no}: image flags {image:?} are not integers");
         }
         rows.push(Row {
@@ -219,7 +237,10 @@ pub(super) fn read(text: &str, frame: i64) -> Result<FileState> {
             }
             let origin = match get("Origin") {
                 Some(o) => {
-                    let v: Vec<f64> = o.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+                    let v: Vec<f64> = o
+                        .split_whitespace()
+                        .filter_map(|w| w.parse().ok())
+                        .collect();
                     if v.len() != 3 {
                         return invalid!("Origin=\"{o}\" is not 3 numbers");
                     }
