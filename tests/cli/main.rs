@@ -2,6 +2,7 @@
 
 mod edmd;
 mod examples;
+mod export;
 mod files;
 mod hybrid;
 mod md;
