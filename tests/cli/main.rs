@@ -5,6 +5,7 @@ mod examples;
 mod export;
 mod files;
 mod hybrid;
+mod initial;
 mod md;
 mod mor;
 mod reliability;

@@ -164,7 +164,16 @@ impl Run {
             notes.extend(budget::checkpoints_note(c, &e));
             estimates.push(e);
         }
-        files.check(inputs, resume)?;
+        // The file of the initial state is an input too.
+        let initial = config
+            .initial
+            .as_ref()
+            .map(|i| i.path(config.dir.as_deref()));
+        let mut inputs = inputs.to_vec();
+        if let Some(path) = &initial {
+            inputs.push(("the initial state ([initial] file)", path.as_path()));
+        }
+        files.check(&inputs, resume)?;
         let claim = |path: &Path| {
             OutputFile::claim(path)
                 .with_context(|| format!("claiming the output {}", path.display()))
