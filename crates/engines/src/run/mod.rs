@@ -18,7 +18,8 @@ pub use files::RunFiles;
 
 use crate::AnyEngine;
 use crate::output::{
-    Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, TrajectoryOutput,
+    Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, Recorder,
+    TrajectoryOutput,
 };
 use anyhow::{Context, Result};
 use emdstar_system::{CheckpointFile, Config, Cut, OutputFile, Thermo, stop};
@@ -43,6 +44,7 @@ struct Outputs {
     log: Option<LogOutput>,
     trajectory: Option<TrajectoryOutput>,
     modes: ModeCounts,
+    recorders: Vec<Recorder>,
     checkpoint: CheckpointOutput,
 }
 
@@ -56,6 +58,9 @@ impl Outputs {
             all.push(o);
         }
         all.push(&mut self.modes);
+        for r in &mut self.recorders {
+            all.push(r);
+        }
         all.push(&mut self.checkpoint);
         all
     }
@@ -200,6 +205,7 @@ impl Run {
                 log,
                 trajectory,
                 modes: ModeCounts::new(log_cadence),
+                recorders: Vec::new(),
                 checkpoint,
             },
             estimates,
@@ -241,6 +247,23 @@ impl Run {
     /// The hybrid's mode counts at every log tick and at the end.
     pub fn mode_points(&self) -> &[ModePoint] {
         self.outputs.modes.points()
+    }
+
+    /// Adds a record kept in memory every `interval` s of simulated time (on whole
+    /// steps of a step engine), with the particles if `keep_particles`; returns its
+    /// number for [`Run::recorder`]. Before [`Run::start`].
+    pub fn record(&mut self, interval: f64, keep_particles: bool) -> Result<usize> {
+        let interval = budget::interval(Some(interval), interval, "interval")?;
+        let cadence = Cadence::new(interval, self.engine.sim().time_step());
+        self.outputs
+            .recorders
+            .push(Recorder::new(cadence, keep_particles));
+        Ok(self.outputs.recorders.len() - 1)
+    }
+
+    /// The records of [`Run::record`]'s number `k`.
+    pub fn recorder(&self, k: usize) -> &Recorder {
+        &self.outputs.recorders[k]
     }
 
     /// The checkpoint written last, if any.
