@@ -78,6 +78,7 @@ impl Default for EventRec {
 pub struct Saved {
     pub(crate) kin: Kin,
     pub(crate) cell: [u32; 3],
+    pub(crate) image: [i32; 3],
 }
 
 /// The minimum image of `d` in a box of `period` (0 along closed axes), valid for

@@ -2,7 +2,9 @@
 //! crossings in every engine and broad phase: free particles that cross the box
 //! dozens of times along each axis, both ways, are where x₀ + v t puts them, within
 //! round-off, at every readout; and a run saved and restored on the way ends with the
-//! same flags.
+//! same flags. In a colliding gas (collisions across the periodic faces move a sphere
+//! to where its partner's image puts it), no sphere's unwrapped position jumps between
+//! readouts by more than its flight could take it.
 
 use emdstar_engines::{AnyEngine, BroadPhaseChoice, EngineKind, EngineOptions};
 use emdstar_system::{Config, Particles, SimBox};
@@ -130,5 +132,59 @@ fn unwrapped_positions_follow_free_flight_in_every_engine() {
             again.sim_mut().synchronise().unwrap();
         }
         assert_eq!(again.sim().particles(), end, "{name}: restored run");
+    }
+}
+
+/// A gas of 400 spheres at packing fraction 0.1 in a periodic box of about 1.3 m,
+/// colliding elastically (many pairs across the faces).
+const GAS: &str = "t_end = 4.0
+[material]
+model = \"hertz\"
+young = 1e7
+poisson = 0.3
+dissipation = 0.0
+density = 1000.0
+[gas]
+count = 400
+radius = 0.05
+arrangement = \"random\"
+packing_fraction = 0.1
+rms_speed = 1.0
+seed = 5
+";
+
+#[test]
+fn unwrapped_positions_never_jump_in_a_colliding_gas() {
+    let config = Config::from_toml(GAS).unwrap();
+    let b = config.build().unwrap().domain.sim_box.unwrap();
+    let mut runs = engines();
+    runs.retain(|(name, _)| !name.contains("Neighbours"));
+    for (name, options) in runs {
+        let mut engine = AnyEngine::build(&options, &config, config.build().unwrap(), 1.0 / 50.0)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let sim = engine.sim_mut();
+        let mut before = sim.particles();
+        let mut crossings = 0;
+        for step in 1..=40 {
+            let dt = 0.1;
+            sim.advance_to(dt * f64::from(step)).unwrap();
+            sim.synchronise().unwrap();
+            let now = sim.particles();
+            for i in 0..now.len() {
+                let (a, c) = (before.unwrapped(i, Some(&b)), now.unwrapped(i, Some(&b)));
+                let d = ((0..3).map(|k| (c[k] - a[k]).powi(2)).sum::<f64>()).sqrt();
+                // Elastic: no sphere is faster than √(2K/m) of the whole gas.
+                let v_max = (2.0 * sim.thermo().kinetic_energy / now.mass[i]).sqrt();
+                assert!(
+                    d <= v_max * dt + 1e-9,
+                    "{name}: sphere {i} jumped {d} m at step {step}"
+                );
+                crossings += (0..3)
+                    .filter(|&k| now.image[i][k] != before.image[i][k])
+                    .count();
+            }
+            before = now;
+        }
+        assert!(crossings > 100, "{name}: {crossings} crossings");
     }
 }
