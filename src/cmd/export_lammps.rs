@@ -15,6 +15,7 @@
 //!   the contact radius, so only γ_t = 0 maps exactly;
 //! - frictionless: `tangential linear_nohistory 0 0`;
 //! - F = max(0, …) (contact_end "force", the default): `limit_damping`.
+//!
 //! Coulomb sliding and Walton's rule have no `pair granular` counterpart: refused.
 
 use emdstar_contact::{PairLaw, Tangential};

@@ -247,11 +247,9 @@ fn the_deck_holds_each_pair_and_wall_and_laws_without_a_counterpart_are_refused(
         );
     }
     // (In free space: a slanted wall cuts a periodic box.)
-    let slanted = format!(
-        "t_end = 0.1\n[material]\nmodel = \"linear\"\nstiffness = 1e4\ndamping = 1.0\n\
-         density = 1000.0\n[[walls]]\nnormal = [0, 0.6, 0.8]\npoint = [0, 0, -1]\n\
-         [[particles]]\nradius = 0.1\nposition = [0.5, 0.5, 0.5]\n"
-    );
+    let slanted = "t_end = 0.1\n[material]\nmodel = \"linear\"\nstiffness = 1e4\ndamping = 1.0\n\
+                   density = 1000.0\n[[walls]]\nnormal = [0, 0.6, 0.8]\npoint = [0, 0, -1]\n\
+                   [[particles]]\nradius = 0.1\nposition = [0.5, 0.5, 0.5]\n";
     std::fs::write(dir.join("slanted.toml"), slanted).unwrap();
     let err = error_in(&dir, &["export", "lammps", "slanted.toml", "slanted"]);
     assert!(err.contains("walls[0]"), "{err}");

@@ -119,7 +119,7 @@ pub(super) fn read(text: &str) -> Result<FileState> {
         let id: u64 = parse(w[0], "the atom id", no)?;
         let diameter: f64 = parse(w[2], "the diameter", no)?;
         let density: f64 = parse(w[3], "the density", no)?;
-        if !(diameter > 0.0) {
+        if diameter.is_nan() || diameter <= 0.0 {
             return invalid!(
                 "line {no}: atom {id} has diameter {diameter}; spheres need a positive one"
             );
