@@ -312,7 +312,7 @@ impl Config {
         let given: Vec<&str> = sources.into_iter().flatten().collect();
         if given.len() > 1 {
             return invalid!(
-                "give one of [[particles]], [gas] and [initial] (a file), not {}",
+                "give either [[particles]] or [gas] or an [initial] file, not {}",
                 given.join(" and ")
             );
         }

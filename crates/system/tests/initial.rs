@@ -329,7 +329,7 @@ fn files_are_checked_as_inline_particles_are() {
     .unwrap();
     config.dir = Some(dir.clone());
     let err = config.build().unwrap_err().to_string();
-    assert!(err.contains("[[particles]] and [initial]"), "{err}");
+    assert!(err.contains("not [[particles]] and [initial]"), "{err}");
     // An unknown key of [initial] is named.
     let err = Config::from_toml(&format!(
         "{MATERIALS}[initial]\nfile = \"x.gsd\"\nframes = 1\n"
