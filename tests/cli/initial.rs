@@ -5,14 +5,16 @@
 
 use super::{error_in, stdout_in};
 
-const GAS: &str = "t_end = 0.2
+const MATERIAL: &str = "t_end = 0.2
 [material]
 model = \"hertz\"
 young = 1e7
 poisson = 0.3
 dissipation = 1e-4
 density = 1000.0
-[gas]
+";
+
+const GAS: &str = "[gas]
 count = 200
 radius = 0.05
 arrangement = \"random\"
@@ -21,14 +23,7 @@ rms_speed = 2.0
 seed = 3
 ";
 
-const FROM_FILE: &str = "t_end = 0.2
-[material]
-model = \"hertz\"
-young = 1e7
-poisson = 0.3
-dissipation = 1e-4
-density = 1000.0
-[initial]
+const FROM_FILE: &str = "[initial]
 file = \"first.xyz\"
 ";
 
@@ -45,8 +40,8 @@ fn a_run_continues_from_the_last_frame_of_its_trajectory() {
     let dir = std::env::temp_dir().join(format!("emdstar-cli-initial-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("gas.toml"), GAS).unwrap();
-    std::fs::write(dir.join("next.toml"), FROM_FILE).unwrap();
+    std::fs::write(dir.join("gas.toml"), format!("{MATERIAL}{GAS}")).unwrap();
+    std::fs::write(dir.join("next.toml"), format!("{MATERIAL}{FROM_FILE}")).unwrap();
     stdout_in(
         &dir,
         &[
