@@ -7,6 +7,7 @@ mod files;
 mod hybrid;
 mod initial;
 mod md;
+mod messages;
 mod mor;
 mod reliability;
 mod restart;

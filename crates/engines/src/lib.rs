@@ -24,12 +24,14 @@
 //! ```
 
 mod engine;
+mod keys;
 mod options;
 pub mod output;
 pub mod run;
 mod setup;
 
 pub use engine::AnyEngine;
+pub use keys::unused_keys;
 pub use options::{
     BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, EventsChoice, HybridChoice,
     InterferenceChoice, MdChoice, MorChoice, parse_engine,

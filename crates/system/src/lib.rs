@@ -23,6 +23,7 @@
 
 mod checkpoint;
 mod config;
+mod contact_check;
 mod domain;
 mod error;
 mod files;
@@ -32,6 +33,7 @@ pub mod gsd;
 mod gsd_tail;
 mod initial;
 mod interactions;
+mod key_lines;
 mod material_config;
 mod materials;
 mod methods;
@@ -44,7 +46,9 @@ mod tail;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
-pub use config::{BoxConfig, Config, MdConfig, OutputConfig, ParticleConfig, WallConfig};
+pub use config::{
+    BoxConfig, Config, EventsConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
+};
 pub use domain::Domain;
 pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
@@ -55,6 +59,7 @@ pub use geometry::{
 };
 pub use initial::{InitialConfig, InitialFormat};
 pub use interactions::{Interaction, Interactions};
+pub use key_lines::KeyLines;
 pub use material_config::{InteractionConfig, MaterialConfig};
 pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
 pub use methods::Method;
