@@ -28,6 +28,7 @@ enum Command {
     Table(cmd::table::TableArgs),
     Pair(cmd::pair::PairArgs),
     Run(cmd::run::RunArgs),
+    Export(cmd::export::ExportArgs),
     Bench(cmd::bench::BenchArgs),
     Validate(cmd::validate::ValidateArgs),
 }
@@ -47,6 +48,7 @@ fn main() -> ExitCode {
             Ok(code) => return code,
             Err(e) => Err(e),
         },
+        Command::Export(args) => cmd::export::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Validate(args) => match cmd::validate::run(&args) {
             Ok(true) => Ok(()),

@@ -30,11 +30,17 @@ Tables are immutable and may be shared between threads.
 
 from __future__ import annotations
 
+import json
+import os
+import sys
+
 import numpy as np
 
 from . import _core
 
-__all__ = ["Table", "PairTable", "mor", "mor_scaled", "collide", "run", "LAW_KEYS"]
+__version__ = _core.__version__
+
+__all__ = ["Table", "PairTable", "mor", "mor_scaled", "collide", "run", "LAW_KEYS", "__version__"]
 
 #: The law parameters of each model, in order.
 LAW_KEYS = {
@@ -57,10 +63,49 @@ def _check_keywords(what, want, params):
         )
 
 
+def _model(model):
+    """The model's name in lower case, checked."""
+    name = str(model).lower()
+    if name not in LAW_KEYS:
+        raise ValueError(f"unknown force model {model!r}: expected 'linear' or 'hertz' (any case)")
+    return name
+
+
+def _with_restitution(model, params, radius2, density2):
+    """``params`` with ``restitution`` (and ``restitution_speed``) replaced by the
+    dissipation (``damping`` or ``dissipation``) that gives central impacts of each pair
+    that normal restitution, at ``restitution_speed`` (default: each impact's speed;
+    the linear dashpot's restitution does not depend on it)."""
+    if "restitution" not in params:
+        if "restitution_speed" in params:
+            raise TypeError("restitution_speed goes with restitution")
+        return params
+    p = dict(params)
+    e = p.pop("restitution")
+    speed = p.pop("restitution_speed", p.get("speed", 1.0))
+    key = LAW_KEYS[model][-1]
+    if key in p:
+        raise TypeError(f"give {key} or restitution, not both")
+    elastic = LAW_KEYS[model][:-1]
+    missing = [k for k in elastic + ("radius", "density") if k not in p]
+    if missing:
+        raise TypeError(f"restitution needs {', '.join(missing)}")
+    r2 = p["radius"] if radius2 is None else radius2
+    rho2 = p["density"] if density2 is None else density2
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=np.float64) for x in
+                                   [p[k] for k in elastic] + [p["radius"], p["density"], r2, rho2, e, speed]))
+    shape = arrays[0].shape
+    flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
+    k = len(elastic)
+    d = _core.dissipation_for_restitution(model, flat[:k], flat[k:k + 4], flat[k + 4], flat[k + 5])
+    p[key] = d.reshape(shape)
+    return p
+
+
 def _columns(model, params, radius2, density2):
     """Checks the keywords and broadcasts every input to one shape."""
-    if model not in LAW_KEYS:
-        raise ValueError(f"unknown model {model!r}: expected 'linear' or 'hertz'")
+    model = _model(model)
+    params = _with_restitution(model, params, radius2, density2)
     want = LAW_KEYS[model] + _GEOMETRY
     _check_keywords(f"the {model} model", want, params)
     radius2 = params["radius"] if radius2 is None else radius2
@@ -76,11 +121,14 @@ def _columns(model, params, radius2, density2):
 
 
 def _result(shape, cols, with_source):
+    """Columns of ``shape``; scalars in give scalars out (``float``, ``str``)."""
     out = {name: c.reshape(shape) for name, c in zip(_COLUMNS, cols)}
     if with_source:
         out["source"] = np.where(out["source"] == 0.0, "table", "exact").reshape(shape)
     else:
         del out["source"]
+    if shape == ():
+        out = {k: v.item() for k, v in out.items()}
     return out
 
 
@@ -93,7 +141,7 @@ class Table:
     @classmethod
     def default(cls, model: str) -> "Table":
         """The default table of ``"linear"`` or ``"hertz"`` (embedded, parsed once)."""
-        return cls(_core.Table.default(model))
+        return cls(_core.Table.default(_model(model)))
 
     @classmethod
     def load(cls, path) -> "Table":
@@ -129,7 +177,9 @@ class Table:
     def lookup(self, *, exact_fallback: bool = False, radius2=None, density2=None, **params):
         """MoR arrays of impacts from the table.
 
-        Impacts outside the table's box raise ``ValueError`` unless ``exact_fallback``
+        ``restitution`` (with ``restitution_speed`` for Hertz; default each impact's
+        speed) may replace the law's dissipation: the one giving central impacts of the
+        pair that normal restitution. Numbers in give numbers out. Impacts outside the table's box raise ``ValueError`` unless ``exact_fallback``
         is true; then they are solved exactly and ``result["source"]`` says which.
         Returns a dict of arrays: one_minus_eps_r, eps_r, eps_rdot, eps_phi, eps_t,
         time_scale (T, s: the contact lasts eps_t * T) and, with the fallback, source.
@@ -189,9 +239,10 @@ class PairTable:
 
 
 def mor(*, model: str, radius2=None, density2=None, **params):
-    """Exact MoR arrays (one ODE solve per impact); same keywords as ``Table.lookup``."""
+    """Exact MoR arrays (one ODE solve per impact); same keywords as ``Table.lookup``
+    (``restitution=`` included); numbers in give numbers out."""
     shape, law, geometry = _columns(model, params, radius2, density2)
-    return _result(shape, _core.exact(model, law, list(geometry)), False)
+    return _result(shape, _core.exact(_model(model), law, list(geometry)), False)
 
 
 def mor_scaled(*, model: str, l_tilde, c_phi, c_dis):
@@ -199,7 +250,7 @@ def mor_scaled(*, model: str, l_tilde, c_phi, c_dis):
     arrays = np.broadcast_arrays(*(np.asarray(x, dtype=np.float64) for x in (l_tilde, c_phi, c_dis)))
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(a.ravel()) for a in arrays]
-    out = _result(shape, _core.exact_scaled(model, *flat), False)
+    out = _result(shape, _core.exact_scaled(_model(model), *flat), False)
     del out["time_scale"]
     return out
 
@@ -225,6 +276,7 @@ def collide(*, x1, v1, x2, v2, model: str, table: "Table | None" = None,
     dist = np.linalg.norm(r, axis=1)
     vn = -np.einsum("ij,ij->i", r, v) / dist
     speed = np.linalg.norm(v, axis=1)
+    model = _model(model)
     with np.errstate(invalid="ignore", divide="ignore"):
         ecc = np.sqrt(np.clip(1.0 - (vn / speed) ** 2, 0.0, None))
     if np.any(~(vn > 0.0)):
@@ -268,34 +320,84 @@ def collide(*, x1, v1, x2, v2, model: str, table: "Table | None" = None,
     return result
 
 
-def run(path=None, *, toml: "str | None" = None, engine: str = "md", t_end=None,
-        frames: int = 11, mor: str = "table-or-exact"):
-    """Runs a config with any engine and samples it at ``frames`` evenly spaced times.
+def _progress_bar():
+    """A progress bar on stderr: the fraction of the run done and the time elapsed."""
+    import time
 
-    ``path`` is a config file (TOML, the keys of ``docs/config.md``), or ``toml`` its
-    text. ``engine`` is ``"md"``, ``"emd"``, ``"emdstar"`` or ``"hybrid"``; ``t_end``
-    (s) overrides the config's; ``mor`` is eMD*'s source of the matrix of restitution
-    (``"table-or-exact"``: the default table, exact solves outside it, counted;
-    ``"table"``; ``"exact"``). The engines take their defaults as ``emdstar run``
-    does (MD: 1/50 of the shortest contact time per step).
+    started = time.monotonic()
 
-    Returns a dict: ``t`` (frames,; the engine's time at each sample: MD stops at the
-    step nearest it), ``id``, ``radius``, ``mass`` (n,), ``position``
-    and ``velocity`` (frames, n, 3; a particle inside an eMD* collision shows the
-    velocity it leaves with), the thermo log ``kinetic_energy``,
-    ``potential_energy``, ``granular_temperature``, ``contacts`` (frames,) and
-    ``momentum`` (frames, 3), the ``engine`` and its ``mor_fallbacks``. Bad configs
-    and options raise ``ValueError`` saying what is wrong.
+    def show(fraction):
+        width = 40
+        done = int(width * min(max(fraction, 0.0), 1.0))
+        elapsed = time.monotonic() - started
+        sys.stderr.write(f"\r[{'#' * done}{'.' * (width - done)}] {100 * fraction:5.1f} % {elapsed:6.1f} s")
+        if fraction >= 1.0:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+    return show
+
+
+def _path(p):
+    return None if p is None else os.fspath(p)
+
+
+def run(config=None, *, engine: str = "md", t_end=None, dt=None, threads=None, skin=None,
+        mor: str = "table-or-exact", checkpoint=None, resume=None, trajectory=None, log=None,
+        frames: int = 11, progress: bool = True, toml: "str | None" = None):
+    """Runs a config with any engine, through the run loop of ``emdstar run``.
+
+    ``config`` is a config file path (``str`` or ``Path``; ``initial.file`` is read
+    relative to its directory), TOML text, or a ``dict`` of the TOML's keys
+    (``docs/config.md``); ``toml=`` also takes the text. ``engine`` is ``"md"``,
+    ``"emd"``, ``"emdstar"`` or ``"hybrid"`` (any case); ``t_end`` (s) stops the run there
+    instead of at the config's ``t_end`` (which still sets the default step and output
+    intervals, as ``emdstar run --t-end`` does); ``dt`` (s) and ``skin`` (m) set MD's and the hybrid's step and Verlet
+    skin (default as ``emdstar run``: 1/50 of the shortest contact time); ``threads``
+    the worker threads (default all cores; results do not depend on it); ``mor`` eMD*'s
+    source of the matrix of restitution (``"table-or-exact"``, ``"table"``,
+    ``"exact"``). ``trajectory`` (XYZ, or GSD for ``.gsd``) and ``log`` write files as
+    ``emdstar run`` does (none by default); ``checkpoint`` writes the state at the end
+    (and at ``[output] restart_interval``); ``resume`` continues from a checkpoint,
+    appending to the trajectory and log. A progress bar goes to stderr unless
+    ``progress=False``. Ctrl-C stops the run at its next event or step and raises
+    ``KeyboardInterrupt``, the state saved in ``checkpoint`` if one was named.
+
+    Returns a dict: ``t`` (frames,), the engine's times of ``frames`` evenly spaced
+    samples; ``position``, ``velocity``, ``angular_velocity`` (frames, n, 3) and
+    ``image`` (frames, n, 3: periodic image flags, unwrapped = position + image × box
+    size) in config order; ``id``, ``species``, ``material`` (n,; numbers into
+    ``materials``, their names), ``radius``, ``mass``; ``log``, the thermo log as named
+    columns (``t``, ``step``, ``kinetic_energy``, ``potential_energy``,
+    ``total_energy``, ``granular_temperature``, ``px``, ``py``, ``pz``, ``contacts``,
+    ``rotational_energy``, ``rotational_temperature``) at the log interval; and
+    ``summary``, the run's counters (wall time, steps or events, collisions, MoR
+    fallbacks, …). Bad configs and options raise ``ValueError`` saying what is wrong.
     """
-    if (path is None) == (toml is None):
-        raise TypeError("run takes a config file path or toml=<config text>, not both or neither")
-    if toml is None:
-        with open(path, encoding="utf-8") as f:
-            toml = f.read()
-    out = _core.run_config(toml, engine, None if t_end is None else float(t_end),
-                           int(frames), mor)
-    f, n = len(out["t"]), len(out["id"])
-    out["position"] = out["position"].reshape(f, n, 3)
-    out["velocity"] = out["velocity"].reshape(f, n, 3)
-    out["momentum"] = out["momentum"].reshape(f, 3)
+    if (config is None) == (toml is None):
+        raise TypeError("run takes a config (path, TOML text or dict) or toml=<text>, not both or neither")
+    path = text = as_json = None
+    if toml is not None:
+        text = toml
+    elif isinstance(config, dict):
+        as_json = json.dumps(config)
+    elif isinstance(config, os.PathLike):
+        path = os.fspath(config)
+    elif isinstance(config, str):
+        if "\n" in config or "=" in config:
+            text = config
+        else:
+            path = config
+    else:
+        raise TypeError(f"config must be a path, TOML text or a dict, not {type(config).__name__}")
+    out = _core.run_config(
+        path, text, as_json, str(engine), None if t_end is None else float(t_end),
+        None if dt is None else float(dt), None if threads is None else int(threads),
+        None if skin is None else float(skin), str(mor), _path(checkpoint), _path(resume),
+        _path(trajectory), _path(log), int(frames), _progress_bar() if progress else None,
+    )
+    f, n = len(out["t"]), out.pop("n")
+    for k in ("position", "velocity", "angular_velocity", "image"):
+        out[k] = out[k].reshape(f, n, 3)
+    out["summary"] = json.loads(out.pop("summary_json"))
     return out

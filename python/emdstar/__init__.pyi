@@ -8,6 +8,7 @@ ArrayLike = npt.ArrayLike
 Result = dict[str, np.ndarray]
 
 LAW_KEYS: dict[str, tuple[str, ...]]
+__version__: str
 
 class Table:
     @classmethod
@@ -27,13 +28,33 @@ class Table:
     def lookup(
         self,
         *,
-        exact_fallback: bool = ...,
+        radius: ArrayLike,
+        density: ArrayLike,
+        speed: ArrayLike,
+        eccentricity: ArrayLike,
+        stiffness: ArrayLike = ...,
+        damping: ArrayLike = ...,
+        young: ArrayLike = ...,
+        poisson: ArrayLike = ...,
+        dissipation: ArrayLike = ...,
+        restitution: ArrayLike = ...,
+        restitution_speed: ArrayLike = ...,
         radius2: Optional[ArrayLike] = ...,
         density2: Optional[ArrayLike] = ...,
-        **params: ArrayLike,
-    ) -> Result: ...
+        exact_fallback: bool = ...,
+    ) -> dict[str, Any]: ...
     def pair(
-        self, *, radius2: Optional[float] = ..., density2: Optional[float] = ..., **params: float
+        self,
+        *,
+        radius: float,
+        density: float,
+        stiffness: float = ...,
+        damping: float = ...,
+        young: float = ...,
+        poisson: float = ...,
+        dissipation: float = ...,
+        radius2: Optional[float] = ...,
+        density2: Optional[float] = ...,
     ) -> "PairTable": ...
 
 class PairTable:
@@ -46,8 +67,22 @@ class PairTable:
     ) -> Result: ...
 
 def mor(
-    *, model: str, radius2: Optional[ArrayLike] = ..., density2: Optional[ArrayLike] = ..., **params: ArrayLike
-) -> Result: ...
+    *,
+    model: str,
+    radius: ArrayLike,
+    density: ArrayLike,
+    speed: ArrayLike,
+    eccentricity: ArrayLike,
+    stiffness: ArrayLike = ...,
+    damping: ArrayLike = ...,
+    young: ArrayLike = ...,
+    poisson: ArrayLike = ...,
+    dissipation: ArrayLike = ...,
+    restitution: ArrayLike = ...,
+    restitution_speed: ArrayLike = ...,
+    radius2: Optional[ArrayLike] = ...,
+    density2: Optional[ArrayLike] = ...,
+) -> dict[str, Any]: ...
 def mor_scaled(*, model: str, l_tilde: ArrayLike, c_phi: ArrayLike, c_dis: ArrayLike) -> Result: ...
 def collide(
     *,
@@ -58,16 +93,30 @@ def collide(
     model: str,
     table: Optional[Table] = ...,
     exact_fallback: bool = ...,
+    radius: ArrayLike,
+    density: ArrayLike,
+    stiffness: ArrayLike = ...,
+    damping: ArrayLike = ...,
+    young: ArrayLike = ...,
+    poisson: ArrayLike = ...,
+    dissipation: ArrayLike = ...,
     radius2: Optional[ArrayLike] = ...,
     density2: Optional[ArrayLike] = ...,
-    **params: Any,
 ) -> Result: ...
 def run(
-    path: Optional[Union[str, PathLike[str]]] = ...,
+    config: Union[str, PathLike[str], dict[str, Any], None] = ...,
     *,
-    toml: Optional[str] = ...,
     engine: str = ...,
     t_end: Optional[float] = ...,
-    frames: int = ...,
+    dt: Optional[float] = ...,
+    threads: Optional[int] = ...,
+    skin: Optional[float] = ...,
     mor: str = ...,
+    checkpoint: Optional[Union[str, PathLike[str]]] = ...,
+    resume: Optional[Union[str, PathLike[str]]] = ...,
+    trajectory: Optional[Union[str, PathLike[str]]] = ...,
+    log: Optional[Union[str, PathLike[str]]] = ...,
+    frames: int = ...,
+    progress: bool = ...,
+    toml: Optional[str] = ...,
 ) -> dict[str, Any]: ...

@@ -312,6 +312,63 @@ impl Outputs {
     }
 }
 
+/// The dissipation (γ for "linear", A for "hertz") with which a central impact of each
+/// pair (elastic law parameters; radius, density, radius2, density2) at normal speed
+/// `speed` has normal restitution `restitution` (Müller & Pöschel 2013's exact
+/// collision, inverted as `emdstar mor --restitution` does).
+#[pyfunction]
+fn dissipation_for_restitution<'py>(
+    py: Python<'py>,
+    model: &str,
+    elastic: Vec<PyReadonlyArray1<'py, f64>>,
+    geometry: Vec<PyReadonlyArray1<'py, f64>>,
+    restitution: PyReadonlyArray1<'py, f64>,
+    speed: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let model = model_of(model)?;
+    fn cols<'a>(a: &'a [PyReadonlyArray1<'_, f64>]) -> PyResult<Vec<&'a [f64]>> {
+        a.iter()
+            .map(|c| c.as_slice().map_err(value_error))
+            .collect()
+    }
+    let (elastic, geometry) = (cols(&elastic)?, cols(&geometry)?);
+    let (e, v) = (restitution.as_slice()?, speed.as_slice()?);
+    let n = e.len();
+    if geometry.len() != 4 || elastic.iter().chain(&geometry).any(|c| c.len() != n) || v.len() != n
+    {
+        return Err(PyValueError::new_err("the input arrays differ in length"));
+    }
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut law: Vec<f64> = elastic.iter().map(|c| c[i]).collect();
+        law.push(0.0);
+        let g = [
+            geometry[0][i],
+            geometry[1][i],
+            geometry[2][i],
+            geometry[3][i],
+        ];
+        let (_, pair) = law_and_pair(model, &law, g)?;
+        let material = match model {
+            Model::Linear => {
+                ForceLaw::Linear(LinearDashpot::new(law[0], 0.0).map_err(value_error)?)
+            }
+            Model::Hertz => {
+                ForceLaw::Hertz(ViscoelasticHertz::new(law[0], law[1], 0.0).map_err(value_error)?)
+            }
+        };
+        let fitted =
+            emdstar_mor::with_restitution(&material, &pair, v[i], e[i]).map_err(|err| {
+                PyValueError::new_err(format!("impact {i}: restitution {}: {err}", e[i]))
+            })?;
+        out.push(match fitted {
+            ForceLaw::Linear(l) => l.damping,
+            ForceLaw::Hertz(h) => h.dissipation,
+        });
+    }
+    Ok(out.into_pyarray(py))
+}
+
 /// Exact MoR arrays of impacts (same inputs as `Table.lookup`), one ODE solve each.
 #[pyfunction]
 fn exact<'py>(
@@ -465,6 +522,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyTable>()?;
     m.add_class::<PyPairTable>()?;
     m.add_function(wrap_pyfunction!(exact, m)?)?;
+    m.add_function(wrap_pyfunction!(dissipation_for_restitution, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(exact_scaled, m)?)?;
     m.add_function(wrap_pyfunction!(resolve_collisions, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_config, m)?)?;

@@ -10,6 +10,8 @@ pub mod check;
 pub mod cpu_time;
 pub mod edmd_engine;
 pub mod engine;
+pub mod export;
+pub mod export_lammps;
 pub mod hybrid_engine;
 pub mod lammps;
 pub mod mor;

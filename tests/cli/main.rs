@@ -2,8 +2,10 @@
 
 mod edmd;
 mod examples;
+mod export;
 mod files;
 mod hybrid;
+mod initial;
 mod md;
 mod messages;
 mod mor;

@@ -166,8 +166,9 @@ pub fn prepare_system(
         return Err(MdError::BadSkin(skin));
     }
     if let Some(b) = system.domain.sim_box {
-        for x in &mut system.particles.position {
-            *x = b.wrap(*x);
+        let p = &mut system.particles;
+        for (x, image) in p.position.iter_mut().zip(&mut p.image) {
+            *x = b.wrap_counting(*x, image);
         }
     }
     Ok(skin)

@@ -78,6 +78,7 @@ impl Default for EventRec {
 pub struct Saved {
     pub(crate) kin: Kin,
     pub(crate) cell: [u32; 3],
+    pub(crate) image: [i32; 3],
 }
 
 /// The minimum image of `d` in a box of `period` (0 along closed axes), valid for
@@ -133,6 +134,9 @@ pub struct State<Q: EventQueue> {
     /// Angular velocities by original particle number (out of the slots, which
     /// frictionless runs never need them in): changed only by Walton's rule.
     pub(crate) spin: Vec<[f64; 3]>,
+    /// Periodic crossings of each slot's particle: its unwrapped position is its
+    /// position plus `image` box lengths (counted where positions wrap).
+    pub(crate) image: Vec<[i32; 3]>,
     /// Events between spatial re-sorts (0: never), and events since the last.
     pub(crate) resort_every: u64,
     pub(crate) since_resort: u64,
@@ -171,6 +175,7 @@ impl<Q: EventQueue> State<Q> {
             self.pending_vel.len(),
             self.last_contact.len(),
             self.spin.len(),
+            self.image.len(),
         ];
         if lengths.iter().any(|&l| l != n) {
             return Err(format!(
@@ -284,6 +289,29 @@ impl<Q: EventQueue> State<Q> {
     #[inline]
     pub(crate) fn min_image(&self, d: [f64; 3]) -> [f64; 3] {
         min_image_in(d, self.period)
+    }
+
+    /// [`State::wrap`] of slot `i`'s position `p`, counting the crossings in its image
+    /// flags.
+    #[inline]
+    pub(crate) fn wrap_slot(&mut self, i: usize, p: [f64; 3]) -> [f64; 3] {
+        let w = self.wrap(p);
+        if w != p {
+            self.image[i] = self.image_of(i, p, w);
+        }
+        w
+    }
+
+    /// The image flags of slot `i` at position `p`, wrapped to `w`.
+    #[inline]
+    pub(crate) fn image_of(&self, i: usize, p: [f64; 3], w: [f64; 3]) -> [i32; 3] {
+        let mut image = self.image[i];
+        for k in 0..3 {
+            if w[k] != p[k] {
+                image[k] += ((p[k] - w[k]) / self.region.size[k]).round() as i32;
+            }
+        }
+        image
     }
 
     /// Wraps a position into the box along periodic axes.
@@ -425,6 +453,8 @@ impl<Q: EventQueue> State<Q> {
         permute(&mut self.id, order, &mut s_u);
         let mut s_v = Vec::new();
         permute(&mut self.pending_vel, order, &mut s_v);
+        let mut s_i = Vec::new();
+        permute(&mut self.image, order, &mut s_i);
         let mut s_c = Vec::new();
         permute(&mut self.last_contact, order, &mut s_c);
         // Particles below n are renumbered; walls (n + w) and NONE keep their numbers.

@@ -43,6 +43,10 @@
 //! # material = "glass"
 //! # radius = 0.1
 //! # fraction = 0.5                 # of the count
+//! # [initial]                      # ... or a state read from a file (GSD, extended
+//! # file = "packing.gsd"           # XYZ or LAMMPS data; see docs/config.md)
+//! # frame = -1                     # the last (GSD, XYZ)
+//! # types = { 1 = "glass" }        # the material of each type of the file
 //! # [box]                          # absent: free space
 //! # size = [2.0, 2.0, 2.0]
 //! # lo = [-1.0, -1.0, -1.0]        # default [0, 0, 0]
@@ -75,6 +79,7 @@ use crate::error::{
 };
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
+use crate::initial::InitialConfig;
 use crate::interactions::Interactions;
 use crate::key_lines::KeyLines;
 use crate::material_config::{InteractionConfig, MaterialConfig, names};
@@ -103,6 +108,8 @@ pub struct Config {
     #[serde(default)]
     pub particles: Vec<ParticleConfig>,
     pub gas: Option<GasConfig>,
+    /// The initial state from a file (instead of `particles` or `gas`).
+    pub initial: Option<InitialConfig>,
     #[serde(rename = "box")]
     pub sim_box: Option<BoxConfig>,
     #[serde(default)]
@@ -116,6 +123,10 @@ pub struct Config {
     /// Where each value of the text is (empty for a config not read from text).
     #[serde(skip)]
     pub keys: KeyLines,
+    /// The directory of the config file, against which `initial.file` is read (the
+    /// working directory when `None`).
+    #[serde(skip)]
+    pub dir: Option<std::path::PathBuf>,
 }
 
 /// One `[[particles]]` entry.
@@ -220,7 +231,9 @@ impl Config {
                 "a config is UTF-8 text; this file is not",
             ),
         })?;
-        Self::from_toml(&text)
+        let mut config = Self::from_toml(&text)?;
+        config.dir = path.parent().map(std::path::Path::to_path_buf);
+        Ok(config)
     }
 
     /// A digest of the physical system the config describes (everything but `t_end`
@@ -344,32 +357,92 @@ impl Config {
         let mut sim_box = self.sim_box.as_ref().map(BoxConfig::sim_box).transpose()?;
         let mut species = Vec::new();
         let mut particles = Particles::default();
-        match (&self.gas, self.particles.is_empty()) {
-            (Some(_), false) => {
-                return invalid!("give either [[particles]] or [gas], not both");
+        let sources = [
+            (!self.particles.is_empty()).then_some("[[particles]]"),
+            self.gas.as_ref().map(|_| "[gas]"),
+            self.initial.as_ref().map(|_| "[initial]"),
+        ];
+        let given: Vec<&str> = sources.into_iter().flatten().collect();
+        if given.len() > 1 {
+            return invalid!(
+                "give either [[particles]] or [gas] or an [initial] file, not {}",
+                given.join(" and ")
+            );
+        }
+        let mut add = |what: &str, p: Inline, particles: &mut Particles| -> Result<()> {
+            let s = species_of(&table, what, p.radius, p.mass, p.material)?;
+            let index = species_index(&mut species, s);
+            let x = finite3(&format!("{what}.position"), p.position)?;
+            let v = finite3(&format!("{what}.velocity"), p.velocity)?;
+            representable_energy(&format!("{what}.velocity"), s.mass, v)?;
+            let w = finite3(&format!("{what}.angular_velocity"), p.angular_velocity)?;
+            particles.push(&species, index, x, v);
+            let i = particles.len() - 1;
+            particles.angular_velocity[i] =
+                representable_spin(&format!("{what}.angular_velocity"), particles.inertia(i), w)?;
+            particles.image[i] = p.image;
+            Ok(())
+        };
+        match (&self.gas, &self.initial) {
+            _ if given.is_empty() => {
+                return invalid!(
+                    "no particles: add [[particles]] entries, a [gas] section or an [initial] \
+                     file"
+                );
             }
-            (None, true) => {
-                return invalid!("no particles: add [[particles]] entries or a [gas] section");
-            }
-            (None, false) => {
+            (None, None) => {
                 for (i, pc) in self.particles.iter().enumerate() {
                     let what = format!("particles[{i}]");
                     let material = material_index(&table, &what, &pc.material)?;
-                    let s = species_of(&table, &what, pc.radius, pc.mass, material)?;
-                    let index = species_index(&mut species, s);
-                    let x = finite3(&format!("{what}.position"), pc.position)?;
-                    let v = finite3(&format!("{what}.velocity"), pc.velocity)?;
-                    representable_energy(&format!("{what}.velocity"), s.mass, v)?;
-                    let w = finite3(&format!("{what}.angular_velocity"), pc.angular_velocity)?;
-                    particles.push(&species, index, x, v);
-                    particles.angular_velocity[i] = representable_spin(
-                        &format!("{what}.angular_velocity"),
-                        particles.inertia(i),
-                        w,
-                    )?;
+                    let p = Inline {
+                        radius: pc.radius,
+                        mass: pc.mass,
+                        material,
+                        position: pc.position,
+                        velocity: pc.velocity,
+                        angular_velocity: pc.angular_velocity,
+                        image: [0; 3],
+                    };
+                    add(&what, p, &mut particles)?;
                 }
             }
-            (Some(gas), true) => {
+            (None, Some(init)) => {
+                let file = init.read(self.dir.as_deref())?;
+                if sim_box.is_none() {
+                    sim_box = file.sim_box;
+                }
+                let path = init.path(self.dir.as_deref());
+                for (i, row) in file.rows.into_iter().enumerate() {
+                    let what = format!("{} particle {i}", path.display());
+                    let material = init.material_of(&table, &what, &row.type_name)?;
+                    let image = match &sim_box {
+                        Some(b) => image_flags(&what, b, row.image)?,
+                        None => [0; 3],
+                    };
+                    let p = Inline {
+                        radius: row.radius,
+                        mass: row.mass,
+                        material,
+                        position: row.position,
+                        velocity: row.velocity,
+                        angular_velocity: row.angular_velocity,
+                        image,
+                    };
+                    add(&what, p, &mut particles)?;
+                }
+                if let Some(b) = &sim_box {
+                    // Positions just outside a periodic box (LAMMPS keeps some there)
+                    // wrapped in, counted in the image flags.
+                    // (Positions inside stay as read, to the bit.)
+                    let hi = b.hi();
+                    for (x, image) in particles.position.iter_mut().zip(&mut particles.image) {
+                        if (0..3).any(|k| b.periodic[k] && !(b.lo[k] <= x[k] && x[k] < hi[k])) {
+                            *x = b.wrap_counting(*x, image);
+                        }
+                    }
+                }
+            }
+            (Some(gas), _) => {
                 let kinds = gas.kinds(|what, radius, mass, material| {
                     let m = material_index(&table, what, material)?;
                     species_of(&table, what, radius, mass, m)
@@ -406,6 +479,30 @@ impl Config {
         system.validate()?;
         system.check_contacts(self.t_end)?;
         Ok(system)
+    }
+}
+
+/// One particle as `[[particles]]` or a file gives it, its material known.
+struct Inline {
+    radius: f64,
+    mass: Option<f64>,
+    material: u32,
+    position: [f64; 3],
+    velocity: [f64; 3],
+    angular_velocity: [f64; 3],
+    image: [i32; 3],
+}
+
+/// A file's image flags, which must be 0 along the closed axes of `b`.
+fn image_flags(what: &str, b: &SimBox, image: [i32; 3]) -> Result<[i32; 3]> {
+    match (0..3).find(|&k| !b.periodic[k] && image[k] != 0) {
+        Some(k) => invalid!(
+            "{what} has image flag {} along {}, but the box is closed there: image flags \
+             count crossings of periodic faces (set them to 0, or make the axis periodic)",
+            image[k],
+            ["x", "y", "z"][k]
+        ),
+        None => Ok(image),
     }
 }
 

@@ -40,6 +40,20 @@ impl SimBox {
         p
     }
 
+    /// [`SimBox::wrap`], adding the number of box lengths each periodic component was
+    /// moved down by to `image` (its image flags: the unwrapped position is
+    /// `wrap + image · size`, exactly as many crossings as happened).
+    #[inline]
+    pub fn wrap_counting(&self, p: [f64; 3], image: &mut [i32; 3]) -> [f64; 3] {
+        let w = self.wrap(p);
+        for k in 0..3 {
+            if w[k] != p[k] {
+                image[k] += ((p[k] - w[k]) / self.size[k]).round() as i32;
+            }
+        }
+        w
+    }
+
     /// The shortest image of a separation vector `d` (minimum-image convention).
     #[inline]
     pub fn min_image(&self, mut d: [f64; 3]) -> [f64; 3] {

@@ -15,8 +15,10 @@
 //! `configuration/dimensions` (3), `configuration/box` [Lx, Ly, Lz, 0, 0, 0],
 //! `particles/N`, `particles/types` (the species numbers as names), and per particle
 //! `particles/typeid`, `position`, `velocity`, `diameter` and `mass` in single
-//! precision, rows in the order of the particles' config number (`Particles::id`), plus
-//! `log/time` (s, double) and `log/box_centre` (m, double).
+//! precision and `particles/image` (the periodic image flags, int32), rows in the order
+//! of the particles' config number (`Particles::id`), plus `log/time` (s, double),
+//! `log/box_centre` (m, double) and `log/particles/angular_velocity` (rad/s, single
+//! precision; HOOMD keeps angular momenta of oriented bodies instead).
 //!
 //! HOOMD boxes are centred at the origin, so positions are written relative to the box
 //! centre (`log/box_centre`). In free space the box is the smallest one about the first
@@ -45,19 +47,22 @@ enum Type {
     U32 = 3,
     U64 = 4,
     I8 = 5,
+    I32 = 7,
     F32 = 9,
     F64 = 10,
 }
 
 /// The chunk names, in name-id order (alphabetical, so each frame's index is sorted).
-pub(crate) const NAMES: [&str; 12] = [
+pub(crate) const NAMES: [&str; 14] = [
     "configuration/box",
     "configuration/dimensions",
     "configuration/step",
     "log/box_centre",
+    "log/particles/angular_velocity",
     "log/time",
     "particles/N",
     "particles/diameter",
+    "particles/image",
     "particles/mass",
     "particles/position",
     "particles/typeid",
@@ -188,9 +193,10 @@ impl GsdWriter {
     /// Bytes one frame of `particles` spheres of `species` kinds adds to the file.
     pub fn frame_bytes(particles: usize, species: usize) -> u64 {
         let n = particles as u64;
-        // 3 + 3 floats, diameter, mass, typeid: 36 bytes per particle; type names;
+        // 3 + 3 + 3 floats, diameter, mass, typeid, 3 image flags: 60 bytes per
+        // particle; type names;
         // box, dimensions, step, N, time, centre; and one index entry per chunk.
-        36 * n
+        60 * n
             + species as u64 * type_name_width(species) as u64
             + 24
             + 1
@@ -258,6 +264,13 @@ impl GsdWriter {
                 self.frames.to_le_bytes().to_vec(),
             ),
             rows("log/box_centre", 3, 1, Type::F64, f64s(&centre)),
+            rows(
+                "log/particles/angular_velocity",
+                n,
+                3,
+                Type::F32,
+                vectors(&particles.angular_velocity, [0.0; 3]),
+            ),
             chunk("log/time", Type::F64, t.to_le_bytes().to_vec()),
             chunk("particles/N", Type::U32, (n as u32).to_le_bytes().to_vec()),
             rows(
@@ -266,6 +279,17 @@ impl GsdWriter {
                 1,
                 Type::F32,
                 scalars(&|i| (2.0 * particles.radius[i]) as f32),
+            ),
+            rows(
+                "particles/image",
+                n,
+                3,
+                Type::I32,
+                order
+                    .iter()
+                    .flat_map(|&i| particles.image[i])
+                    .flat_map(i32::to_le_bytes)
+                    .collect(),
             ),
             rows(
                 "particles/mass",

@@ -31,6 +31,7 @@ mod gas;
 mod geometry;
 pub mod gsd;
 mod gsd_tail;
+mod initial;
 mod interactions;
 mod key_lines;
 mod material_config;
@@ -56,6 +57,7 @@ pub use geometry::{
     CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
     sparse_cell_limit, sparse_cell_width,
 };
+pub use initial::{InitialConfig, InitialFormat};
 pub use interactions::{Interaction, Interactions};
 pub use key_lines::KeyLines;
 pub use material_config::{InteractionConfig, MaterialConfig};

@@ -40,7 +40,9 @@ impl Species {
 /// without an indirection; [`Particles::push`] keeps them consistent. `id` is the
 /// particle's number in the config (engines may reorder particles for locality and use
 /// it to report in the original order). `angular_velocity` is in rad/s; every particle
-/// is a solid sphere, I = (2/5) m R².
+/// is a solid sphere, I = (2/5) m R². `image` counts the periodic crossings of each
+/// particle (HOOMD's and LAMMPS's image flags): its unwrapped position is
+/// `position + image · box size` along periodic axes.
 #[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(try_from = "ParticleColumns")]
 pub struct Particles {
@@ -51,6 +53,7 @@ pub struct Particles {
     pub radius: Vec<f64>,
     pub mass: Vec<f64>,
     pub id: Vec<u32>,
+    pub image: Vec<[i32; 3]>,
 }
 
 /// [`Particles`] as decoded, before the check that makes them particles.
@@ -63,6 +66,7 @@ struct ParticleColumns {
     radius: Vec<f64>,
     mass: Vec<f64>,
     id: Vec<u32>,
+    image: Vec<[i32; 3]>,
 }
 
 impl TryFrom<ParticleColumns> for Particles {
@@ -79,6 +83,7 @@ impl TryFrom<ParticleColumns> for Particles {
             c.radius.len(),
             c.mass.len(),
             c.id.len(),
+            c.image.len(),
         ];
         if lengths.iter().any(|&l| l != n) {
             return Err(format!(
@@ -99,6 +104,7 @@ impl TryFrom<ParticleColumns> for Particles {
             radius: c.radius,
             mass: c.mass,
             id: c.id,
+            image: c.image,
         })
     }
 }
@@ -162,6 +168,7 @@ impl Particles {
             radius,
             mass,
             id: (0..n as u32).collect(),
+            image: vec![[0; 3]; n],
         })
     }
 
@@ -182,6 +189,7 @@ impl Particles {
         self.species.push(species_index);
         self.radius.push(s.radius);
         self.mass.push(s.mass);
+        self.image.push([0; 3]);
     }
 
     /// Reorders every array so that new index k holds old particle `order[k]`.
@@ -193,6 +201,17 @@ impl Particles {
         permute(&mut self.radius, order);
         permute(&mut self.mass, order);
         permute(&mut self.id, order);
+        permute(&mut self.image, order);
+    }
+
+    /// The unwrapped position of particle `i` in `sim_box` (its position where there is
+    /// no box).
+    pub fn unwrapped(&self, i: usize, sim_box: Option<&crate::SimBox>) -> [f64; 3] {
+        let x = self.position[i];
+        match sim_box {
+            Some(b) => std::array::from_fn(|k| x[k] + f64::from(self.image[i][k]) * b.size[k]),
+            None => x,
+        }
     }
 
     /// Total mass Σm in kg.

@@ -39,8 +39,11 @@ fn take(out: OutputFile, keep: bool) -> Result<(File, String)> {
 }
 
 /// Writes frames in extended XYZ, which OVITO reads with the columns
-/// `id species pos velo radius omega` (omega: the angular velocity in rad/s) and the
-/// `Lattice`, `Origin`, `pbc` and `Time` fields.
+/// `id species pos velo radius omega image` (omega: the angular velocity in rad/s;
+/// image: the periodic image flags, so that `pos + image · box size` is the unwrapped
+/// position) and the `Lattice`, `Origin`, `pbc` and `Time` fields. Numbers are written
+/// in the shortest notation that reads back to the same double, so a frame read back
+/// continues a run in double precision (see `[initial]`).
 ///
 /// In free space the lattice is the particles' bounding box (grown by the largest
 /// radius) and `pbc="F F F"`. Each frame is formatted in memory and written at once.
@@ -115,7 +118,7 @@ impl XyzWriter {
         writeln!(
             w,
             "Lattice=\"{:e} 0 0 0 {:e} 0 0 0 {:e}\" Origin=\"{:e} {:e} {:e}\" \
-             Properties=id:I:1:species:I:1:pos:R:3:velo:R:3:radius:R:1:omega:R:3 Time={t:e} pbc=\"{} {} {}\"",
+             Properties=id:I:1:species:I:1:pos:R:3:velo:R:3:radius:R:1:omega:R:3:image:I:3 Time={t:e} pbc=\"{} {} {}\"",
             size[0],
             size[1],
             size[2],
@@ -132,7 +135,7 @@ impl XyzWriter {
             let o = particles.angular_velocity[i];
             writeln!(
                 w,
-                "{} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e}",
+                "{} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {} {} {}",
                 particles.id[i],
                 particles.species[i],
                 x[0],
@@ -144,7 +147,10 @@ impl XyzWriter {
                 particles.radius[i],
                 o[0],
                 o[1],
-                o[2]
+                o[2],
+                particles.image[i][0],
+                particles.image[i][1],
+                particles.image[i][2]
             )
             .map_err(&err)?;
         }

@@ -136,7 +136,9 @@ fn particles(n: usize, t: f64) -> Particles {
             0.5 - 0.05 * i as f64,
         ];
         p.push(&SPECIES, s, x, [1.0 + i as f64, -0.5 * t, 0.25]);
+        p.image[i] = [i as i32 - 3, 2 * i as i32, -((i % 2) as i32)];
     }
+    p.image.reverse();
     p.position.reverse();
     p.velocity.reverse();
     p.species.reverse();
@@ -183,6 +185,13 @@ fn check_frame(frame: &BTreeMap<String, Chunk>, p: &Particles, t: f64, centre: [
         assert_eq!(diameter[i], (2.0 * p.radius[row]) as f32 as f64);
         assert_eq!(mass[i], p.mass[row] as f32 as f64);
         assert_eq!(typeid[i], p.species[row]);
+        let image = &frame["particles/image"];
+        assert_eq!((image.n, image.m, image.kind), (n as u64, 3, 7));
+        for k in 0..3 {
+            let at = 4 * (3 * i + k);
+            let flag = i32::from_le_bytes(image.bytes[at..at + 4].try_into().unwrap());
+            assert_eq!(flag, p.image[row][k], "image of {i}");
+        }
     }
 }
 
@@ -198,7 +207,7 @@ fn periodic_frames_read_back_through_index_growth() {
     };
     let centre = [3.0, 3.0, 1.0];
     let mut w = GsdWriter::create(&path).unwrap();
-    // 12 chunks a frame: 300 frames outgrow the first index (1024 entries) twice.
+    // 14 chunks a frame: 300 frames outgrow the first index (1024 entries) twice.
     let frames = 300;
     let mut sizes = Vec::new();
     for f in 0..frames {
@@ -234,7 +243,7 @@ fn periodic_frames_read_back_through_index_growth() {
     // Between index moves a frame adds its data; its index entries fill the room
     // already allocated. GsdWriter::frame_bytes counts both.
     let data = sizes[4] - sizes[3];
-    assert_eq!(data + 12 * 32, GsdWriter::frame_bytes(10, 2));
+    assert_eq!(data + 14 * 32, GsdWriter::frame_bytes(10, 2));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -305,12 +314,12 @@ fn a_resumed_file_is_cut_back_to_its_checkpoint() {
             .unwrap();
         drop(w);
         let full = std::fs::read(&path).unwrap();
-        let before = full.len() - GsdWriter::frame_bytes(10, 2) as usize + 12 * 32;
+        let before = full.len() - GsdWriter::frame_bytes(10, 2) as usize + 14 * 32;
         let mut bytes = full[..before].to_vec();
         bytes.extend(vec![7u8; unfinished]);
         // Take the unfinished frame's index entries out again.
-        let (index_at, entries) = (u64_at(&bytes, 8) as usize, 12 * written);
-        bytes[index_at + 32 * entries..index_at + 32 * (entries + 12)].fill(0);
+        let (index_at, entries) = (u64_at(&bytes, 8) as usize, 14 * written);
+        bytes[index_at + 32 * entries..index_at + 32 * (entries + 14)].fill(0);
         std::fs::write(&path, &bytes).unwrap();
 
         let (mut w, cut) = GsdWriter::resume(&path, t_ckpt, 10, 2).unwrap();

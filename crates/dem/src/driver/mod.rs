@@ -529,7 +529,7 @@ pub fn check_and_wrap(
                     position: x,
                 });
             }
-            p.position[i] = b.wrap(x);
+            p.position[i] = b.wrap_counting(x, &mut p.image[i]);
         }
     }
     Ok(())

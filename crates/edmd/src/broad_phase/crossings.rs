@@ -187,6 +187,10 @@ impl BroadPhase for Crossings {
         let (next, shift) = self.grid.step(axis, c[axis], dir);
         c[axis] = next;
         s.slot[i].kin.pos[axis] += shift;
+        if shift != 0.0 {
+            // Through a periodic face: one image along `axis`.
+            s.image[i][axis] -= shift.signum() as i32;
+        }
         self.grid.relocate(i, c);
         self.scan_new_layer(s, i, c, axis, dir);
         self.predict_axis_crossing(s, i, axis);

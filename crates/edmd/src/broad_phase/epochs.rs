@@ -212,6 +212,7 @@ impl Epochs {
             let wrapped = s.wrap(p);
             if wrapped != p {
                 s.advance(i, t0);
+                let wrapped = s.wrap_slot(i, s.slot[i].kin.pos);
                 s.slot[i].kin.pos = wrapped;
                 p = wrapped;
             }
@@ -277,7 +278,7 @@ impl BroadPhase for Epochs {
     /// new swept box; sets its horizon.
     fn predict_pairs<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize) {
         let now = s.time;
-        let p = s.wrap(s.slot[i].kin.pos);
+        let p = s.wrap_slot(i, s.slot[i].kin.pos);
         s.slot[i].kin.pos = p;
         let (vi, ri) = (s.slot[i].kin.vel, s.slot[i].kin.radius);
         let stop = self.end.min(s.slot[i].ev.pending_time);

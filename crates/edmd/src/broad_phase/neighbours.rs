@@ -384,7 +384,7 @@ impl BroadPhase for Neighbours {
     fn crossing<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize, _: usize, _: i64) {
         let now = s.time;
         s.advance(i, now);
-        let x = s.wrap(s.slot[i].kin.pos);
+        let x = s.wrap_slot(i, s.slot[i].kin.pos);
         s.slot[i].kin.pos = x;
         self.centre[i] = x;
         self.cells.remove(i);

@@ -203,6 +203,7 @@ impl<Q: EventQueue> Prepared<Q> {
             species: particles.species.clone(),
             pending_vel: vec![[0.0; 3]; n],
             last_contact: vec![LastContact::NONE; n],
+            image: particles.image.clone(),
             spin: (0..n)
                 .map(|i| {
                     particles
@@ -236,7 +237,7 @@ impl<Q: EventQueue> Prepared<Q> {
             probe: None,
         };
         for i in 0..n {
-            let x = state.wrap(state.slot[i].kin.pos);
+            let x = state.wrap_slot(i, state.slot[i].kin.pos);
             state.slot[i].kin.pos = x;
         }
         Ok(Self {

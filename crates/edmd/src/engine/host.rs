@@ -8,7 +8,7 @@ use crate::collision::{Host, LastContact, NONE, RotationProbe};
 use crate::queue::EventQueue;
 use crate::state::{Saved, State};
 use crate::stats::Stats;
-use emdstar_contact::vec3::{norm, sub};
+use emdstar_contact::vec3::{add, norm, sub};
 use emdstar_system::Wall;
 
 /// The parts of an [`super::EventEngine`] the collision rules act on.
@@ -144,6 +144,12 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
     fn place(&mut self, p: usize, x: [f64; 3]) {
         let d = self.state.min_image(sub(x, self.state.slot[p].kin.pos));
         self.hooks.jumped(p, norm(d));
+        // `x` may come from a partner across a periodic face (in its image): the
+        // particle moved by the minimum image of the jump from where it is now, and its
+        // image flags follow that, not the face `x` lies beyond.
+        let now = self.state.state_at(p, self.state.time).0;
+        let moved = add(now, self.state.min_image(sub(x, now)));
+        self.state.image[p] = self.state.image_of(p, moved, self.state.wrap(moved));
         let x = self.state.wrap(x);
         self.state.slot[p].kin.pos = x;
         self.state.slot[p].kin.stamp = self.state.time;
@@ -155,12 +161,14 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
         Saved {
             kin: self.state.slot[i].kin,
             cell: self.broad.cell_of(i),
+            image: self.state.image[i],
         }
     }
 
     #[inline]
     fn restore(&mut self, i: usize, saved: Saved) {
         self.state.slot[i].kin = saved.kin;
+        self.state.image[i] = saved.image;
         self.broad.return_to(i, saved.cell);
     }
 

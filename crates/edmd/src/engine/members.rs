@@ -66,7 +66,8 @@ impl<Q: EventQueue> EventEngine<Crossings, Q> {
             let i = i as usize;
             debug_assert!(!self.broad.grid.is_filed(i), "particle {i} is a member");
             debug_assert_eq!(s.id[i], particles.id[i], "numbered as the core");
-            let x = s.wrap(particles.position[i]);
+            s.image[i] = particles.image[i];
+            let x = s.wrap_slot(i, particles.position[i]);
             let slot = &mut s.slot[i];
             slot.kin.pos = x;
             slot.kin.vel = particles.velocity[i];
@@ -184,6 +185,20 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     pub fn settled(&self, i: usize) -> ([f64; 3], [f64; 3]) {
         let s = &self.state;
         (s.wrap(s.state_at(i, s.time).0), self.settled_velocity(i))
+    }
+
+    /// The image flags of particle `i` (slot number) at its [`EventEngine::settled`]
+    /// position; after [`EventEngine::leave`], at the position it left with.
+    pub fn image(&self, i: usize) -> [i32; 3] {
+        let s = &self.state;
+        let p = s.state_at(i, s.time).0;
+        s.image_of(i, p, s.wrap(p))
+    }
+
+    /// The image flags of the stored position of particle `i` (slot number): of the
+    /// position [`EventEngine::leave`] gives.
+    pub fn stored_image(&self, i: usize) -> [i32; 3] {
+        self.state.image[i]
     }
 
     /// The angular velocity of particle `i` (slot number) in rad/s.

@@ -117,6 +117,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         let radius = self.in_original_order(|i| s.slot[i].kin.radius);
         let mass = self.in_original_order(|i| s.mass[i]);
         let species = self.in_original_order(|i| s.species[i]);
+        let image = self.in_original_order(|i| self.image(i));
         Particles {
             position,
             velocity,
@@ -126,6 +127,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             radius,
             mass,
             id: (0..n as u32).collect(),
+            image,
         }
     }
 

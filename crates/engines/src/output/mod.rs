@@ -13,12 +13,14 @@
 mod cadence;
 mod checkpoint;
 mod log;
+mod memory;
 mod modes;
 mod trajectory;
 
 pub use cadence::{Cadence, Schedule};
 pub use checkpoint::CheckpointOutput;
 pub use log::LogOutput;
+pub use memory::Recorder;
 pub use modes::{ModeCounts, ModePoint};
 pub use trajectory::{TrajectoryFormat, TrajectoryOutput};
 

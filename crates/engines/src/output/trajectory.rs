@@ -31,8 +31,8 @@ impl TrajectoryFormat {
     pub fn frame_bytes(self, n: usize, species: usize) -> u64 {
         match self {
             Self::Gsd => GsdWriter::frame_bytes(n, species),
-            // Twelve columns in shortest round-trip notation.
-            Self::Xyz => 200 * n as u64 + 300,
+            // Fifteen columns in shortest round-trip notation.
+            Self::Xyz => 220 * n as u64 + 300,
         }
     }
 }

@@ -18,7 +18,8 @@ pub use files::RunFiles;
 
 use crate::AnyEngine;
 use crate::output::{
-    Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, TrajectoryOutput,
+    Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, Recorder,
+    TrajectoryOutput,
 };
 use anyhow::{Context, Result};
 use emdstar_system::{CheckpointFile, Config, Cut, OutputFile, Thermo, stop};
@@ -43,6 +44,7 @@ struct Outputs {
     log: Option<LogOutput>,
     trajectory: Option<TrajectoryOutput>,
     modes: ModeCounts,
+    recorders: Vec<Recorder>,
     checkpoint: CheckpointOutput,
 }
 
@@ -56,6 +58,9 @@ impl Outputs {
             all.push(o);
         }
         all.push(&mut self.modes);
+        for r in &mut self.recorders {
+            all.push(r);
+        }
         all.push(&mut self.checkpoint);
         all
     }
@@ -164,7 +169,16 @@ impl Run {
             notes.extend(budget::checkpoints_note(c, &e));
             estimates.push(e);
         }
-        files.check(inputs, resume)?;
+        // The file of the initial state is an input too.
+        let initial = config
+            .initial
+            .as_ref()
+            .map(|i| i.path(config.dir.as_deref()));
+        let mut inputs = inputs.to_vec();
+        if let Some(path) = &initial {
+            inputs.push(("the initial state ([initial] file)", path.as_path()));
+        }
+        files.check(&inputs, resume)?;
         let claim = |path: &Path| {
             OutputFile::claim(path)
                 .with_context(|| format!("claiming the output {}", path.display()))
@@ -191,6 +205,7 @@ impl Run {
                 log,
                 trajectory,
                 modes: ModeCounts::new(log_cadence),
+                recorders: Vec::new(),
                 checkpoint,
             },
             estimates,
@@ -232,6 +247,23 @@ impl Run {
     /// The hybrid's mode counts at every log tick and at the end.
     pub fn mode_points(&self) -> &[ModePoint] {
         self.outputs.modes.points()
+    }
+
+    /// Adds a record kept in memory every `interval` s of simulated time (on whole
+    /// steps of a step engine), with the particles if `keep_particles`; returns its
+    /// number for [`Run::recorder`]. Before [`Run::start`].
+    pub fn record(&mut self, interval: f64, keep_particles: bool) -> Result<usize> {
+        let interval = budget::interval(Some(interval), interval, "interval")?;
+        let cadence = Cadence::new(interval, self.engine.sim().time_step());
+        self.outputs
+            .recorders
+            .push(Recorder::new(cadence, keep_particles));
+        Ok(self.outputs.recorders.len() - 1)
+    }
+
+    /// The records of [`Run::record`]'s number `k`.
+    pub fn recorder(&self, k: usize) -> &Recorder {
+        &self.outputs.recorders[k]
     }
 
     /// The checkpoint written last, if any.

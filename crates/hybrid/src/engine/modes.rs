@@ -239,6 +239,7 @@ impl Hybrid {
         p.position[i] = x;
         p.velocity[i] = v;
         p.angular_velocity[i] = w;
+        p.image[i] = self.ed.stored_image(i);
         self.modes.set(i, Mode::Time);
         self.scratch.fresh.push(i as u32);
         self.boundary.push(i as u32);

@@ -23,6 +23,7 @@ impl Hybrid {
             if self.modes.of(i) == Mode::Event {
                 (now.position[i], now.velocity[i]) = self.ed.settled(i);
                 now.angular_velocity[i] = self.ed.spin(i);
+                now.image[i] = self.ed.image(i);
             }
         }
         now
