@@ -58,7 +58,7 @@ impl Md {
             .then_some(())
             .ok_or_else(|| "its particles differ".to_string());
         bodies
-            .and_then(|()| saved.verlet.check_restored(&self.verlet, n))
+            .and_then(|()| saved.verlet.check_restored(&self.verlet, n, true))
             .map_err(|why| {
                 format!(
                     "the checkpoint's MD state does not fit this config ({why}); resume with \

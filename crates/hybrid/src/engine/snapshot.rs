@@ -66,7 +66,8 @@ impl Hybrid {
         if !whole {
             return Err("its particles or their records differ".into());
         }
-        self.td.check_restored(&built.td, n)?;
+        // Without TD particles the list is not kept (it is rebuilt before a switch to TD).
+        self.td.check_restored(&built.td, n, self.upkeep.list)?;
         self.ed.check_restored_members(&built.ed)
     }
 }
