@@ -144,7 +144,11 @@ fn a_frictional_gas_between_walls_is_the_same_run_in_emdstar_and_the_hybrid() {
     let collisions = star["stats"]["collisions"].as_u64().unwrap();
     let walls = star["stats"]["wall_collisions"].as_u64().unwrap();
     assert!(collisions > 50 && walls > 50, "{star}");
-    assert_eq!(solves, collisions + walls, "every collision is an exact solve");
+    assert_eq!(
+        solves,
+        collisions + walls,
+        "every collision is an exact solve"
+    );
     let t = |v: &Value| num(v, "granular_temperature_final");
     assert_eq!(t(&star), t(&hybrid));
     // MD runs the same contacts by time steps: the same cooling, to the chaos of 0.1 s.

@@ -24,6 +24,7 @@
 //! ```
 
 mod engine;
+pub mod observe;
 mod options;
 pub mod output;
 pub mod run;

@@ -20,7 +20,7 @@ const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 /// each particle's cell, not its per-cell index; 5: the hybrid keeps spins' angular
 /// accelerations and the springs of its time-driven contacts; 6: the event engines keep
 /// their counts of frictional eMD* solves and fallback kicks).
-pub const CHECKPOINT_VERSION: u32 = 6;
+pub const CHECKPOINT_VERSION: u32 = 7;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]

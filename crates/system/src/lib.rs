@@ -15,7 +15,8 @@
 //! - [`CellGrid`] for neighbour searches;
 //! - [`Simulation`], the one interface of every engine, and [`Checkpoint`] files of
 //!   their saved states;
-//! - writers: extended XYZ trajectories for OVITO and a thermo log;
+//! - writers: extended XYZ trajectories for OVITO and a thermo log, with the pressure
+//!   tensor, collision rate and Sonine coefficient ([`StressSums`], [`Observables`]);
 //! - [`stop`]: the request to stop a run that every engine reads at each event or step.
 
 // Component loops `for k in 0..3` over several arrays read best as they are.
@@ -38,6 +39,7 @@ mod parse;
 mod simulation;
 mod state;
 pub mod stop;
+mod stress;
 mod system;
 mod tail;
 mod writers;
@@ -58,6 +60,7 @@ pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Re
 pub use methods::Method;
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
+pub use stress::{Observables, StressMark, StressSums, Sym3, add_scaled, sonine_a2, sym_outer};
 pub use system::System;
 pub use tail::{Cut, KeepUntil};
 pub use writers::{Thermo, ThermoLog, XyzWriter};

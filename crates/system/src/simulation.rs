@@ -3,6 +3,7 @@
 
 use crate::domain::Domain;
 use crate::state::Particles;
+use crate::stress::{StressMark, StressSums};
 use crate::writers::Thermo;
 
 /// Why an engine could not go on: its own error, boxed (each message says what was
@@ -53,6 +54,17 @@ pub trait Simulation {
 
     /// Energies, granular temperature, momentum and contacts now.
     fn thermo(&self) -> Thermo;
+
+    /// The sums behind the pressure tensor and the collision rate, from the start of
+    /// the run to now (see [`StressSums`]).
+    fn stress_sums(&self) -> StressSums;
+
+    /// The sums and time [`Simulation::mark_stress`] kept last (none before).
+    fn stress_mark(&self) -> Option<StressMark>;
+
+    /// Keeps the sums now and the time as the mark (saved with the state): where the
+    /// thermo log's next interval starts.
+    fn mark_stress(&mut self);
 
     /// The particles now, in config order; a particle inside an eMD* collision shows
     /// the velocity it will leave with.

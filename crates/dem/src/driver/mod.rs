@@ -7,6 +7,7 @@ mod joining;
 mod members;
 mod slots;
 mod snapshot;
+mod stress;
 mod sync;
 
 pub use members::{All, Members};
@@ -16,7 +17,9 @@ use crate::frictional::Rotation;
 use crate::neighbour::{INDEX_MASK, NeighbourList};
 use crate::options::{MdError, MdOptions};
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
-use emdstar_system::{Particles, SimBox, System, permute};
+use emdstar_system::{
+    Particles, SimBox, StressMark, StressSums, Sym3, System, add_scaled, permute, sym_outer,
+};
 use rayon::prelude::*;
 use slots::{Buffers, FrictionalKind, SlotKind, SmoothKind};
 
@@ -60,6 +63,11 @@ pub struct Verlet {
     /// Friction: torques and springs. `None` where every contact is frictionless: the
     /// steps then never touch the spins.
     pub(crate) rotation: Option<Box<Rotation>>,
+    /// The sums behind the pressure tensor and the collision rate (see
+    /// [`Verlet::stress_sums`]).
+    pub(crate) stress: StressSums,
+    /// The sums at the time of the last mark (see [`Verlet::mark_stress`]).
+    pub(crate) stress_mark: Option<StressMark>,
 }
 
 impl Verlet {
@@ -85,6 +93,8 @@ impl Verlet {
                 .interactions
                 .is_frictional()
                 .then(|| Box::new(Rotation::new(&system.particles))),
+            stress: StressSums::default(),
+            stress_mark: None,
         }
     }
 
@@ -280,11 +290,13 @@ impl Verlet {
         let v2 = if rayon::current_num_threads() == 1 || system.particles.len() <= CHUNK {
             self.sweep_fused::<K, M>(system, members, gk, dt, h)
         } else {
-            let v2 = drift_all(&mut system.particles, members, gk, dt);
+            let (v2, kinetic) = drift_all(&mut system.particles, members, gk, dt);
+            self.add_kinetic(&kinetic, dt);
             self.find_contacts_parallel::<K, M>(system, members, h);
             v2
         };
         self.apply::<K>();
+        self.add_virial::<K>(system, dt);
         v2
     }
 
@@ -309,6 +321,8 @@ impl Verlet {
         let n = position.len();
         // Without gravity the velocities need not be written back (less memory traffic).
         let gravity = gk != [0.0; 3];
+        let mass = &system.particles.mass;
+        let mut kinetic = vec![[0.0; 6]; buffers.len()];
         for (c, buf) in buffers.iter_mut().enumerate() {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
@@ -320,6 +334,7 @@ impl Verlet {
                     velocity[i] = w;
                 }
                 position[i] = y;
+                add_scaled(&mut kinetic[c], sym_outer(w, w), mass[i]);
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 // NaN is ignored here; a blown-up particle is caught at the next rebuild.
                 if w2 > v2_max {
@@ -337,6 +352,7 @@ impl Verlet {
             }
         }
         drop(kernel);
+        self.add_kinetic(&kinetic, dt);
         let p = &mut system.particles;
         p.position = position;
         p.velocity = velocity;
@@ -475,17 +491,21 @@ fn partner(entry: u32) -> usize {
 }
 
 /// The gravity kick and the drift of every member, in parallel over fixed chunks.
-/// Returns max |v|².
-fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -> f64 {
+/// Returns max |v|² and each chunk's Σ m v ⊗ v of the drift's velocities.
+fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -> (f64, Vec<Sym3>) {
     let gravity = gk != [0.0; 3];
-    p.position
+    let mass = &p.mass;
+    let chunks: Vec<(f64, Sym3)> = p
+        .position
         .par_chunks_mut(CHUNK)
         .zip(p.velocity.par_chunks_mut(CHUNK))
         .enumerate()
         .map(|(c, (x, v))| {
             let mut v2_max: f64 = 0.0;
+            let mut kinetic = [0.0; 6];
             for (k, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
-                if !members.contains(c * CHUNK + k) {
+                let i = c * CHUNK + k;
+                if !members.contains(i) {
                     continue;
                 }
                 // Copies: re-reading just-stored components stalls the CPU.
@@ -494,14 +514,17 @@ fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -
                 if gravity {
                     *v = w;
                 }
+                add_scaled(&mut kinetic, sym_outer(w, w), mass[i]);
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 if w2 > v2_max {
                     v2_max = w2;
                 }
             }
-            v2_max
+            (v2_max, kinetic)
         })
-        .reduce(|| 0.0, f64::max)
+        .collect();
+    let v2 = chunks.iter().map(|c| c.0).fold(0.0, f64::max);
+    (v2, chunks.into_iter().map(|c| c.1).collect())
 }
 
 /// Checks that every particle (but those `skip` names) has a finite state and stays

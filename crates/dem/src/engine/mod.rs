@@ -59,6 +59,17 @@ impl Md {
         self.verlet.skin
     }
 
+    /// Keeps the stress sums now as the mark (see [`Verlet::mark_stress`]).
+    pub fn mark_stress(&mut self) {
+        let t = self.time();
+        self.verlet.mark_stress(t);
+    }
+
+    /// The Verlet driver (its options, list and the sums of [`Verlet::stress_sums`]).
+    pub fn verlet(&self) -> &Verlet {
+        &self.verlet
+    }
+
     /// The system; particles are in the engine's (cell-sorted) order, see
     /// [`Particles::id`]. Their velocities lag half a kick behind after
     /// [`Md::stride`]; [`Md::particles_in_config_order`] and [`Md::thermo`] show them

@@ -17,11 +17,12 @@ pub use budget::{Estimate, MAX_CHECKPOINTS, gigabytes, size};
 pub use files::RunFiles;
 
 use crate::AnyEngine;
+use crate::observe;
 use crate::output::{
     Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, TrajectoryOutput,
 };
 use anyhow::{Context, Result};
-use emdstar_system::{CheckpointFile, Config, Cut, OutputFile, Thermo, stop};
+use emdstar_system::{CheckpointFile, Config, Cut, Observables, OutputFile, Thermo, stop};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -67,6 +68,9 @@ pub struct Outcome {
     /// The thermo quantities when the run started and when it ended.
     pub first: Thermo,
     pub last: Thermo,
+    /// The run's means: pressure tensor and collision rate over the whole run (this
+    /// piece of it, if resumed), a₂ over the log's lines (NaN without a log).
+    pub means: Observables,
     /// Steps or events done by this run (a resumed run counts from its checkpoint).
     pub work: u64,
     pub wall_seconds: f64,
@@ -267,6 +271,7 @@ impl Run {
         // How far one call advances at most: progress is reported in between.
         let quantum = (span / 1000.0).max(step.unwrap_or(0.0));
         let first = self.engine.sim().thermo();
+        let start = observe::reading(self.engine.sim());
         let clock = Instant::now();
         let mut cost_noted = false;
         self.write_due(tolerance)?;
@@ -307,8 +312,15 @@ impl Run {
         for o in self.outputs.all() {
             o.finish(&self.engine, end)?;
         }
+        let mut means = observe::since(self.engine.sim(), Some(&start));
+        means.sonine_a2 = self
+            .outputs
+            .log
+            .as_ref()
+            .map_or(f64::NAN, |l| l.mean_sonine_a2());
         Ok(Outcome {
             first,
+            means,
             last: self.engine.sim().thermo(),
             work: self.engine.sim().steps_done() - work_start,
             wall_seconds,
@@ -324,15 +336,21 @@ impl Run {
     fn write_due(&mut self, tolerance: f64) -> Result<()> {
         let t = self.engine.sim().time();
         let mut outputs = self.outputs.all();
-        let mut saves = false;
+        let (mut saves, mut logged) = (false, false);
         for o in outputs.iter_mut() {
             if o.next_due() <= t + tolerance {
                 if o.saves_state() {
                     saves = true;
                 } else {
                     o.write(&self.engine)?;
+                    logged |= o.name() == "log";
                 }
             }
+        }
+        if logged {
+            // The log's next interval starts here (the mark goes into checkpoints; a
+            // last line that was not due leaves it, as a resumed run cuts that line).
+            self.engine.sim_mut().mark_stress();
         }
         if saves {
             for o in outputs.iter_mut() {
