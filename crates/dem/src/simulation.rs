@@ -49,6 +49,13 @@ impl Simulation for Md {
         Md::mark_stress(self);
     }
 
+    fn change_velocities(
+        &mut self,
+        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+    ) -> Result<(), SimulationError> {
+        Ok(Md::change_velocities(self, change)?)
+    }
+
     fn particles(&self) -> Particles {
         self.particles_in_config_order()
     }

@@ -52,6 +52,14 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
         on_engine!(self, e => e.mark_stress(e.time(), e.stress_sums(|_| true)))
     }
 
+    fn change_velocities(
+        &mut self,
+        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+    ) -> Result<(), SimulationError> {
+        on_engine!(self, e => e.change_velocities(change));
+        Ok(())
+    }
+
     fn particles(&self) -> Particles {
         on_engine!(self, e => e.particles_now())
     }

@@ -23,6 +23,7 @@
 //! # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
 //! ```
 
+pub mod drive;
 mod engine;
 pub mod observe;
 mod options;

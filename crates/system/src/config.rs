@@ -106,6 +106,8 @@ pub struct Config {
     pub output: Option<OutputConfig>,
     /// Options of the force-based engine (see `emdstar-dem`).
     pub md: Option<MdConfig>,
+    /// A thermostat feeding energy at regular ticks (see [`crate::Drive`]).
+    pub driving: Option<crate::driving::DrivingConfig>,
 }
 
 /// One `[[particles]]` entry.

@@ -25,6 +25,7 @@
 mod checkpoint;
 mod config;
 mod domain;
+mod driving;
 mod error;
 mod files;
 mod gas;
@@ -47,6 +48,7 @@ mod writers;
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
 pub use config::{BoxConfig, Config, MdConfig, OutputConfig, ParticleConfig, WallConfig};
 pub use domain::Domain;
+pub use driving::{Drive, DriveKind, DrivingConfig};
 pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};

@@ -66,6 +66,14 @@ pub trait Simulation {
     /// thermo log's next interval starts.
     fn mark_stress(&mut self);
 
+    /// Changes the velocities now: `change` gets them in config order (in step with the
+    /// positions) with the masses, and the engine goes on from what it left (a thermostat's
+    /// tick, [`crate::Drive`]). Engines that cannot say why.
+    fn change_velocities(
+        &mut self,
+        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+    ) -> Result<(), SimulationError>;
+
     /// The particles now, in config order; a particle inside an eMD* collision shows
     /// the velocity it will leave with.
     fn particles(&self) -> Particles;

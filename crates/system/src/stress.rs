@@ -106,7 +106,7 @@ impl Observables {
 }
 
 /// a₂ = (3/5)⟨c⁴⟩/⟨c²⟩² − 1 of the velocities c = v − u relative to the mean u (van
-/// Noije & Ernst 1998, Eq. 2.10 in three dimensions: ⟨c⁴⟩/⟨c²⟩² = (d + 2)/d·(1 + a₂)).
+/// Noije & Ernst 1998 in three dimensions: ⟨c⁴⟩/⟨c²⟩² = (d + 2)/d·(1 + a₂)).
 /// Unweighted by mass; NaN for fewer than two particles or all at rest.
 pub fn sonine_a2(p: &Particles) -> f64 {
     let n = p.len() as f64;

@@ -125,6 +125,29 @@ impl Md {
         Ok(())
     }
 
+    /// Changes the velocities now (see [`emdstar_system::Simulation::change_velocities`]):
+    /// the pending half kick first, then `change` in config order; the list's speed bound
+    /// follows the new velocities.
+    pub fn change_velocities(
+        &mut self,
+        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+    ) -> Result<(), MdError> {
+        self.synchronise()?;
+        let p = &mut self.system.particles;
+        let n = p.len();
+        let (mut v, mut m) = (vec![[0.0; 3]; n], vec![0.0; n]);
+        for k in 0..n {
+            let id = p.id[k] as usize;
+            (v[id], m[id]) = (p.velocity[k], p.mass[k]);
+        }
+        change(&mut v, &m);
+        for k in 0..n {
+            p.velocity[k] = v[p.id[k] as usize];
+        }
+        self.verlet.speeds_changed(p);
+        Ok(())
+    }
+
     /// Applies the pending half kick, if any (velocities then in step with the
     /// positions), and reports a blow-up.
     pub fn synchronise(&mut self) -> Result<(), MdError> {

@@ -17,12 +17,12 @@ pub use budget::{Estimate, MAX_CHECKPOINTS, gigabytes, size};
 pub use files::RunFiles;
 
 use crate::AnyEngine;
-use crate::observe;
 use crate::output::{
     Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, TrajectoryOutput,
 };
+use crate::{drive, observe};
 use anyhow::{Context, Result};
-use emdstar_system::{CheckpointFile, Config, Cut, Observables, OutputFile, Thermo, stop};
+use emdstar_system::{CheckpointFile, Config, Cut, Drive, Observables, OutputFile, Thermo, stop};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -81,6 +81,8 @@ pub struct Outcome {
 /// A run being prepared, started and driven (see the module documentation).
 pub struct Run {
     engine: AnyEngine,
+    /// The config's thermostat, if any.
+    drive: Option<Drive>,
     t_end: f64,
     resumed_at: Option<f64>,
     outputs: Outputs,
@@ -187,8 +189,10 @@ impl Run {
             files.checkpoint.is_some(),
             config.digest(),
         );
+        let drive = config.driving.as_ref().map(|d| d.drive()).transpose()?;
         Ok(Self {
             engine,
+            drive,
             t_end: stop_at,
             resumed_at,
             outputs: Outputs {
@@ -292,7 +296,7 @@ impl Run {
                 .map(|o| o.next_due())
                 .fold(f64::INFINITY, f64::min);
             let target = self.t_end.min(now + quantum).min(due);
-            if let Err(e) = self.engine.sim_mut().advance_to(target) {
+            if let Err(e) = drive::advance(self.engine.sim_mut(), self.drive.as_ref(), target) {
                 // What was written stays readable; no checkpoint of a failed state.
                 for o in self.outputs.all() {
                     o.sync()?;

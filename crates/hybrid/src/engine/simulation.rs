@@ -50,6 +50,15 @@ impl Simulation for Hybrid {
         Hybrid::mark_stress(self);
     }
 
+    /// Not run: the time-driven part's pending kicks and the event core's predictions
+    /// would both have to follow.
+    fn change_velocities(
+        &mut self,
+        _change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+    ) -> Result<(), SimulationError> {
+        Err("the hybrid engine does not run [driving]: use --engine md, emd or emdstar".into())
+    }
+
     fn particles(&self) -> Particles {
         Hybrid::particles(self)
     }
