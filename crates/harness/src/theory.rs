@@ -35,7 +35,7 @@ pub fn cooling_a2(eps: f64) -> f64 {
 /// `eta`, Maxwell velocities of 1 m/s rms, with the `[material]` lines `material`.
 pub fn gas_config(material: &str, count: usize, eta: f64, arrangement: &str, seed: u64) -> String {
     format!(
-        "t_end = 1e9\n[material]\n{material}\ndensity = 1000.0\n[gas]\ncount = {count}\n\
+        "t_end = 100.0\n[material]\n{material}\ndensity = 1000.0\n[gas]\ncount = {count}\n\
          radius = 0.01\narrangement = \"{arrangement}\"\npacking_fraction = {eta}\n\
          rms_speed = 1.0\nseed = {seed}\n"
     )

@@ -41,9 +41,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         seed: args.seed,
     };
     let pair = DrivenSettings {
-        count: if args.full { 2000 } else { 400 },
+        count: if args.full { 8000 } else { 2000 },
         stiffness: 1e4,
-        measure: if args.full { 100.0 } else { 30.0 },
+        measure: if args.full { 200.0 } else { 60.0 },
         ..driven.clone()
     };
     let b = bar("theory", eos.etas.len() as u64 + 4);
@@ -99,6 +99,15 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             0.01,
         ),
         Check::at_most(
+            "8b",
+            format!(
+                "cooling state ε = {}: |a₂ − a₂(van Noije & Ernst)| within 3 standard errors ({:.4} ± {:.4} against {:.4})",
+                hcs.restitution, hcs.a2, hcs.a2_error, hcs.theory
+            ),
+            (hcs.a2 - hcs.theory).abs(),
+            3.0 * hcs.a2_error,
+        ),
+        Check::at_most(
             "8c",
             format!(
                 "white-noise driven hard spheres (eMD, ε = {}, η = {}): |T/T_balance − 1| (energy balance with Enskog's collision rate; T = {:.4e} ± {:.1e} J)",
@@ -144,15 +153,6 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             ),
             a_off,
             a_bar,
-        ),
-        Check::at_most(
-            "8b",
-            format!(
-                "cooling state ε = {}: |a₂ − a₂(van Noije & Ernst)| within 3 standard errors ({:.4} ± {:.4} against {:.4})",
-                hcs.restitution, hcs.a2, hcs.a2_error, hcs.theory
-            ),
-            (hcs.a2 - hcs.theory).abs(),
-            3.0 * hcs.a2_error,
         ),
     ];
     let mut markdown = vec![
