@@ -274,7 +274,11 @@ fn driven_gas_reaches_the_same_steady_state_in_md_and_emdstar() {
 
 #[test]
 fn driving_is_refused_where_it_cannot_run() {
-    let (dir, config) = short_copy("driven_gas.toml", 0.01);
+    // Its own directory (the other test of this example removes short_copy's).
+    let dir = std::env::temp_dir().join(format!("emdstar-driving-refused-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("driven_gas.toml");
+    std::fs::copy(example("driven_gas.toml"), &config).unwrap();
     let path = config.display().to_string();
     let err = error_in(&dir, &["run", &path, "--engine", "hybrid", "--quiet"]);
     assert!(err.contains("[driving]") && err.contains("hybrid"), "{err}");
