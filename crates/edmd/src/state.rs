@@ -7,7 +7,7 @@ use crate::collision::{LastContact, NONE, RotationProbe};
 use crate::queue::EventQueue;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_system::{Domain, SimBox, StressMark, Sym3, add_scaled, sym_outer};
+use emdstar_system::{Domain, SimBox, StressMark, Sym3, add_kinetic, add_scaled, sym_outer};
 use serde::{Deserialize, Serialize};
 
 /// A particle's kinematics (the line neighbour scans read) and own events in one
@@ -291,7 +291,7 @@ impl<Q: EventQueue> State<Q> {
     fn add_motion_kinetic(&self, to: &mut Sym3, i: usize, t: f64) {
         let kin = &self.slot[i].kin;
         let (m, dt, v) = (self.mass[i], t - kin.stamp, kin.vel);
-        add_scaled(to, sym_outer(v, v), m * dt);
+        add_kinetic(to, m * dt, v);
         if self.has_gravity {
             let g = self.domain.gravity;
             add_scaled(to, sym_outer(v, g), m * dt * dt);

@@ -62,7 +62,9 @@ pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Re
 pub use methods::Method;
 pub use simulation::{Simulation, SimulationError};
 pub use state::{Particles, Species, permute};
-pub use stress::{Observables, StressMark, StressSums, Sym3, add_scaled, sonine_a2, sym_outer};
+pub use stress::{
+    Observables, StressMark, StressSums, Sym3, add_kinetic, add_scaled, sonine_a2, sym_outer,
+};
 pub use system::System;
 pub use tail::{Cut, KeepUntil};
 pub use writers::{Thermo, ThermoLog, XyzWriter};

@@ -31,6 +31,18 @@ pub fn sym_outer(a: [f64; 3], b: [f64; 3]) -> Sym3 {
     ]
 }
 
+/// `to += m · v ⊗ v` (15 flops: the kinetic tensor's share of one particle).
+#[inline(always)]
+pub fn add_kinetic(to: &mut Sym3, m: f64, v: [f64; 3]) {
+    let (a, b, c) = (m * v[0], m * v[1], m * v[2]);
+    to[0] += a * v[0];
+    to[1] += b * v[1];
+    to[2] += c * v[2];
+    to[3] += a * v[1];
+    to[4] += a * v[2];
+    to[5] += b * v[2];
+}
+
 /// `to += w · t`.
 #[inline(always)]
 pub fn add_scaled(to: &mut Sym3, t: Sym3, w: f64) {

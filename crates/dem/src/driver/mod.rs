@@ -18,7 +18,7 @@ use crate::neighbour::{INDEX_MASK, NeighbourList};
 use crate::options::{MdError, MdOptions};
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
 use emdstar_system::{
-    Particles, SimBox, StressMark, StressSums, Sym3, System, add_scaled, permute, sym_outer,
+    Particles, SimBox, StressMark, StressSums, Sym3, System, add_kinetic, permute,
 };
 use rayon::prelude::*;
 use slots::{Buffers, FrictionalKind, SlotKind, SmoothKind};
@@ -291,7 +291,7 @@ impl Verlet {
             self.sweep_fused::<K, M>(system, members, gk, dt, h)
         } else {
             let (v2, kinetic) = drift_all(&mut system.particles, members, gk, dt);
-            self.add_kinetic(&kinetic, dt);
+            self.add_chunk_kinetics(&kinetic, dt);
             self.find_contacts_parallel::<K, M>(system, members, h);
             v2
         };
@@ -334,7 +334,6 @@ impl Verlet {
                     velocity[i] = w;
                 }
                 position[i] = y;
-                add_scaled(&mut kinetic[c], sym_outer(w, w), mass[i]);
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 // NaN is ignored here; a blown-up particle is caught at the next rebuild.
                 if w2 > v2_max {
@@ -350,9 +349,19 @@ impl Verlet {
                     }
                 }
             }
+            // The drift velocities (stored now), while the chunk is in the cache: a tight
+            // loop (the force kernel's calls would spill the sums).
+            let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+            let mut k = [0.0; 6];
+            for (i, (v, &m)) in velocity[range.clone()].iter().zip(&mass[range]).enumerate() {
+                if members.contains(c * CHUNK + i) {
+                    add_kinetic(&mut k, m, *v);
+                }
+            }
+            kinetic[c] = k;
         }
         drop(kernel);
-        self.add_kinetic(&kinetic, dt);
+        self.add_chunk_kinetics(&kinetic, dt);
         let p = &mut system.particles;
         p.position = position;
         p.velocity = velocity;
@@ -514,7 +523,7 @@ fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -
                 if gravity {
                     *v = w;
                 }
-                add_scaled(&mut kinetic, sym_outer(w, w), mass[i]);
+                add_kinetic(&mut kinetic, mass[i], w);
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 if w2 > v2_max {
                     v2_max = w2;

@@ -34,7 +34,7 @@ impl Verlet {
     }
 
     /// Adds dt times the chunks' Σ m v ⊗ v, in chunk order.
-    pub(super) fn add_kinetic(&mut self, chunks: &[Sym3], dt: f64) {
+    pub(super) fn add_chunk_kinetics(&mut self, chunks: &[Sym3], dt: f64) {
         for k in chunks {
             add_scaled(&mut self.stress.kinetic, *k, dt);
         }
