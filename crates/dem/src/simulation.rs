@@ -2,7 +2,7 @@
 
 use crate::engine::Md;
 use emdstar_system::{
-    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo,
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
 };
 
 impl Simulation for Md {
@@ -51,7 +51,7 @@ impl Simulation for Md {
 
     fn change_velocities(
         &mut self,
-        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+        change: &mut VelocityChange<'_>,
     ) -> Result<(), SimulationError> {
         Ok(Md::change_velocities(self, change)?)
     }

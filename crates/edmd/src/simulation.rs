@@ -4,7 +4,7 @@ use crate::auto::Engine;
 use crate::physics::BroadPhaseKind;
 use crate::queue::EventQueue;
 use emdstar_system::{
-    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo,
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
 };
 use serde::Serialize;
 use serde::de::DeserializeOwned;
@@ -54,7 +54,7 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
 
     fn change_velocities(
         &mut self,
-        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+        change: &mut VelocityChange<'_>,
     ) -> Result<(), SimulationError> {
         on_engine!(self, e => e.change_velocities(change));
         Ok(())

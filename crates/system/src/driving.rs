@@ -125,7 +125,7 @@ impl Drive {
 
     /// How many ticks fall at or before `t` (ticks 1, 2, …).
     pub fn ticks_until(&self, t: f64) -> u64 {
-        if !(t > 0.0) {
+        if t.is_nan() || t <= 0.0 {
             return 0;
         }
         let mut k = (t * self.rate).floor() as u64;

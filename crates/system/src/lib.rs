@@ -60,7 +60,7 @@ pub use interactions::{Interaction, Interactions};
 pub use material_config::{InteractionConfig, MaterialConfig};
 pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
 pub use methods::Method;
-pub use simulation::{Simulation, SimulationError};
+pub use simulation::{Simulation, SimulationError, VelocityChange};
 pub use state::{Particles, Species, permute};
 pub use stress::{
     Observables, StressMark, StressSums, Sym3, add_kinetic, add_scaled, sonine_a2, sym_outer,

@@ -10,6 +10,10 @@ use crate::writers::Thermo;
 /// wrong and how to fix it).
 pub type SimulationError = Box<dyn std::error::Error + Send + Sync + 'static>;
 
+/// What [`Simulation::change_velocities`] applies: the velocities in config order, to
+/// change in place, and the masses.
+pub type VelocityChange<'a> = dyn FnMut(&mut [[f64; 3]], &[f64]) + 'a;
+
 /// A simulation run by any engine of the workspace (force-based MD, the event engines,
 /// the hybrid), as the command line and the cross-validation harness drive it.
 ///
@@ -69,10 +73,8 @@ pub trait Simulation {
     /// Changes the velocities now: `change` gets them in config order (in step with the
     /// positions) with the masses, and the engine goes on from what it left (a thermostat's
     /// tick, [`crate::Drive`]). Engines that cannot say why.
-    fn change_velocities(
-        &mut self,
-        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
-    ) -> Result<(), SimulationError>;
+    fn change_velocities(&mut self, change: &mut VelocityChange<'_>)
+    -> Result<(), SimulationError>;
 
     /// The particles now, in config order; a particle inside an eMD* collision shows
     /// the velocity it will leave with.

@@ -5,7 +5,7 @@ mod snapshot;
 
 use crate::driver::{All, Verlet};
 use crate::options::{MdError, MdOptions, prepare_system};
-use emdstar_system::{Method, Particles, System, Thermo};
+use emdstar_system::{Method, Particles, System, Thermo, VelocityChange};
 
 /// A force-based simulation of one [`System`].
 pub struct Md {
@@ -128,10 +128,7 @@ impl Md {
     /// Changes the velocities now (see [`emdstar_system::Simulation::change_velocities`]):
     /// the pending half kick first, then `change` in config order; the list's speed bound
     /// follows the new velocities.
-    pub fn change_velocities(
-        &mut self,
-        change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
-    ) -> Result<(), MdError> {
+    pub fn change_velocities(&mut self, change: &mut VelocityChange<'_>) -> Result<(), MdError> {
         self.synchronise()?;
         let p = &mut self.system.particles;
         let n = p.len();

@@ -8,6 +8,7 @@ use super::host::EngineHost;
 use crate::broad_phase::BroadPhase;
 use crate::collision;
 use crate::queue::EventQueue;
+use emdstar_system::VelocityChange;
 
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Changes the velocities now: pending E^v events run first (as when a third party
@@ -15,7 +16,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// the velocities and masses in config order, and every particle is predicted
     /// again. Predictions of broad phases that bound speeds (epochs, neighbour lists)
     /// are not renewed: run such changes on cell crossings.
-    pub fn change_velocities(&mut self, change: &mut dyn FnMut(&mut [[f64; 3]], &[f64])) {
+    pub fn change_velocities(&mut self, change: &mut VelocityChange<'_>) {
         let n = self.len();
         let now = self.state.time;
         let mut host = EngineHost {

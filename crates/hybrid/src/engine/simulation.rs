@@ -2,7 +2,7 @@
 
 use super::Hybrid;
 use emdstar_system::{
-    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo,
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
 };
 
 impl Simulation for Hybrid {
@@ -54,7 +54,7 @@ impl Simulation for Hybrid {
     /// would both have to follow.
     fn change_velocities(
         &mut self,
-        _change: &mut dyn FnMut(&mut [[f64; 3]], &[f64]),
+        _change: &mut VelocityChange<'_>,
     ) -> Result<(), SimulationError> {
         Err("the hybrid engine does not run [driving]: use --engine md, emd or emdstar".into())
     }
