@@ -45,7 +45,12 @@ fn run_md() -> serde_json::Value {
 
 #[test]
 fn hybrid_run_on_a_dense_gas_is_md() {
-    let hybrid = run_hybrid("hybrid-dense", &[]);
+    // The gas (η = 0.2) is dense for thresholds below its local volume fractions: every
+    // particle is time-driven from the first decision on.
+    let hybrid = run_hybrid(
+        "hybrid-dense",
+        &["--phi-time", "0.1", "--phi-event", "0.05"],
+    );
     let md = run_md();
     assert_eq!(hybrid["engine"], "hybrid");
     let modes = hybrid["mode_counts"].as_array().unwrap();
@@ -62,7 +67,8 @@ fn hybrid_run_on_a_dense_gas_is_md() {
 fn hybrid_run_with_both_modes_dissipates_like_md_and_conserves_momentum() {
     let v = run_hybrid(
         "hybrid-mixed",
-        &["--phi-time", "0.25", "--phi-event", "0.2"],
+        // Thresholds about the gas's η = 0.2: particles start in both modes and switch.
+        &["--phi-time", "0.22", "--phi-event", "0.18"],
     );
     let modes = v["mode_counts"].as_array().unwrap();
     assert!(modes.iter().all(|m| {
