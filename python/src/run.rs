@@ -61,11 +61,14 @@ impl Drop for StopOnInterrupt {
 /// Advances `engine` to `time`; a Ctrl-C on the way stops it at its next event or step
 /// and raises `KeyboardInterrupt` (unless a Python handler of SIGINT chooses otherwise:
 /// then the run goes on).
-fn advance(py: Python<'_>, engine: &mut AnyEngine, time: f64) -> PyResult<()> {
+fn advance(
+    py: Python<'_>,
+    engine: &mut AnyEngine,
+    drive: Option<&emdstar_system::Drive>,
+    time: f64,
+) -> PyResult<()> {
     loop {
-        engine
-            .sim_mut()
-            .advance_to(time)
+        emdstar_engines::drive::advance(engine.sim_mut(), drive, time)
             .map_err(|e| error(format!("at t = {time:e} s: {e}")))?;
         if !emdstar_system::stop::is_requested() {
             return Ok(());
@@ -119,6 +122,10 @@ pub fn run_config<'py>(
     let mut engine = AnyEngine::build(&options, &config, system, DT_FRACTION)
         .map_err(|e| error(format!("{e:#}")))?;
     py.check_signals()?;
+    // The config's thermostat, if any.
+    let drive = (config.driving.as_ref().map(|d| d.drive()))
+        .transpose()
+        .map_err(|e| error(format!("{e}")))?;
 
     let first = engine.sim().particles();
     let n = first.len();
@@ -130,7 +137,7 @@ pub fn run_config<'py>(
     for k in 0..frames {
         let time = config.t_end * k as f64 / (frames - 1) as f64;
         if k > 0 {
-            advance(py, &mut engine, time)?;
+            advance(py, &mut engine, drive.as_ref(), time)?;
         }
         let sim = engine.sim();
         let p = sim.particles();
