@@ -38,7 +38,7 @@ impl Simulation for Md {
     }
 
     fn stress_sums(&self) -> StressSums {
-        self.verlet().stress_sums()
+        self.verlet().stress_sums(&self.system().particles)
     }
 
     fn stress_mark(&self) -> Option<StressMark> {

@@ -23,6 +23,9 @@ impl Md {
         system.interactions.check_runs_on(Method::Md, walls)?;
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         let mut verlet = Verlet::new(&system, opts, skin);
+        if system.domain.gravity == [0.0; 3] {
+            verlet.keep_kinetic_by_particle(system.particles.len());
+        }
         verlet.rebuild(&mut system, 0.0, |_| false)?;
         // Forces at t = 0 with the velocities themselves (h = 0).
         verlet.start_forces(&system, All);
@@ -62,7 +65,7 @@ impl Md {
     /// Keeps the stress sums now as the mark (see [`Verlet::mark_stress`]).
     pub fn mark_stress(&mut self) {
         let t = self.time();
-        self.verlet.mark_stress(t);
+        self.verlet.mark_stress(t, &self.system.particles);
     }
 
     /// The Verlet driver (its options, list and the sums of [`Verlet::stress_sums`]).
@@ -130,6 +133,7 @@ impl Md {
     /// follows the new velocities.
     pub fn change_velocities(&mut self, change: &mut VelocityChange<'_>) -> Result<(), MdError> {
         self.synchronise()?;
+        self.verlet.flush_kinetic(&self.system.particles);
         let p = &mut self.system.particles;
         let n = p.len();
         let (mut v, mut m) = (vec![[0.0; 3]; n], vec![0.0; n]);

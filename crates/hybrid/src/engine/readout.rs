@@ -33,7 +33,7 @@ impl Hybrid {
     /// core's (its members' motion, the impulses of its collisions).
     pub fn stress_sums(&self) -> StressSums {
         let (td, ed) = (
-            self.td.stress_sums(),
+            self.td.stress_sums(&self.system.particles),
             self.ed.stress_sums(|i| self.modes.of(i) == Mode::Event),
         );
         StressSums {
