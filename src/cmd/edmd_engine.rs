@@ -27,6 +27,7 @@ pub fn stats_json(s: &Stats) -> Value {
             "frictional_kick_without_friction": s.frictional_fallback_kicks,
         },
         "frictional_solves": s.frictional_solves,
+        "tc_elastic_collisions": s.tc_elastic,
         "max_impact_overlap": s.max_impact_overlap,
         "recontacts": {
             "count": s.recontacts,

@@ -181,6 +181,9 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     let (config, system) = load(&args.config, args.force)?;
     let n = system.particles.len();
     let total_mass = system.particles.total_mass();
+    for warning in emdstar_engines::unused_keys(&config, &args.engine) {
+        eprintln!("warning: {warning}");
+    }
     let engine = AnyEngine::build(&args.engine, &config, system, DEFAULT_DT_FRACTION)?;
     let output = config.output.clone().unwrap_or_default();
     let files = RunFiles::resolve(
@@ -190,6 +193,31 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         args.log.as_deref(),
         args.checkpoint.as_deref(),
     );
+    for (interval, value, file, written) in [
+        (
+            "trajectory_interval",
+            output.trajectory_interval,
+            "trajectory",
+            files.trajectory.is_some(),
+        ),
+        (
+            "log_interval",
+            output.log_interval,
+            "log",
+            files.log.is_some(),
+        ),
+    ] {
+        if value.is_some() && !written {
+            let at = config
+                .keys
+                .line(&format!("output.{interval}"))
+                .map_or(String::new(), |l| format!("line {l}: "));
+            eprintln!(
+                "warning: {at}[output] {interval} has no effect: this run writes no {file} \
+                 (--{file} none or {file} = \"none\")"
+            );
+        }
+    }
     let mut inputs = vec![("the config", args.config.as_path())];
     if let Some(table) = &args.engine.edmd.table {
         inputs.push(("the MoR table (--table)", table.as_path()));

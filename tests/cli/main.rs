@@ -5,6 +5,7 @@ mod examples;
 mod files;
 mod hybrid;
 mod md;
+mod messages;
 mod mor;
 mod reliability;
 mod restart;

@@ -111,6 +111,12 @@ impl<Q: EventQueue> Engine<Q> {
         on_engine!(self, e => e.step())
     }
 
+    /// Turns the TC model on with duration `tc` in s, or off
+    /// ([`crate::collision::Rules::set_tc`]).
+    pub fn set_tc(&mut self, tc: Option<f64>) -> Result<()> {
+        on_engine!(self, e => e.set_tc(tc))
+    }
+
     /// Runs until time `t_end` (all events before it), leaving every particle's
     /// stored state at its last event.
     pub fn run_until(&mut self, t_end: f64) -> Result<()> {

@@ -39,6 +39,8 @@ pub struct Stats {
     /// eMD* with friction: exceptions (a) whose exact impulse would not separate the
     /// pair at touch, given eMD's frictionless kick instead.
     pub frictional_fallback_kicks: u64,
+    /// Collisions made elastic by the TC model (within t_c of a party's previous one).
+    pub tc_elastic: u64,
     /// Spatial re-sorts of the particle order.
     pub resorts: u64,
     /// Largest overlap (contact distance − centre distance) at a pair impact, re-contacts

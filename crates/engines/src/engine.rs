@@ -25,6 +25,15 @@ impl AnyEngine {
         system: System,
         dt_fraction: f64,
     ) -> Result<Self> {
+        // A bad value is refused whatever the engine (the config checks its numbers).
+        if let Some(end) = config.md.as_ref().and_then(|m| m.contact_end.as_ref()) {
+            end.parse::<ContactEnd>().map_err(|e| {
+                anyhow::anyhow!(
+                    "config: {}",
+                    config.keys.locate(&format!("md.contact_end: {e}"))
+                )
+            })?;
+        }
         let driving = config.driving.as_ref().map(|d| d.drive()).transpose()?;
         let mut options = options.clone();
         if driving.is_some() {
@@ -52,11 +61,11 @@ impl AnyEngine {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 Self::Md(Box::new(Md::new(system, md, config.t_end)?))
             }
-            EngineKind::Emd | EngineKind::EmdStar => Self::Event(Box::new(event_engine(
-                options.engine,
-                &system,
-                &options.edmd,
-            )?)),
+            EngineKind::Emd | EngineKind::EmdStar => {
+                let mut engine = event_engine(options.engine, &system, &options.edmd)?;
+                engine.set_tc(config.events.as_ref().and_then(|e| e.tc))?;
+                Self::Event(Box::new(engine))
+            }
             EngineKind::Hybrid => {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;
                 if md.contact_end != ContactEnd::ForceZero {

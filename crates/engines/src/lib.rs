@@ -25,6 +25,7 @@
 
 pub mod drive;
 mod engine;
+mod keys;
 pub mod observe;
 mod options;
 pub mod output;
@@ -32,6 +33,7 @@ pub mod run;
 mod setup;
 
 pub use engine::AnyEngine;
+pub use keys::unused_keys;
 pub use options::{
     BroadPhaseChoice, EngineKind, EngineOptions, EventChoice, EventsChoice, HybridChoice,
     InterferenceChoice, MdChoice, MorChoice, parse_engine,

@@ -61,18 +61,22 @@
 //! # dt = 1e-5                      # s (default: a fraction of the contact time)
 //! # contact_end = "force"          # or "overlap" (LAMMPS)
 //! # skin = 0.02                    # m
+//! # [events]                       # options of the event-driven engines (emd, emdstar)
+//! # tc = 1e-5                      # s: the TC model (Luding & McNamara 1998)
 //! ```
 //!
-//! Engines own their optional sections (`[md]` here); the rest describes the physical
-//! system and is engine-independent.
+//! Engines own their optional sections (`[md]`, `[events]`); the rest describes the
+//! physical system and is engine-independent. Every value is checked whatever the
+//! engine; a message about a value gives its line ([`KeyLines`]).
 
 use crate::domain::Domain;
 use crate::error::{
-    Result, SystemError, finite3, invalid, positive, representable_energy, representable_spin,
+    Result, SystemError, finite3, invalid, num, positive, representable_energy, representable_spin,
 };
 use crate::gas::{self, GasConfig};
 use crate::geometry::{SimBox, Wall};
 use crate::interactions::Interactions;
+use crate::key_lines::KeyLines;
 use crate::material_config::{InteractionConfig, MaterialConfig, names};
 use crate::materials::MaterialTable;
 use crate::state::{Particles, Species};
@@ -106,6 +110,12 @@ pub struct Config {
     pub output: Option<OutputConfig>,
     /// Options of the force-based engine (see `emdstar-dem`).
     pub md: Option<MdConfig>,
+    /// Options of the event-driven engines (see `emdstar-edmd`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub events: Option<EventsConfig>,
+    /// Where each value of the text is (empty for a config not read from text).
+    #[serde(skip)]
+    pub keys: KeyLines,
     /// A thermostat feeding energy at regular ticks (see [`crate::Drive`]).
     pub driving: Option<crate::driving::DrivingConfig>,
 }
@@ -181,14 +191,24 @@ pub struct MdConfig {
     pub skin: Option<f64>,
 }
 
+/// `[events]`: options of the event-driven engines (emd, emdstar).
+#[derive(Debug, Clone, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventsConfig {
+    /// The TC model's t_c in s (Luding & McNamara 1998): a particle's collisions within
+    /// t_c of its previous one are elastic. Default none.
+    pub tc: Option<f64>,
+}
+
 impl Config {
     /// The largest config file read (1 GiB: ten million `[[particles]]` entries).
     pub const MAX_BYTES: u64 = 1 << 30;
 
     /// Parses TOML text; unknown keys are errors.
     pub fn from_toml(text: &str) -> Result<Self> {
-        let config: Self = crate::parse::from_toml(text)?;
-        positive("t_end", config.t_end)?;
+        let mut config: Self = crate::parse::from_toml(text)?;
+        config.keys = KeyLines::of(text);
+        config.check_options().map_err(|e| config.locate(e))?;
         Ok(config)
     }
 
@@ -212,6 +232,7 @@ impl Config {
         let physics = Self {
             t_end: 0.0,
             output: None,
+            keys: KeyLines::default(),
             ..self.clone()
         };
         let text = toml::to_string(&physics).expect("a parsed config serialises");
@@ -280,8 +301,40 @@ impl Config {
         Ok(table)
     }
 
+    /// `t_end` and the engines' sections, whatever the engine: a bad value is refused
+    /// even by an engine that does not use it.
+    fn check_options(&self) -> Result<()> {
+        positive("t_end", self.t_end)?;
+        if let Some(md) = &self.md {
+            if let Some(dt) = md.dt {
+                positive("md.dt", dt)?;
+            }
+            if let Some(skin) = md.skin
+                && !(skin.is_finite() && skin >= 0.0)
+            {
+                return invalid!("md.skin = {} must be a finite number ≥ 0 (m)", num(skin));
+            }
+        }
+        if let Some(tc) = self.events.as_ref().and_then(|e| e.tc) {
+            positive("events.tc", tc)?;
+        }
+        Ok(())
+    }
+
+    /// `e` with the line of the key it names, where the text sets it.
+    pub fn locate(&self, e: SystemError) -> SystemError {
+        match e {
+            SystemError::Invalid(m) => SystemError::Invalid(self.keys.locate(&m)),
+            e => e,
+        }
+    }
+
     /// Builds and validates the system the config describes.
     pub fn build(&self) -> Result<System> {
+        self.build_system().map_err(|e| self.locate(e))
+    }
+
+    fn build_system(&self) -> Result<System> {
         let gravity = finite3("gravity", self.gravity.unwrap_or([0.0; 3]))?;
         let table = self.material_table()?;
         let mut walls = Vec::with_capacity(self.walls.len());
@@ -353,6 +406,7 @@ impl Config {
             },
         };
         system.validate()?;
+        system.check_contacts(self.t_end)?;
         Ok(system)
     }
 }
@@ -391,8 +445,27 @@ fn species_of(
     positive(&format!("{what}.radius"), radius)?;
     let m = &table.materials[material as usize];
     let sphere = match (mass, m.density) {
-        (Some(mass), _) => Sphere::new(radius, positive(&format!("{what}.mass"), mass)?)?,
-        (None, Some(rho)) => Sphere::from_density(radius, rho)?,
+        (Some(mass), _) => {
+            let sphere = Sphere::new(radius, positive(&format!("{what}.mass"), mass)?)?;
+            representable_mass(&sphere, &format!("{what}.mass"), mass, "kg")?;
+            sphere
+        }
+        (None, Some(rho)) => {
+            // Blame the radius where a sphere of it would weigh too much even of water.
+            let water = Sphere::from_density(radius, 1000.0)?;
+            if representable_mass(&water, "", 0.0, "").is_err() {
+                return invalid!(
+                    "{what}.radius = {radius:e} m is out of range: a sphere of it would weigh \
+                     {:.3e} kg even of water's density, and double precision cannot hold the \
+                     products of masses and radii every engine forms; give a radius of a \
+                     physical size",
+                    water.mass
+                );
+            }
+            let sphere = Sphere::from_density(radius, rho)?;
+            representable_mass(&sphere, &format!("{}.density", m.key), rho, "kg/m³")?;
+            sphere
+        }
         (None, None) => {
             return invalid!("{what} has no mass: set {}.density or {what}.mass", m.key);
         }
@@ -402,6 +475,21 @@ fn species_of(
         mass: sphere.mass,
         material,
     })
+}
+
+/// A sphere's mass is representable where products of two masses (the reduced mass
+/// m₁m₂/(m₁+m₂)) and the moment of inertia (2/5)mR² are normal doubles.
+fn representable_mass(sphere: &Sphere, key: &str, value: f64, unit: &str) -> Result<()> {
+    let (m, r) = (sphere.mass, sphere.radius);
+    if (m * m).is_normal() && (0.4 * m * r * r).is_normal() {
+        return Ok(());
+    }
+    invalid!(
+        "{key} = {value:e} {unit} is out of range: it gives a sphere of radius {r:e} m the mass \
+         {m:.3e} kg, \
+         which double precision cannot hold with the products of masses every engine forms; \
+         give it a physical size"
+    )
 }
 
 fn species_index(species: &mut Vec<Species>, s: Species) -> u32 {

@@ -91,7 +91,10 @@ pub fn positive(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        invalid!("{name} = {value} must be a finite number greater than zero")
+        invalid!(
+            "{name} = {} must be a finite number greater than zero",
+            num(value)
+        )
     }
 }
 
@@ -119,5 +122,16 @@ pub fn representable_spin(name: &str, inertia: f64, w: [f64; 3]) -> Result<[f64;
             "{name} = {w:?} rad/s is too large: the particle's rotational energy overflows \
              double precision; give a spin of a physical size"
         )
+    }
+}
+
+/// A number for a message: as written where that is short (0.25, -1, 1500), in
+/// scientific notation otherwise (1e308, 2.5e-7), never as hundreds of digits.
+pub fn num(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e6).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }

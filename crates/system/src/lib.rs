@@ -24,6 +24,7 @@
 
 mod checkpoint;
 mod config;
+mod contact_check;
 mod domain;
 mod driving;
 mod error;
@@ -33,6 +34,7 @@ mod geometry;
 pub mod gsd;
 mod gsd_tail;
 mod interactions;
+mod key_lines;
 mod material_config;
 mod materials;
 mod methods;
@@ -46,7 +48,9 @@ mod tail;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
-pub use config::{BoxConfig, Config, MdConfig, OutputConfig, ParticleConfig, WallConfig};
+pub use config::{
+    BoxConfig, Config, EventsConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
+};
 pub use domain::Domain;
 pub use driving::{Drive, DriveKind, DrivingConfig};
 pub use error::{Result, SystemError};
@@ -57,6 +61,7 @@ pub use geometry::{
     sparse_cell_limit, sparse_cell_width,
 };
 pub use interactions::{Interaction, Interactions};
+pub use key_lines::KeyLines;
 pub use material_config::{InteractionConfig, MaterialConfig};
 pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
 pub use methods::Method;

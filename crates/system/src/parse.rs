@@ -20,12 +20,18 @@ pub(crate) fn from_toml<T: DeserializeOwned + Serialize>(text: &str) -> Result<T
     let written: Value = toml::from_str(text).map_err(|e| syntax(text, &e))?;
     let read = Value::try_from(&parsed)
         .map_err(|e| SystemError::Parse(format!("the parsed config does not serialise: {e}")))?;
-    same_lengths(&written, &read, &mut String::new())?;
+    let keys = crate::key_lines::KeyLines::of(text);
+    same_lengths(&written, &read, &keys, &mut String::new())?;
     Ok(parsed)
 }
 
 /// Errs at the first array of `written` that `read` holds with another length.
-fn same_lengths(written: &Value, read: &Value, path: &mut String) -> Result<()> {
+fn same_lengths(
+    written: &Value,
+    read: &Value,
+    keys: &crate::key_lines::KeyLines,
+    path: &mut String,
+) -> Result<()> {
     let start = path.len();
     match (written, read) {
         (Value::Table(w), Value::Table(r)) => {
@@ -35,7 +41,7 @@ fn same_lengths(written: &Value, read: &Value, path: &mut String) -> Result<()> 
                         path.push('.');
                     }
                     path.push_str(key);
-                    same_lengths(w, r, path)?;
+                    same_lengths(w, r, keys, path)?;
                     path.truncate(start);
                 }
             }
@@ -48,11 +54,14 @@ fn same_lengths(written: &Value, read: &Value, path: &mut String) -> Result<()> 
                     r.len()
                 );
                 let (what, hint) = explain(path, &message);
-                return Err(SystemError::Parse(format!("{path}: {what}; {hint}")));
+                let at = keys
+                    .line(path)
+                    .map_or(String::new(), |line| format!(" (line {line})"));
+                return Err(SystemError::Parse(format!("{path}: {what}{at}; {hint}")));
             }
             for (i, (w, r)) in w.iter().zip(r).enumerate() {
                 path.push_str(&format!("[{i}]"));
-                same_lengths(w, r, path)?;
+                same_lengths(w, r, keys, path)?;
                 path.truncate(start);
             }
         }
@@ -206,7 +215,7 @@ mod tests {
              radius = 0.1\nposition = [1.0, 0.0, 0.0]\nvelocity = [1.0, 2.0, 3.0, 4.0]\n",
         );
         assert!(
-            err.contains("particles[1].velocity: expected 3 numbers, got 4"),
+            err.contains("particles[1].velocity: expected 3 numbers, got 4 (line 12)"),
             "{err}"
         );
     }

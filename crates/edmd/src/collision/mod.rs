@@ -230,8 +230,11 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     ];
     let impact = PairImpact { r, distance, v };
     let (si, sj) = (h.species(i), h.species(j));
+    let now = h.now();
+    let since = now - h.last_contact(i).time.max(h.last_contact(j).time);
+    stamp(h, &[i, j], now);
     let decision = {
-        let (rule, mut ctx) = rules.pair(si, sj, h.stats());
+        let (rule, mut ctx) = rules.pair(si, sj, since, h.stats());
         rule.pair(&mut ctx, &parties, &impact)?
     };
     let mut fallback = None;
@@ -294,11 +297,13 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
 
 /// Notes that `i` and `j` collided last with each other, left at `overlap`.
 fn note_contact<H: Host>(h: &mut H, i: usize, j: usize, overlap: f64) {
+    let time = h.now();
     h.set_last_contact(
         i,
         LastContact {
             partner: j as u32,
             overlap,
+            time,
         },
     );
     h.set_last_contact(
@@ -306,8 +311,17 @@ fn note_contact<H: Host>(h: &mut H, i: usize, j: usize, overlap: f64) {
         LastContact {
             partner: i as u32,
             overlap,
+            time,
         },
     );
+}
+
+/// Notes that the parties `who` collide at `now` (the TC model's clock).
+fn stamp<H: Host>(h: &mut H, who: &[usize], now: f64) {
+    for &p in who {
+        let last = h.last_contact(p);
+        h.set_last_contact(p, LastContact { time: now, ..last });
+    }
 }
 
 /// eMD*'s E^φ (Müller & Pöschel 2013, Sec. VI B): the parties `who` placed where the
@@ -374,8 +388,11 @@ pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize)
         return Ok(());
     }
     let me = party(h, i, sub(h.position(i), wall.point));
+    let now = h.now();
+    let since = now - h.last_contact(i).time;
+    stamp(h, &[i], now);
     let decision = {
-        let (rule, mut ctx) = rules.wall(h.species(i), w, h.stats());
+        let (rule, mut ctx) = rules.wall(h.species(i), w, since, h.stats());
         rule.wall(&mut ctx, &me, &wall, -vn)?
     };
     let mut fallback = None;

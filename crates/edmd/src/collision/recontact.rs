@@ -17,11 +17,14 @@ use serde::{Deserialize, Serialize};
 use super::NONE;
 
 /// A particle's last pair collision: the partner (or [`NONE`]) and the overlap
-/// l(1 − ε_r) at which that collision left the pair (0 unless an eMD* E^φ placed it).
+/// l(1 − ε_r) at which that collision left the pair (0 unless an eMD* E^φ placed it);
+/// and the time of its last collision with a particle or a wall (−∞ before the first),
+/// which the TC model reads ([`super::Rules::pair`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct LastContact {
     pub partner: u32,
     pub overlap: f64,
+    pub time: f64,
 }
 
 impl LastContact {
@@ -29,6 +32,7 @@ impl LastContact {
     pub const NONE: Self = Self {
         partner: NONE,
         overlap: 0.0,
+        time: f64::NEG_INFINITY,
     };
 }
 
@@ -61,7 +65,11 @@ mod tests {
 
     #[test]
     fn only_a_pair_that_met_last_and_still_overlaps_is_a_recontact() {
-        let placed = |partner: u32, overlap: f64| LastContact { partner, overlap };
+        let placed = |partner: u32, overlap: f64| LastContact {
+            partner,
+            overlap,
+            time: 0.0,
+        };
         // i = 3 and j = 7 met last; 7 has met 9 since.
         let last = [placed(7, 2e-5), placed(9, 1e-5)];
         assert_eq!(recontact(3, 7, last, 1e-5), Some(2e-5));

@@ -5,6 +5,19 @@
 //! ([`Rule::wall`]), the wall being the partner of infinite mass and radius that does
 //! not spin; each returns a [`Decision`], which the executor (`collision::mod`)
 //! applies.
+//!
+//! The TC model (Luding & McNamara 1998, Granular Matter 1, 113) modifies every rule:
+//! with a duration t_c set ([`Rules::set_tc`]), a collision of a particle within t_c
+//! of its previous collision (with a particle or a wall; for a pair, the later of
+//! the two parties' previous collisions) is elastic: it takes the contact's elastic
+//! rule ([`Rule::elastic`]), built with the contact's own rule. For instantaneous
+//! collisions (hard spheres, eMD) that is the smooth kick with normal restitution 1;
+//! for eMD* the three events of the same force law without its dissipation (damping
+//! or A set to 0) and without friction: the matrix of restitution of the elastic law
+//! (ε = 1, the contact's duration τ and the E^φ displacement of an elastic contact,
+//! which leaves the pair at touch). Either way the collision conserves the kinetic
+//! energy and leaves spins alone; eMD*'s elastic rule keeps its transient, so that
+//! time advances by τ at each such collision as the contact's duration says.
 
 use super::frictional;
 use crate::error::{EngineError, Result};
@@ -155,6 +168,35 @@ impl Rule {
             },
         })
     }
+
+    /// The elastic rule of `interaction` (the TC model's, module docs): eMD's smooth
+    /// kick with restitution 1, or eMD*'s three events of the law without dissipation
+    /// and friction.
+    fn elastic_of(emdstar: bool, interaction: &Interaction) -> Self {
+        if !emdstar {
+            return Self::ELASTIC_KICK;
+        }
+        let law = match *interaction.law() {
+            PairLaw::Linear { stiffness, .. } => PairLaw::Linear {
+                stiffness,
+                damping: 0.0,
+            },
+            PairLaw::Hertz { rho_el, .. } => PairLaw::Hertz {
+                rho_el,
+                dissipation: 0.0,
+            },
+        };
+        Self::EmdStar {
+            law,
+            props: interaction.props,
+        }
+    }
+
+    /// The instantaneous smooth elastic collision.
+    const ELASTIC_KICK: Self = Self::Instant {
+        normal: Restitution::Constant(1.0),
+        walton: None,
+    };
 
     /// The collision of the pair `parties` now.
     pub fn pair(
@@ -319,10 +361,14 @@ pub struct Rules {
     method: &'static str,
     /// In the order of [`Interactions::all`]; one rule for all with hard spheres.
     rules: Vec<Rule>,
+    /// The elastic rule of each (the TC model's), in the same order.
+    elastic: Vec<Rule>,
     interactions: Interactions,
     mor: Option<Box<dyn MorSource>>,
     pub(crate) hertz: HertzRestitution,
     interference: Option<Interference>,
+    /// The TC model's t_c in s (module docs); `None`: off.
+    tc: Option<f64>,
 }
 
 impl Rules {
@@ -349,6 +395,7 @@ impl Rules {
                         normal: Restitution::Constant(restitution),
                         walton,
                     }],
+                    elastic: vec![Rule::ELASTIC_KICK],
                     ..Self::default()
                 });
             }
@@ -370,57 +417,100 @@ impl Rules {
             .all()
             .map(|i| Rule::of(emdstar, i))
             .collect::<Result<_>>()?;
+        let elastic = interactions
+            .all()
+            .map(|i| Rule::elastic_of(emdstar, i))
+            .collect();
         Ok(Self {
             method: if emdstar { "emdstar" } else { "emd" },
             rules,
+            elastic,
             interactions,
             mor,
             hertz: HertzRestitution::default(),
             interference,
+            tc: None,
         })
     }
 
-    /// The rule of species `a` against species `b`, with what it may use.
+    /// Turns the TC model on with duration `tc` in s (`None`: off). Refuses a `tc`
+    /// that is not a finite number greater than zero.
+    pub fn set_tc(&mut self, tc: Option<f64>) -> Result<()> {
+        if let Some(t) = tc
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(EngineError::Invalid(format!(
+                "the TC model's t_c = {t:e} s must be a finite number greater than zero"
+            )));
+        }
+        self.tc = tc;
+        Ok(())
+    }
+
+    /// The TC model's t_c in s, if it is on.
+    pub fn tc(&self) -> Option<f64> {
+        self.tc
+    }
+
+    /// Whether the TC model makes a collision `since` s after the parties' previous
+    /// one elastic; counted.
+    fn tc_elastic(&self, since: f64, stats: &mut Stats) -> bool {
+        let elastic = self.tc.is_some_and(|tc| since < tc);
+        stats.tc_elastic += u64::from(elastic);
+        elastic
+    }
+
+    /// The rule of species `a` against species `b` for a collision `since` s after
+    /// the later of the parties' previous collisions (the TC model's elastic rule
+    /// within t_c), with what it may use.
     #[inline]
     pub fn pair<'a>(
         &'a mut self,
         a: u32,
         b: u32,
+        since: f64,
         stats: &'a mut Stats,
     ) -> (&'a Rule, RuleContext<'a>) {
         let k = match self.rules.len() {
             1 => 0,
             _ => self.interactions.pair_index(a, b),
         };
-        self.with_context(k, stats)
+        self.with_context(k, since, stats)
     }
 
-    /// The rule of species `a` against wall `w`, with what it may use.
+    /// The rule of species `a` against wall `w` for a collision `since` s after the
+    /// particle's previous one, with what it may use.
     #[inline]
     pub fn wall<'a>(
         &'a mut self,
         a: u32,
         w: usize,
+        since: f64,
         stats: &'a mut Stats,
     ) -> (&'a Rule, RuleContext<'a>) {
         let k = match self.rules.len() {
             1 => 0,
             _ => self.interactions.wall_index(a, w),
         };
-        self.with_context(k, stats)
+        self.with_context(k, since, stats)
     }
 
     fn with_context<'a>(
         &'a mut self,
         k: usize,
+        since: f64,
         stats: &'a mut Stats,
     ) -> (&'a Rule, RuleContext<'a>) {
+        let rule = match self.tc_elastic(since, stats) {
+            true => &self.elastic[k],
+            false => &self.rules[k],
+        };
         let ctx = RuleContext {
             mor: self.mor.as_mut(),
             hertz: &mut self.hertz,
             stats,
         };
-        (&self.rules[k], ctx)
+        (rule, ctx)
     }
 
     /// The contacts the rules were built for (empty for hard spheres).

@@ -85,6 +85,11 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
         &self.rules
     }
 
+    /// Turns the TC model on with duration `tc` in s, or off ([`Rules::set_tc`]).
+    pub fn set_tc(&mut self, tc: Option<f64>) -> Result<()> {
+        self.rules.set_tc(tc)
+    }
+
     /// Full prediction for particle `i` at the current time: all neighbours, walls and
     /// the next cell crossing.
     #[cfg(test)]
@@ -118,8 +123,10 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
                      round-off: an inelastic collapse (Bannerman et al. 2014, Sec. 5), such \
                      as spheres coming to rest on a wall or on each other; event-driven \
                      dynamics cannot go on. For a bed that settles run --engine hybrid (MD \
-                     where the gas is dense, eMD* where it is dilute), else --engine md or \
-                     less dissipation",
+                     where the gas is dense, eMD* where it is dilute), or --engine emd with \
+                     the TC model ([events] tc = t_c in s, e.g. the contact duration: \
+                     collisions within t_c of a particle's previous one are elastic), else \
+                     --engine md or less dissipation",
                     Self::MAX_ZERO_TIME_EVENTS
                 )));
             }
