@@ -22,7 +22,11 @@ use std::time::Instant;
 /// Simulates the system of CONFIG up to t_end with the chosen engine. Writes an
 /// extended-XYZ trajectory (for OVITO) and a thermo log, shows a progress bar on a
 /// terminal, and prints a summary JSON: wall time, rates, energy and momentum drift,
-/// the engine's counters.
+/// the engine's counters, and the run's means of the pressure tensor, collision rate
+/// and Sonine coefficient a2 ("means"). Each log line ends with those of the interval
+/// since the line before: pressure[Pa], pxx..pyz[Pa] (kinetic plus collisional;
+/// walls and gravity are external and left out), collision_rate[1/s] (per particle)
+/// and sonine_a2 (now); the first line has no interval (nan).
 ///
 /// Files default to CONFIG's stem + .xyz / .log in the current directory ([output] in
 /// the config or --trajectory/--log override them; a trajectory ending in .gsd is
@@ -287,6 +291,16 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         summary = with_fields(summary, json!({ "mode_counts": modes }));
     }
     summary = with_fields(summary, json!({ "mor_fallbacks": fallbacks }));
+    let m = &outcome.means;
+    summary = with_fields(
+        summary,
+        json!({ "means": {
+            "pressure_pa": finite(m.pressure),
+            "pressure_tensor_pa": m.tensor.map(finite),
+            "collision_rate_per_s": finite(m.collision_rate),
+            "sonine_a2": finite(m.sonine_a2),
+        }}),
+    );
     summary = with_fields(
         summary,
         drift_fields(&outcome.first, &outcome.last, total_mass),
@@ -302,4 +316,9 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
         Some(signal) => ExitCode::from(super::stop::exit_code(signal)),
         None => ExitCode::SUCCESS,
     })
+}
+
+/// A number for JSON: null where it is not finite (no interval, no box, no log).
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
 }

@@ -13,11 +13,12 @@ mod diffusion;
 mod friction;
 mod speed;
 mod stages;
+mod theory;
 
 /// Cross-validate eMD* against eMD against force-based MD (Müller & Pöschel 2013) and
 /// write a report.
 ///
-/// Runs eight scenarios (their --only names in brackets; self-diffusion's checks are
+/// Runs nine scenarios (their --only names in brackets; self-diffusion's checks are
 /// numbered 4.3) and prints each check with its number, its value, its bar and
 /// pass/fail:
 ///   1. [pairs] pair sweep: random oblique impacts over the paper's Tab. I and II
@@ -35,7 +36,10 @@ mod stages;
 ///   6. [friction-pairs] random oblique frictional impacts: eMD*'s exact frictional
 ///      contact against MD at two fine steps, Walton's rule beside;
 ///   7. [friction-cooling] a freely cooling frictional gas: translational and
-///      rotational temperatures by MD, frictional eMD* and Walton's eMD.
+///      rotational temperatures by MD, frictional eMD* and Walton's eMD;
+///   8. [theory] kinetic theory through the log's observables: elastic hard spheres'
+///      pressure against Carnahan–Starling at η = 0.1–0.4, and a2 of the homogeneous
+///      cooling state (ε = 0.8) against van Noije & Ernst.
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴
@@ -63,7 +67,7 @@ pub struct ValidateArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Run only these scenarios (repeat the flag): pairs, fig6, fig7, cooling,
-    /// diffusion, speed, friction-pairs, friction-cooling.
+    /// diffusion, speed, friction-pairs, friction-cooling, theory.
     #[arg(long, value_name = "NAME")]
     pub only: Vec<String>,
     /// Also time LAMMPS (the binary LMP, default `lmp`, with its GRANULAR package) on
@@ -95,7 +99,7 @@ pub fn bar(title: &str, total: u64) -> ProgressBar {
     b
 }
 
-const SCENARIOS: [&str; 8] = [
+const SCENARIOS: [&str; 9] = [
     "pairs",
     "fig6",
     "fig7",
@@ -104,6 +108,7 @@ const SCENARIOS: [&str; 8] = [
     "speed",
     "friction-pairs",
     "friction-cooling",
+    "theory",
 ];
 
 pub fn run(args: &ValidateArgs) -> Result<bool> {

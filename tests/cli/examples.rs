@@ -1,15 +1,16 @@
 //! Every config of `examples/configs/` runs, with a short t_end, through the engines its
 //! comments name, and the engines agree with each other where physics says they must.
 
-use super::stdout_in;
+use super::{error_in, stdout_in};
 use emdstar_contact::{Impact, PairProperties, scale};
 use emdstar_system::Config;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The configs these tests cover; a new example must be added here (and tested).
-const EXAMPLES: [&str; 7] = [
+const EXAMPLES: [&str; 8] = [
     "cooling_hertz_gas.toml",
+    "driven_gas.toml",
     "frictional_gas_walls.toml",
     "glass_beads_steel_box.toml",
     "oblique_collision.toml",
@@ -236,5 +237,81 @@ fn elastic_mixture_keeps_its_energy() {
     assert!(star["stats"]["collisions"].as_u64().unwrap() > 10, "{star}");
     assert!(num(&star, "energy_drift").abs() < 1e-12, "{star}");
     assert!(num(&md, "energy_drift").abs() < 1e-4, "{md}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn driven_gas_reaches_the_same_steady_state_in_md_and_emdstar() {
+    let (dir, config) = short_copy("driven_gas.toml", 1.0);
+    let md = run(&dir, &config, "md");
+    let star = run(&dir, &config, "emdstar");
+    // From T = m·(1 m/s)²/3 the gas heats to its steady state (about 2.4e-3 J by
+    // Enskog's collision rate, 0.3 s to relax) and stays there.
+    let t = |v: &Value| num(v, "granular_temperature_final");
+    assert!(t(&md) > 1.6e-3 && t(&md) < 3.2e-3, "{md}");
+    assert!(relative(t(&star), t(&md)) < 0.1, "T: eMD* {star}\nMD {md}");
+    // The same kicks at the same times, so the same momentum: zero.
+    for v in [&md, &star] {
+        let p = v["momentum_drift"].as_array().unwrap();
+        assert!(p.iter().all(|c| c.as_f64().unwrap().abs() < 1e-12), "{v}");
+    }
+    let mean = |v: &Value, key: &str| v["means"][key].as_f64().unwrap();
+    for key in ["pressure_pa", "collision_rate_per_s"] {
+        assert!(
+            relative(mean(&star, key), mean(&md, key)) < 0.05,
+            "{key}: eMD* {star}\nMD {md}"
+        );
+    }
+    // The log ends with the observables' columns.
+    let log = std::fs::read_to_string(dir.join("driven_gas.log")).unwrap();
+    let header = log.lines().next().unwrap();
+    assert!(
+        header.ends_with("collision_rate[1/s] sonine_a2"),
+        "{header}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn driving_is_refused_where_it_cannot_run() {
+    // Its own directory (the other test of this example removes short_copy's).
+    let dir = std::env::temp_dir().join(format!("emdstar-driving-refused-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let config = dir.join("driven_gas.toml");
+    std::fs::copy(example("driven_gas.toml"), &config).unwrap();
+    let path = config.display().to_string();
+    let err = error_in(&dir, &["run", &path, "--engine", "hybrid", "--quiet"]);
+    assert!(err.contains("[driving]") && err.contains("hybrid"), "{err}");
+    let err = error_in(
+        &dir,
+        &[
+            "run",
+            &path,
+            "--engine",
+            "emd",
+            "--broad-phase",
+            "epochs",
+            "--quiet",
+        ],
+    );
+    assert!(
+        err.contains("[driving]") && err.contains("crossings"),
+        "{err}"
+    );
+    let text = std::fs::read_to_string(&config).unwrap();
+    for (from, to, key) in [
+        ("strength = 2.0", "strength = -1.0", "driving.strength"),
+        ("rate = 200.0", "rate = inf", "driving.rate"),
+        (
+            "kind = \"white_noise\"",
+            "kind = \"shaker\"",
+            "driving.kind",
+        ),
+        ("strength = 2.0", "temperature = 1.0", "driving.temperature"),
+    ] {
+        std::fs::write(&config, text.replace(from, to)).unwrap();
+        let err = error_in(&dir, &["run", &path, "--engine", "md", "--quiet"]);
+        assert!(err.contains(key), "{to}: {err}");
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -168,7 +168,7 @@ fn a_second_run_writing_the_same_files_is_refused_while_the_first_goes_on() {
             && log
                 .lines()
                 .skip(1)
-                .all(|l| l.split_whitespace().count() == 12)
+                .all(|l| l.split_whitespace().count() == 21)
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

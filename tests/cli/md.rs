@@ -167,8 +167,9 @@ fn run_writes_trajectory_log_and_summary() {
     let lines: Vec<&str> = log_text.lines().skip(1).collect();
     // Every 0.001 s (rounded to whole steps) and at t_end.
     assert!((21..=22).contains(&lines.len()), "{} lines", lines.len());
-    // … energies, temperature, momentum, contacts, rotational energy and temperature.
-    assert_eq!(lines[0].split_whitespace().count(), 12);
+    // … energies, temperature, momentum, contacts, rotational energy and temperature,
+    // then pressure, its tensor, collision rate and a2.
+    assert_eq!(lines[0].split_whitespace().count(), 21);
     let t_last: f64 = lines
         .last()
         .unwrap()

@@ -337,13 +337,13 @@ fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
         assert_eq!(summary["interrupted"], true, "{engine}");
         let t = summary["t"].as_f64().unwrap();
         assert!(t > 0.0 && t < 100.0, "{engine}: {t}");
-        // Whole files: every log line has its twelve columns, every frame its particles.
+        // Whole files: every log line has its 21 columns, every frame its particles.
         let text = std::fs::read_to_string(dir.join(&log)).unwrap();
         assert!(text.ends_with('\n'));
         assert!(
             text.lines()
                 .skip(1)
-                .all(|l| l.split_whitespace().count() == 12)
+                .all(|l| l.split_whitespace().count() == 21)
         );
         let frames = std::fs::read_to_string(dir.join(&traj)).unwrap();
         assert_eq!(

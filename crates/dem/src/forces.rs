@@ -43,6 +43,8 @@ pub trait ContactRecord: Copy + Send + Sync {
     fn add_to(&self, to: &mut Accelerations<'_>);
     /// The contact's spring, to keep for the next step (none without one).
     fn spring(&self) -> Option<(ContactKey, [f64; 3])>;
+    /// The force on the particle (and minus it on a partner particle), in N.
+    fn force(&self) -> [f64; 3];
 }
 
 impl ContactRecord for PairForce {
@@ -70,6 +72,11 @@ impl ContactRecord for PairForce {
     #[inline(always)]
     fn spring(&self) -> Option<(ContactKey, [f64; 3])> {
         None
+    }
+
+    #[inline(always)]
+    fn force(&self) -> [f64; 3] {
+        self.f
     }
 }
 

@@ -140,6 +140,11 @@ impl ContactRecord for ContactForce {
     fn spring(&self) -> Option<(ContactKey, [f64; 3])> {
         self.spring.map(|s| (self.key, s))
     }
+
+    #[inline(always)]
+    fn force(&self) -> [f64; 3] {
+        self.f
+    }
 }
 
 /// What friction adds to the state of a run: spins are kicked by the contact torques

@@ -1,7 +1,9 @@
 //! MD behind the workspace's one simulation interface.
 
 use crate::engine::Md;
-use emdstar_system::{Domain, Particles, Simulation, SimulationError, Thermo};
+use emdstar_system::{
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
+};
 
 impl Simulation for Md {
     fn engine(&self) -> &'static str {
@@ -33,6 +35,25 @@ impl Simulation for Md {
 
     fn thermo(&self) -> Thermo {
         Md::thermo(self)
+    }
+
+    fn stress_sums(&self) -> StressSums {
+        self.verlet().stress_sums(&self.system().particles)
+    }
+
+    fn stress_mark(&self) -> Option<StressMark> {
+        self.verlet().stress_mark()
+    }
+
+    fn mark_stress(&mut self) {
+        Md::mark_stress(self);
+    }
+
+    fn change_velocities(
+        &mut self,
+        change: &mut VelocityChange<'_>,
+    ) -> Result<(), SimulationError> {
+        Ok(Md::change_velocities(self, change)?)
     }
 
     fn particles(&self) -> Particles {

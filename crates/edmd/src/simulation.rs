@@ -3,7 +3,9 @@
 use crate::auto::Engine;
 use crate::physics::BroadPhaseKind;
 use crate::queue::EventQueue;
-use emdstar_system::{Domain, Particles, Simulation, SimulationError, Thermo};
+use emdstar_system::{
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
+};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
@@ -36,6 +38,26 @@ impl<Q: EventQueue + Serialize + DeserializeOwned> Simulation for Engine<Q> {
 
     fn thermo(&self) -> Thermo {
         on_engine!(self, e => e.thermo())
+    }
+
+    fn stress_sums(&self) -> StressSums {
+        on_engine!(self, e => e.stress_sums(|_| true))
+    }
+
+    fn stress_mark(&self) -> Option<StressMark> {
+        on_engine!(self, e => e.stress_mark())
+    }
+
+    fn mark_stress(&mut self) {
+        on_engine!(self, e => e.mark_stress(e.time(), e.stress_sums(|_| true)))
+    }
+
+    fn change_velocities(
+        &mut self,
+        change: &mut VelocityChange<'_>,
+    ) -> Result<(), SimulationError> {
+        on_engine!(self, e => e.change_velocities(change));
+        Ok(())
     }
 
     fn particles(&self) -> Particles {

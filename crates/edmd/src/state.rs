@@ -7,7 +7,7 @@ use crate::collision::{LastContact, NONE, RotationProbe};
 use crate::queue::EventQueue;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_system::{Domain, SimBox};
+use emdstar_system::{Domain, SimBox, StressMark, Sym3, add_kinetic, add_scaled, sym_outer};
 use serde::{Deserialize, Serialize};
 
 /// A particle's kinematics (the line neighbour scans read) and own events in one
@@ -150,6 +150,11 @@ pub struct State<Q: EventQueue> {
     pub(crate) domain: Domain,
     pub(crate) has_gravity: bool,
     pub(crate) stats: Stats,
+    /// ∫ Σ m v ⊗ v dt of every particle's motion up to its stamp (the kinetic part of
+    /// the pressure tensor; see [`emdstar_system::StressSums`]).
+    pub(crate) kinetic: Sym3,
+    /// The stress sums at the last mark (see [`emdstar_system::StressMark`]).
+    pub(crate) stress_mark: Option<StressMark>,
     /// Consecutive events with time advancing by round-off at most (an inelastic
     /// collapse never ends).
     pub(crate) zero_streak: u64,
@@ -277,11 +282,44 @@ impl<Q: EventQueue> State<Q> {
     #[inline]
     pub(crate) fn advance(&mut self, i: usize, t: f64) {
         if self.slot[i].kin.stamp != t {
+            self.integrate_kinetic(i, t);
             let (p, v) = self.state_at(i, t);
             self.slot[i].kin.pos = p;
             self.slot[i].kin.vel = v;
             self.slot[i].kin.stamp = t;
         }
+    }
+
+    /// Adds particle `i`'s m ∫ v ⊗ v dt from its stamp to `t` to `to`: with
+    /// v(s) = v₀ + g·s over T, m·(v₀⊗v₀·T + sym(v₀⊗g)·T² + g⊗g·T³/3).
+    #[inline(always)]
+    fn add_motion_kinetic(&self, to: &mut Sym3, i: usize, t: f64) {
+        let kin = &self.slot[i].kin;
+        let (m, dt, v) = (self.mass[i], t - kin.stamp, kin.vel);
+        add_kinetic(to, m * dt, v);
+        if self.has_gravity {
+            let g = self.domain.gravity;
+            add_scaled(to, sym_outer(v, g), m * dt * dt);
+            add_scaled(to, sym_outer(g, g), m * dt * dt * dt / 3.0);
+        }
+    }
+
+    /// Adds particle `i`'s motion from its stamp to `t` to the kinetic integral.
+    #[inline(always)]
+    fn integrate_kinetic(&mut self, i: usize, t: f64) {
+        let mut k = self.kinetic;
+        self.add_motion_kinetic(&mut k, i, t);
+        self.kinetic = k;
+    }
+
+    /// The kinetic integral up to `t` of the particles `members` accepts: the stored
+    /// one plus each such particle's motion from its stamp to `t` (nothing is moved).
+    pub(crate) fn kinetic_until(&self, t: f64, members: impl Fn(usize) -> bool) -> Sym3 {
+        let mut k = self.kinetic;
+        for i in (0..self.len()).filter(|&i| members(i)) {
+            self.add_motion_kinetic(&mut k, i, t);
+        }
+        k
     }
 
     /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions

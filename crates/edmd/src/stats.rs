@@ -57,6 +57,9 @@ pub struct Stats {
     /// Largest ratio of a re-contact's overlap to the overlap l(1 − ε_r) its pair was
     /// left at (at most 1: the overlap never grew).
     pub max_recontact_overlap_ratio: f64,
+    /// Σ r_ij ⊗ Δp_i over the pair impulses (xx, yy, zz, xy, xz, yz; kg·m²/s): the
+    /// collisional part of the pressure tensor (see [`emdstar_system::StressSums`]).
+    pub collisional_virial: emdstar_system::Sym3,
 }
 
 impl Stats {

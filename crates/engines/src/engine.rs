@@ -1,7 +1,7 @@
 //! One type for every engine, built from a config and the options, driven through the
 //! simulation interface.
 
-use crate::options::{EngineKind, EngineOptions};
+use crate::options::{BroadPhaseChoice, EngineKind, EngineOptions};
 use crate::setup::{event_engine, interference, md_options, mor_source};
 use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, Md};
@@ -34,6 +34,28 @@ impl AnyEngine {
                 )
             })?;
         }
+        let driving = config.driving.as_ref().map(|d| d.drive()).transpose()?;
+        let mut options = options.clone();
+        if driving.is_some() {
+            match (options.engine, options.edmd.broad_phase) {
+                (EngineKind::Hybrid, _) => bail!(
+                    "[driving] is not run by the hybrid engine (its time-driven and \
+                     event-driven parts would both have to take the kicks): use --engine md, \
+                     emd or emdstar"
+                ),
+                (EngineKind::Emd | EngineKind::EmdStar, BroadPhaseChoice::Auto) => {
+                    options.edmd.broad_phase = BroadPhaseChoice::Crossings;
+                }
+                (EngineKind::Emd | EngineKind::EmdStar, BroadPhaseChoice::Crossings) => {}
+                (EngineKind::Emd | EngineKind::EmdStar, other) => bail!(
+                    "[driving] runs on the crossings broad phase (kicks change the speeds \
+                     that {other:?} bounds its predictions by): use --broad-phase crossings \
+                     or auto"
+                ),
+                (EngineKind::Md, _) => {}
+            }
+        }
+        let options = &options;
         Ok(match options.engine {
             EngineKind::Md => {
                 let md = md_options(config, &system, &options.md, dt_fraction)?;

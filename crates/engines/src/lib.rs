@@ -23,8 +23,10 @@
 //! # Ok::<(), Box<dyn std::error::Error + Send + Sync>>(())
 //! ```
 
+pub mod drive;
 mod engine;
 mod keys;
+pub mod observe;
 mod options;
 pub mod output;
 pub mod run;

@@ -76,7 +76,12 @@ struct Setup<'a> {
     format: &'a str,
     /// `[output] restart_interval`.
     restart: f64,
+    /// Driven by white noise (`[driving]`, a tick every 0.4 ms).
+    driven: bool,
 }
+
+const DRIVING: &str =
+    "[driving]\nkind = \"white_noise\"\nstrength = 50.0\nrate = 2500.0\nseed = 3\n";
 
 /// Runs the config in `dir` as `setup` says, writing `name`.log and `name`.`format`,
 /// resuming `name`.ckpt if `resume`, to `t_end` (else the config's), under `observer`.
@@ -89,7 +94,10 @@ fn run(
     observer: &mut dyn Observer,
 ) {
     let (kind, format) = (setup.kind, setup.format);
-    let text = format!("{CONFIG}restart_interval = {}\n", setup.restart);
+    let mut text = format!("{CONFIG}restart_interval = {}\n", setup.restart);
+    if setup.driven {
+        text.push_str(DRIVING);
+    }
     let config = Config::from_toml(&text).unwrap();
     let options = EngineOptions {
         engine: kind,
@@ -130,10 +138,8 @@ fn tear(path: &Path, bytes: u64) {
     file.set_len(len.saturating_sub(bytes)).unwrap();
 }
 
-#[test]
-fn killed_or_stopped_early_and_resumed_every_engine_writes_the_files_of_one_run() {
-    let dir = scratch("kills");
-    // The kills are expected: no messages for them.
+/// The kills are expected: no messages for them.
+fn quiet_kills() {
     let report = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
         let kill = info
@@ -144,6 +150,12 @@ fn killed_or_stopped_early_and_resumed_every_engine_writes_the_files_of_one_run(
             report(info);
         }
     }));
+}
+
+#[test]
+fn killed_or_stopped_early_and_resumed_every_engine_writes_the_files_of_one_run() {
+    let dir = scratch("kills");
+    quiet_kills();
     for kind in [
         EngineKind::Md,
         EngineKind::Emd,
@@ -151,54 +163,74 @@ fn killed_or_stopped_early_and_resumed_every_engine_writes_the_files_of_one_run(
         EngineKind::Hybrid,
     ] {
         for format in ["xyz", "gsd"] {
-            let tag = format!("{}-{format}", kind.name());
-            let setup = |restart| Setup {
-                kind,
-                format,
-                restart,
-            };
-            let one = format!("{tag}-one");
-            run(&dir, setup(0.0037), &one, false, None, &mut ());
-            // Killed right after the first and the second periodic checkpoint (at
-            // 0.0037 and 0.0074 s), right after one of the same time as a log line
-            // (MD and the hybrid: 145 steps of dt = 0.02 s / 584, which ends 1 ulp
-            // before 5 log intervals of 29 steps), and in the middle of writing the log
-            // line and the frame of 0.005 s (torn: their last bytes never reached the
-            // files); and right after the checkpoint at the stop time, before the last
-            // records (MD's last log line is off its ticks), which resuming completes.
-            let cases = [
-                (0.0037, Some(1), None, 0),
-                (0.0037, Some(2), None, 0),
-                (0.001, Some(5), None, 0),
-                (0.005, Some(4), None, 0),
-                (0.0037, None, Some(0.0051), 37),
-            ];
-            for (k, (restart, after, at, torn)) in cases.into_iter().enumerate() {
-                let name = format!("{tag}-kill{k}");
-                let mut killer = Killer {
-                    path: dir.join(format!("{name}.ckpt")),
-                    inode: None,
-                    replaced: 0,
-                    after,
-                    at,
-                };
-                let killed = catch_unwind(AssertUnwindSafe(|| {
-                    run(&dir, setup(restart), &name, false, None, &mut killer)
-                }));
-                assert!(killed.is_err(), "{name} was not killed");
-                if torn > 0 {
-                    tear(&dir.join(format!("{name}.log")), torn);
-                    tear(&dir.join(format!("{name}.{format}")), torn);
-                }
-                run(&dir, setup(restart), &name, true, None, &mut ());
-                assert_same_files(&dir, &name, &one, format, &format!("killed ({k})"));
-            }
-            // Stopped by a stop time off every cadence, and resumed.
-            let name = format!("{tag}-t-end");
-            run(&dir, setup(0.0037), &name, false, Some(0.01234), &mut ());
-            run(&dir, setup(0.0037), &name, true, None, &mut ());
-            assert_same_files(&dir, &name, &one, format, "stopped at --t-end");
+            kills_and_stops(&dir, kind, format, false);
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn driven_runs_killed_or_stopped_and_resumed_write_the_files_of_one_run() {
+    // The kicks of a resumed run are those of the run that went through (the tick
+    // numbers follow from the checkpoint's time, the numbers from the seed).
+    let dir = scratch("driven");
+    quiet_kills();
+    for kind in [EngineKind::Md, EngineKind::Emd, EngineKind::EmdStar] {
+        kills_and_stops(&dir, kind, "xyz", true);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Runs of `kind` writing `format` (driven or not) killed at several points of the
+/// loop or stopped at a stop time, and resumed: the files of a run that went through.
+fn kills_and_stops(dir: &Path, kind: EngineKind, format: &str, driven: bool) {
+    let dir = dir.to_path_buf();
+    let tag = format!("{}-{format}-{driven}", kind.name());
+    let setup = |restart| Setup {
+        kind,
+        format,
+        restart,
+        driven,
+    };
+    let one = format!("{tag}-one");
+    run(&dir, setup(0.0037), &one, false, None, &mut ());
+    // Killed right after the first and the second periodic checkpoint (at
+    // 0.0037 and 0.0074 s), right after one of the same time as a log line
+    // (MD and the hybrid: 145 steps of dt = 0.02 s / 584, which ends 1 ulp
+    // before 5 log intervals of 29 steps), and in the middle of writing the log
+    // line and the frame of 0.005 s (torn: their last bytes never reached the
+    // files); and right after the checkpoint at the stop time, before the last
+    // records (MD's last log line is off its ticks), which resuming completes.
+    let cases = [
+        (0.0037, Some(1), None, 0),
+        (0.0037, Some(2), None, 0),
+        (0.001, Some(5), None, 0),
+        (0.005, Some(4), None, 0),
+        (0.0037, None, Some(0.0051), 37),
+    ];
+    for (k, (restart, after, at, torn)) in cases.into_iter().enumerate() {
+        let name = format!("{tag}-kill{k}");
+        let mut killer = Killer {
+            path: dir.join(format!("{name}.ckpt")),
+            inode: None,
+            replaced: 0,
+            after,
+            at,
+        };
+        let killed = catch_unwind(AssertUnwindSafe(|| {
+            run(&dir, setup(restart), &name, false, None, &mut killer)
+        }));
+        assert!(killed.is_err(), "{name} was not killed");
+        if torn > 0 {
+            tear(&dir.join(format!("{name}.log")), torn);
+            tear(&dir.join(format!("{name}.{format}")), torn);
+        }
+        run(&dir, setup(restart), &name, true, None, &mut ());
+        assert_same_files(&dir, &name, &one, format, &format!("killed ({k})"));
+    }
+    // Stopped by a stop time off every cadence, and resumed.
+    let name = format!("{tag}-t-end");
+    run(&dir, setup(0.0037), &name, false, Some(0.01234), &mut ());
+    run(&dir, setup(0.0037), &name, true, None, &mut ());
+    assert_same_files(&dir, &name, &one, format, "stopped at --t-end");
 }

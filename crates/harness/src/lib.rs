@@ -16,12 +16,15 @@
 //!   asymptotic laws of Haff (constant ε) and of viscoelastic spheres;
 //! - [`speed`]: wall time of MD against eMD* for the same simulated time;
 //! - [`floor`]: the cost floor of eMD*'s cell crossings on its own grid and queue;
+//! - [`theory`]: elastic hard spheres against Carnahan–Starling, the cooling state's
+//!   a₂ against van Noije & Ernst, through the engines' observables;
 //! - [`check`]: a numbered check with its bar and verdict;
 //! - [`engines`]: building systems and driving the three engines on them.
 
 pub mod check;
 pub mod cooling;
 pub mod diffusion;
+pub mod driven;
 pub mod engines;
 pub mod exceptions;
 pub mod fig6;
@@ -33,6 +36,7 @@ pub mod pairs;
 pub use emdstar_plot as plot;
 pub mod speed;
 pub mod stats;
+pub mod theory;
 
 mod error;
 

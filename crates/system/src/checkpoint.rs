@@ -19,8 +19,10 @@ const MAGIC: &[u8; 8] = b"EMDSTAR\x00";
 /// particle's last pair collision; 4: a cell grid holds
 /// each particle's cell, not its per-cell index; 5: the hybrid keeps spins' angular
 /// accelerations and the springs of its time-driven contacts; 6: the event engines keep
-/// their counts of frictional eMD* solves and fallback kicks).
-pub const CHECKPOINT_VERSION: u32 = 7;
+/// their counts of frictional eMD* solves and fallback kicks; 7: each particle's last
+/// collision time for the TC model; 8: every engine keeps the sums behind the pressure
+/// tensor and the collision rate, and the thermo log's mark).
+pub const CHECKPOINT_VERSION: u32 = 8;
 
 /// A saved run.
 #[derive(Debug, Clone, PartialEq)]

@@ -127,6 +127,8 @@ pub struct Config {
     /// working directory when `None`).
     #[serde(skip)]
     pub dir: Option<std::path::PathBuf>,
+    /// A thermostat feeding energy at regular ticks (see [`crate::Drive`]).
+    pub driving: Option<crate::driving::DrivingConfig>,
 }
 
 /// One `[[particles]]` entry.

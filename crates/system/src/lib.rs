@@ -15,7 +15,8 @@
 //! - [`CellGrid`] for neighbour searches;
 //! - [`Simulation`], the one interface of every engine, and [`Checkpoint`] files of
 //!   their saved states;
-//! - writers: extended XYZ trajectories for OVITO and a thermo log;
+//! - writers: extended XYZ trajectories for OVITO and a thermo log, with the pressure
+//!   tensor, collision rate and Sonine coefficient ([`StressSums`], [`Observables`]);
 //! - [`stop`]: the request to stop a run that every engine reads at each event or step.
 
 // Component loops `for k in 0..3` over several arrays read best as they are.
@@ -25,6 +26,7 @@ mod checkpoint;
 mod config;
 mod contact_check;
 mod domain;
+mod driving;
 mod error;
 mod files;
 mod gas;
@@ -41,6 +43,7 @@ mod parse;
 mod simulation;
 mod state;
 pub mod stop;
+mod stress;
 mod system;
 mod tail;
 mod writers;
@@ -50,6 +53,7 @@ pub use config::{
     BoxConfig, Config, EventsConfig, MdConfig, OutputConfig, ParticleConfig, WallConfig,
 };
 pub use domain::Domain;
+pub use driving::{Drive, DriveKind, DrivingConfig};
 pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};
@@ -63,8 +67,11 @@ pub use key_lines::KeyLines;
 pub use material_config::{InteractionConfig, MaterialConfig};
 pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
 pub use methods::Method;
-pub use simulation::{Simulation, SimulationError};
+pub use simulation::{Simulation, SimulationError, VelocityChange};
 pub use state::{Particles, Species, permute};
+pub use stress::{
+    Observables, StressMark, StressSums, Sym3, add_kinetic, add_scaled, sonine_a2, sym_outer,
+};
 pub use system::System;
 pub use tail::{Cut, KeepUntil};
 pub use writers::{Thermo, ThermoLog, XyzWriter};

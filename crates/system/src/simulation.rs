@@ -3,11 +3,16 @@
 
 use crate::domain::Domain;
 use crate::state::Particles;
+use crate::stress::{StressMark, StressSums};
 use crate::writers::Thermo;
 
 /// Why an engine could not go on: its own error, boxed (each message says what was
 /// wrong and how to fix it).
 pub type SimulationError = Box<dyn std::error::Error + Send + Sync + 'static>;
+
+/// What [`Simulation::change_velocities`] applies: the velocities in config order, to
+/// change in place, and the masses.
+pub type VelocityChange<'a> = dyn FnMut(&mut [[f64; 3]], &[f64]) + 'a;
 
 /// A simulation run by any engine of the workspace (force-based MD, the event engines,
 /// the hybrid), as the command line and the cross-validation harness drive it.
@@ -53,6 +58,23 @@ pub trait Simulation {
 
     /// Energies, granular temperature, momentum and contacts now.
     fn thermo(&self) -> Thermo;
+
+    /// The sums behind the pressure tensor and the collision rate, from the start of
+    /// the run to now (see [`StressSums`]).
+    fn stress_sums(&self) -> StressSums;
+
+    /// The sums and time [`Simulation::mark_stress`] kept last (none before).
+    fn stress_mark(&self) -> Option<StressMark>;
+
+    /// Keeps the sums now and the time as the mark (saved with the state): where the
+    /// thermo log's next interval starts.
+    fn mark_stress(&mut self);
+
+    /// Changes the velocities now: `change` gets them in config order (in step with the
+    /// positions) with the masses, and the engine goes on from what it left (a thermostat's
+    /// tick, [`crate::Drive`]). Engines that cannot say why.
+    fn change_velocities(&mut self, change: &mut VelocityChange<'_>)
+    -> Result<(), SimulationError>;
 
     /// The particles now, in config order; a particle inside an eMD* collision shows
     /// the velocity it will leave with.

@@ -4,6 +4,7 @@ use crate::error::{Result, SystemError};
 use crate::files::OutputFile;
 use crate::geometry::{SimBox, bounding_box};
 use crate::state::Particles;
+use crate::stress::Observables;
 use crate::tail::{Cut, KeepUntil, LogLines, XyzFrames, cut_after};
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
@@ -204,10 +205,12 @@ impl ThermoLog {
     /// The header line.
     const HEADER: &str = "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
                           granular_temperature[J] px[kg*m/s] py pz contacts \
-                          rotational_energy[J] rotational_temperature[J]\n";
+                          rotational_energy[J] rotational_temperature[J] pressure[Pa] \
+                          pxx[Pa] pyy[Pa] pzz[Pa] pxy[Pa] pxz[Pa] pyz[Pa] \
+                          collision_rate[1/s] sonine_a2\n";
 
-    /// Bytes a line takes at most: twelve numbers of up to 24 characters.
-    pub const LINE_BYTES: u64 = 12 * 25;
+    /// Bytes a line takes at most: twenty-one numbers of up to 24 characters.
+    pub const LINE_BYTES: u64 = 21 * 25;
 
     /// Claims the file at `path`, empties it and writes the header.
     pub fn create(path: &Path) -> Result<Self> {
@@ -249,10 +252,10 @@ impl ThermoLog {
         ))
     }
 
-    /// Appends one line.
-    pub fn write(&mut self, th: &Thermo) -> Result<()> {
-        let line = format!(
-            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {} {:e} {:e}\n",
+    /// Appends one line: `th`, then the observables of the interval it ends.
+    pub fn write(&mut self, th: &Thermo, obs: &Observables) -> Result<()> {
+        let mut line = format!(
+            "{:e} {} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {} {:e} {:e}",
             th.t,
             th.step,
             th.kinetic_energy,
@@ -266,6 +269,14 @@ impl ThermoLog {
             th.rotational_energy,
             th.rotational_temperature
         );
+        for x in [obs.pressure]
+            .iter()
+            .chain(&obs.tensor)
+            .chain(&[obs.collision_rate, obs.sonine_a2])
+        {
+            line.push_str(&format!(" {x:e}"));
+        }
+        line.push('\n');
         self.out
             .write_all(line.as_bytes())
             .map_err(io_error(&self.path))

@@ -2,7 +2,7 @@
 //! exactly the bytes it held when the checkpoint was written, whatever the killed run
 //! added after it (whole records, and a last record cut at any byte).
 
-use emdstar_system::{Cut, Particles, Thermo, ThermoLog, XyzWriter};
+use emdstar_system::{Cut, Observables, Particles, Thermo, ThermoLog, XyzWriter};
 use std::path::{Path, PathBuf};
 
 fn scratch(name: &str) -> PathBuf {
@@ -104,7 +104,7 @@ fn a_log_is_cut_back_to_its_checkpoint() {
     let line = {
         let mut log = ThermoLog::create(&path).unwrap();
         let header = std::fs::read(&path).unwrap().len();
-        log.write(&thermo(7.0)).unwrap();
+        log.write(&thermo(7.0), &Observables::UNKNOWN).unwrap();
         std::fs::read(&path).unwrap()[header..].to_vec()
     };
     for (t_ckpt, kept_lines) in [(2.0, 3), (2.5, 3), (-1.0, 0), (4.0, 5)] {
@@ -112,7 +112,7 @@ fn a_log_is_cut_back_to_its_checkpoint() {
             let mut log = ThermoLog::create(&path).unwrap();
             let mut at_checkpoint = std::fs::read(&path).unwrap();
             for k in 0..5 {
-                log.write(&thermo(k as f64)).unwrap();
+                log.write(&thermo(k as f64), &Observables::UNKNOWN).unwrap();
                 if k + 1 == kept_lines {
                     at_checkpoint = std::fs::read(&path).unwrap();
                 }

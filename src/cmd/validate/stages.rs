@@ -17,6 +17,7 @@ pub fn run(name: &str, args: &ValidateArgs) -> Result<StageOutput> {
         "speed" => super::speed::run(args),
         "friction-pairs" => super::friction::pairs(args),
         "friction-cooling" => super::friction::cooling(args),
+        "theory" => super::theory::run(args),
         other => Err(anyhow!("scenario {other} is not built yet")),
     }
 }

@@ -7,7 +7,10 @@ mod joining;
 mod members;
 mod slots;
 mod snapshot;
+mod stress;
 mod sync;
+
+pub use stress::LazyKinetic;
 
 pub use members::{All, Members};
 
@@ -16,7 +19,9 @@ use crate::frictional::Rotation;
 use crate::neighbour::{INDEX_MASK, NeighbourList};
 use crate::options::{MdError, MdOptions};
 use crate::verlet::{kick_contacts, kick_drift, max_nan};
-use emdstar_system::{Particles, SimBox, System, permute};
+use emdstar_system::{
+    Particles, SimBox, StressMark, StressSums, Sym3, System, add_kinetic, permute,
+};
 use rayon::prelude::*;
 use slots::{Buffers, FrictionalKind, SlotKind, SmoothKind};
 
@@ -60,6 +65,14 @@ pub struct Verlet {
     /// Friction: torques and springs. `None` where every contact is frictionless: the
     /// steps then never touch the spins.
     pub(crate) rotation: Option<Box<Rotation>>,
+    /// The sums behind the pressure tensor and the collision rate (see
+    /// [`Verlet::stress_sums`]).
+    pub(crate) stress: StressSums,
+    /// The sums at the time of the last mark (see [`Verlet::mark_stress`]).
+    pub(crate) stress_mark: Option<StressMark>,
+    /// MD without gravity: the kinetic tensor kept by particle, added when a velocity
+    /// changes (see [`LazyKinetic`]); `None`: summed at every step.
+    pub(crate) lazy: Option<LazyKinetic>,
 }
 
 impl Verlet {
@@ -85,6 +98,9 @@ impl Verlet {
                 .interactions
                 .is_frictional()
                 .then(|| Box::new(Rotation::new(&system.particles))),
+            stress: StressSums::default(),
+            stress_mark: None,
+            lazy: None,
         }
     }
 
@@ -148,7 +164,10 @@ impl Verlet {
 
     /// v += a_contact·`kick` for the particles in contact, and their spins likewise;
     /// returns their largest |v|² (NaN passes).
-    pub fn kick(&self, p: &mut Particles, kick: f64) -> f64 {
+    pub fn kick(&mut self, p: &mut Particles, kick: f64) -> f64 {
+        if let Some(lazy) = self.lazy.as_mut() {
+            lazy.flush(&self.touched, p, self.opts.dt, &mut self.stress.kinetic);
+        }
         let v2 = kick_contacts(&mut p.velocity, &self.contact_acc, &self.touched, kick);
         if let Some(rot) = &self.rotation {
             kick_contacts(
@@ -207,6 +226,9 @@ impl Verlet {
         p.permute(&order);
         permute(&mut self.inv_mass, &order);
         permute(&mut self.contact_acc, &order);
+        if let Some(lazy) = self.lazy.as_mut() {
+            permute(&mut lazy.since, &order);
+        }
         if let Some(rot) = self.rotation.as_mut() {
             rot.permute(&order);
         }
@@ -264,6 +286,9 @@ impl Verlet {
         self.v_max = v2.sqrt();
         self.drift_bound += self.v_max * dt;
         self.lagging = true;
+        if let Some(lazy) = self.lazy.as_mut() {
+            lazy.drifts += 1;
+        }
     }
 
     /// The drift and the contacts of one step, in one pass on one thread or in two
@@ -277,14 +302,17 @@ impl Verlet {
         dt: f64,
         h: f64,
     ) -> f64 {
+        let tight = self.lazy.is_none();
         let v2 = if rayon::current_num_threads() == 1 || system.particles.len() <= CHUNK {
             self.sweep_fused::<K, M>(system, members, gk, dt, h)
         } else {
-            let v2 = drift_all(&mut system.particles, members, gk, dt);
+            let (v2, kinetic) = drift_all(&mut system.particles, members, gk, dt, tight);
+            self.add_chunk_kinetics(&kinetic, dt);
             self.find_contacts_parallel::<K, M>(system, members, h);
             v2
         };
         self.apply::<K>();
+        self.add_virial::<K>(system, dt);
         v2
     }
 
@@ -309,6 +337,9 @@ impl Verlet {
         let n = position.len();
         // Without gravity the velocities need not be written back (less memory traffic).
         let gravity = gk != [0.0; 3];
+        let mass = &system.particles.mass;
+        let tight = self.lazy.is_none();
+        let mut kinetic = vec![[0.0; 6]; buffers.len()];
         for (c, buf) in buffers.iter_mut().enumerate() {
             buf.clear();
             for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
@@ -335,8 +366,22 @@ impl Verlet {
                     }
                 }
             }
+            // The drift velocities (stored now), while the chunk is in the cache: a tight
+            // loop (the force kernel's calls would spill the sums).
+            if !tight {
+                continue;
+            }
+            let range = c * CHUNK..((c + 1) * CHUNK).min(n);
+            let mut k = [0.0; 6];
+            for (i, (v, &m)) in velocity[range.clone()].iter().zip(&mass[range]).enumerate() {
+                if members.contains(c * CHUNK + i) {
+                    add_kinetic(&mut k, m, *v);
+                }
+            }
+            kinetic[c] = k;
         }
         drop(kernel);
+        self.add_chunk_kinetics(&kinetic, dt);
         let p = &mut system.particles;
         p.position = position;
         p.velocity = velocity;
@@ -475,17 +520,27 @@ fn partner(entry: u32) -> usize {
 }
 
 /// The gravity kick and the drift of every member, in parallel over fixed chunks.
-/// Returns max |v|².
-fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -> f64 {
+/// Returns max |v|² and each chunk's Σ m v ⊗ v of the drift's velocities.
+fn drift_all<M: Members>(
+    p: &mut Particles,
+    members: M,
+    gk: [f64; 3],
+    dt: f64,
+    tight: bool,
+) -> (f64, Vec<Sym3>) {
     let gravity = gk != [0.0; 3];
-    p.position
+    let mass = &p.mass;
+    let chunks: Vec<(f64, Sym3)> = p
+        .position
         .par_chunks_mut(CHUNK)
         .zip(p.velocity.par_chunks_mut(CHUNK))
         .enumerate()
         .map(|(c, (x, v))| {
             let mut v2_max: f64 = 0.0;
+            let mut kinetic = [0.0; 6];
             for (k, (x, v)) in x.iter_mut().zip(v.iter_mut()).enumerate() {
-                if !members.contains(c * CHUNK + k) {
+                let i = c * CHUNK + k;
+                if !members.contains(i) {
                     continue;
                 }
                 // Copies: re-reading just-stored components stalls the CPU.
@@ -494,14 +549,19 @@ fn drift_all<M: Members>(p: &mut Particles, members: M, gk: [f64; 3], dt: f64) -
                 if gravity {
                     *v = w;
                 }
+                if tight {
+                    add_kinetic(&mut kinetic, mass[i], w);
+                }
                 let w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
                 if w2 > v2_max {
                     v2_max = w2;
                 }
             }
-            v2_max
+            (v2_max, kinetic)
         })
-        .reduce(|| 0.0, f64::max)
+        .collect();
+    let v2 = chunks.iter().map(|c| c.0).fold(0.0, f64::max);
+    (v2, chunks.into_iter().map(|c| c.1).collect())
 }
 
 /// Checks that every particle (but those `skip` names) has a finite state and stays

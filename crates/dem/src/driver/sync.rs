@@ -58,6 +58,17 @@ impl Verlet {
         Ok(())
     }
 
+    /// The velocities (in step) were changed from outside: the largest speed, which
+    /// bounds the drift between list rebuilds, follows them.
+    pub fn speeds_changed(&mut self, p: &Particles) {
+        self.v_max = p
+            .velocity
+            .iter()
+            .map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            .fold(0.0, max_nan)
+            .sqrt();
+    }
+
     /// The members' velocities now (the others' as stored): with the pending half kick
     /// applied (the arithmetic of [`Verlet::synchronise`]).
     pub fn velocities_now<M: Members>(

@@ -5,7 +5,7 @@ mod snapshot;
 
 use crate::driver::{All, Verlet};
 use crate::options::{MdError, MdOptions, prepare_system};
-use emdstar_system::{Method, Particles, System, Thermo};
+use emdstar_system::{Method, Particles, System, Thermo, VelocityChange};
 
 /// A force-based simulation of one [`System`].
 pub struct Md {
@@ -23,6 +23,9 @@ impl Md {
         system.interactions.check_runs_on(Method::Md, walls)?;
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         let mut verlet = Verlet::new(&system, opts, skin);
+        if system.domain.gravity == [0.0; 3] {
+            verlet.keep_kinetic_by_particle(system.particles.len());
+        }
         verlet.rebuild(&mut system, 0.0, |_| false)?;
         // Forces at t = 0 with the velocities themselves (h = 0).
         verlet.start_forces(&system, All);
@@ -57,6 +60,17 @@ impl Md {
     /// The Verlet-list skin in use, in m.
     pub fn skin(&self) -> f64 {
         self.verlet.skin
+    }
+
+    /// Keeps the stress sums now as the mark (see [`Verlet::mark_stress`]).
+    pub fn mark_stress(&mut self) {
+        let t = self.time();
+        self.verlet.mark_stress(t, &self.system.particles);
+    }
+
+    /// The Verlet driver (its options, list and the sums of [`Verlet::stress_sums`]).
+    pub fn verlet(&self) -> &Verlet {
+        &self.verlet
     }
 
     /// The system; particles are in the engine's (cell-sorted) order, see
@@ -111,6 +125,27 @@ impl Md {
             }
             self.step()?;
         }
+        Ok(())
+    }
+
+    /// Changes the velocities now (see [`emdstar_system::Simulation::change_velocities`]):
+    /// the pending half kick first, then `change` in config order; the list's speed bound
+    /// follows the new velocities.
+    pub fn change_velocities(&mut self, change: &mut VelocityChange<'_>) -> Result<(), MdError> {
+        self.synchronise()?;
+        self.verlet.flush_kinetic(&self.system.particles);
+        let p = &mut self.system.particles;
+        let n = p.len();
+        let (mut v, mut m) = (vec![[0.0; 3]; n], vec![0.0; n]);
+        for k in 0..n {
+            let id = p.id[k] as usize;
+            (v[id], m[id]) = (p.velocity[k], p.mass[k]);
+        }
+        change(&mut v, &m);
+        for k in 0..n {
+            p.velocity[k] = v[p.id[k] as usize];
+        }
+        self.verlet.speeds_changed(p);
         Ok(())
     }
 

@@ -12,6 +12,7 @@ mod frictional;
 mod probe;
 mod recontact;
 mod rule;
+mod virial;
 
 pub use probe::{NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
@@ -23,7 +24,7 @@ use crate::error::Result;
 use crate::physics::Interference;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_system::Wall;
+use emdstar_system::{Wall, add_scaled};
 
 /// What the collision rules need of an engine. Particles are numbered by the host;
 /// partner `n + w` (n = [`Host::particles`]) is wall w.
@@ -237,6 +238,9 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
         rule.pair(&mut ctx, &parties, &impact)?
     };
     let mut fallback = None;
+    // eMD*: the E^v impulses, at the separation E^φ places the pair at (kept until E^v:
+    // the pair moves with its centre of mass), counted once the E^φ stands.
+    let mut later = [0.0; 6];
     match decision {
         Decision::Kick(kick) => {
             if emdstar {
@@ -259,6 +263,7 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
             });
             fallback = Some(t.fallback);
             note_contact(h, i, j, t.overlap_left);
+            later = virial::velocity_events(&t, [parties[0].mass, parties[1].mass]);
             begin_transients(h, &[i, j], &t, [j as u32, i as u32]);
         }
     }
@@ -279,9 +284,14 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
         if let Some(kick) = fallback {
             apply_kick(h, &[i, j], &kick);
         }
+        later = [0.0; 6];
         h.predict(i);
         h.predict(j);
     }
+    let after = [h.velocity(i), h.velocity(j)];
+    let w = &mut h.stats().collisional_virial;
+    virial::add_pair_impulse(w, r, &parties, after);
+    add_scaled(w, later, 1.0);
     Ok(true)
 }
 

@@ -233,6 +233,8 @@ impl<Q: EventQueue> Prepared<Q> {
             domain,
             has_gravity,
             stats: Stats::default(),
+            kinetic: [0.0; 6],
+            stress_mark: None,
             zero_streak: 0,
             probe: None,
         };

@@ -4,6 +4,7 @@
 //! and moved on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
 
 pub(crate) mod build;
+mod drive;
 mod hooks;
 mod host;
 mod members;

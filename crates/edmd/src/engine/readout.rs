@@ -6,7 +6,7 @@ use crate::broad_phase::BroadPhase;
 use crate::collision::transient_gravity;
 use crate::queue::EventQueue;
 use emdstar_contact::vec3::dot;
-use emdstar_system::{Domain, Particles, Thermo};
+use emdstar_system::{Domain, Particles, StressMark, StressSums, Thermo};
 
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// Brings every particle to the current time (for output and measurements).
@@ -152,6 +152,28 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             momentum: p.momentum(),
             contacts: 0,
         }
+    }
+
+    /// The sums behind the pressure tensor and the collision rate since the start
+    /// (see [`StressSums`]), counting the motion of the particles `members` accepts
+    /// (all but in the hybrid, whose time-driven particles the core does not move).
+    pub fn stress_sums(&self, members: impl Fn(usize) -> bool) -> StressSums {
+        let s = &self.state;
+        StressSums {
+            kinetic: s.kinetic_until(s.time, members),
+            collisional: s.stats.collisional_virial,
+            collisions: s.stats.pair_collisions,
+        }
+    }
+
+    /// The sums and time of the last mark.
+    pub fn stress_mark(&self) -> Option<StressMark> {
+        self.state.stress_mark
+    }
+
+    /// Keeps `sums` (this engine's, or the hybrid's) at time `t` as the mark.
+    pub fn mark_stress(&mut self, t: f64, sums: StressSums) {
+        self.state.stress_mark = Some(StressMark { t, sums });
     }
 
     /// The box, walls (unit normals) and gravity.

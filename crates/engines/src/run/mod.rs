@@ -21,8 +21,9 @@ use crate::output::{
     Cadence, CheckpointOutput, End, LogOutput, ModeCounts, ModePoint, Output, Recorder,
     TrajectoryOutput,
 };
+use crate::{drive, observe};
 use anyhow::{Context, Result};
-use emdstar_system::{CheckpointFile, Config, Cut, OutputFile, Thermo, stop};
+use emdstar_system::{CheckpointFile, Config, Cut, Drive, Observables, OutputFile, Thermo, stop};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -72,6 +73,9 @@ pub struct Outcome {
     /// The thermo quantities when the run started and when it ended.
     pub first: Thermo,
     pub last: Thermo,
+    /// The run's means: pressure tensor and collision rate over the whole run (this
+    /// piece of it, if resumed), a₂ over the log's lines (NaN without a log).
+    pub means: Observables,
     /// Steps or events done by this run (a resumed run counts from its checkpoint).
     pub work: u64,
     pub wall_seconds: f64,
@@ -82,6 +86,8 @@ pub struct Outcome {
 /// A run being prepared, started and driven (see the module documentation).
 pub struct Run {
     engine: AnyEngine,
+    /// The config's thermostat, if any.
+    drive: Option<Drive>,
     t_end: f64,
     resumed_at: Option<f64>,
     outputs: Outputs,
@@ -197,8 +203,10 @@ impl Run {
             files.checkpoint.is_some(),
             config.digest(),
         );
+        let drive = config.driving.as_ref().map(|d| d.drive()).transpose()?;
         Ok(Self {
             engine,
+            drive,
             t_end: stop_at,
             resumed_at,
             outputs: Outputs {
@@ -299,6 +307,7 @@ impl Run {
         // How far one call advances at most: progress is reported in between.
         let quantum = (span / 1000.0).max(step.unwrap_or(0.0));
         let first = self.engine.sim().thermo();
+        let start = observe::reading(self.engine.sim());
         let clock = Instant::now();
         let mut cost_noted = false;
         self.write_due(tolerance)?;
@@ -319,7 +328,7 @@ impl Run {
                 .map(|o| o.next_due())
                 .fold(f64::INFINITY, f64::min);
             let target = self.t_end.min(now + quantum).min(due);
-            if let Err(e) = self.engine.sim_mut().advance_to(target) {
+            if let Err(e) = drive::advance(self.engine.sim_mut(), self.drive.as_ref(), target) {
                 // What was written stays readable; no checkpoint of a failed state.
                 for o in self.outputs.all() {
                     o.sync()?;
@@ -339,8 +348,15 @@ impl Run {
         for o in self.outputs.all() {
             o.finish(&self.engine, end)?;
         }
+        let mut means = observe::since(self.engine.sim(), Some(&start));
+        means.sonine_a2 = self
+            .outputs
+            .log
+            .as_ref()
+            .map_or(f64::NAN, |l| l.mean_sonine_a2());
         Ok(Outcome {
             first,
+            means,
             last: self.engine.sim().thermo(),
             work: self.engine.sim().steps_done() - work_start,
             wall_seconds,
@@ -356,15 +372,21 @@ impl Run {
     fn write_due(&mut self, tolerance: f64) -> Result<()> {
         let t = self.engine.sim().time();
         let mut outputs = self.outputs.all();
-        let mut saves = false;
+        let (mut saves, mut logged) = (false, false);
         for o in outputs.iter_mut() {
             if o.next_due() <= t + tolerance {
                 if o.saves_state() {
                     saves = true;
                 } else {
                     o.write(&self.engine)?;
+                    logged |= o.name() == "log";
                 }
             }
+        }
+        if logged {
+            // The log's next interval starts here (the mark goes into checkpoints; a
+            // last line that was not due leaves it, as a resumed run cuts that line).
+            self.engine.sim_mut().mark_stress();
         }
         if saves {
             for o in outputs.iter_mut() {

@@ -4,7 +4,7 @@
 use super::Hybrid;
 use crate::options::Mode;
 use emdstar_dem::{ContactEnd, ForceModel};
-use emdstar_system::{Particles, Thermo};
+use emdstar_system::{Particles, StressMark, StressSums, Thermo};
 
 impl Hybrid {
     /// The particles now, in the engine's order: TD velocities and spins with their
@@ -27,6 +27,32 @@ impl Hybrid {
             }
         }
         now
+    }
+
+    /// The sums behind the pressure tensor and the collision rate: the time-driven
+    /// part's (its drift velocities, the forces between its particles) plus the event
+    /// core's (its members' motion, the impulses of its collisions).
+    pub fn stress_sums(&self) -> StressSums {
+        let (td, ed) = (
+            self.td.stress_sums(&self.system.particles),
+            self.ed.stress_sums(|i| self.modes.of(i) == Mode::Event),
+        );
+        StressSums {
+            kinetic: std::array::from_fn(|k| td.kinetic[k] + ed.kinetic[k]),
+            collisional: std::array::from_fn(|k| td.collisional[k] + ed.collisional[k]),
+            collisions: td.collisions + ed.collisions,
+        }
+    }
+
+    /// The sums and time of the last mark (kept with the event core's state).
+    pub fn ed_stress_mark(&self) -> Option<StressMark> {
+        self.ed.stress_mark()
+    }
+
+    /// Keeps the hybrid's sums now as the mark.
+    pub fn mark_stress(&mut self) {
+        let sums = self.stress_sums();
+        self.ed.mark_stress(self.time(), sums);
     }
 
     /// The particles now, in config order (see [`Hybrid::particles_now`]).

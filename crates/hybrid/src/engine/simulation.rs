@@ -1,7 +1,9 @@
 //! The hybrid engine behind the workspace's one simulation interface.
 
 use super::Hybrid;
-use emdstar_system::{Domain, Particles, Simulation, SimulationError, Thermo};
+use emdstar_system::{
+    Domain, Particles, Simulation, SimulationError, StressMark, StressSums, Thermo, VelocityChange,
+};
 
 impl Simulation for Hybrid {
     fn engine(&self) -> &'static str {
@@ -34,6 +36,27 @@ impl Simulation for Hybrid {
 
     fn thermo(&self) -> Thermo {
         Hybrid::thermo(self)
+    }
+
+    fn stress_sums(&self) -> StressSums {
+        Hybrid::stress_sums(self)
+    }
+
+    fn stress_mark(&self) -> Option<StressMark> {
+        self.ed_stress_mark()
+    }
+
+    fn mark_stress(&mut self) {
+        Hybrid::mark_stress(self);
+    }
+
+    /// Not run: the time-driven part's pending kicks and the event core's predictions
+    /// would both have to follow.
+    fn change_velocities(
+        &mut self,
+        _change: &mut VelocityChange<'_>,
+    ) -> Result<(), SimulationError> {
+        Err("the hybrid engine does not run [driving]: use --engine md, emd or emdstar".into())
     }
 
     fn particles(&self) -> Particles {

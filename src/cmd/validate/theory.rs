@@ -1,0 +1,210 @@
+//! Scenario 8 of `emdstar validate`: gases against kinetic theory through the
+//! observables of the thermo log (pressure tensor, collision rate, Sonine a₂).
+
+use super::{StageOutput, ValidateArgs, bar};
+use anyhow::{Result, anyhow};
+use emdstar_engines::EngineKind;
+use emdstar_harness::Check;
+use emdstar_harness::driven::{DrivenSettings, driven_a2, driven_state};
+use emdstar_harness::theory::{
+    CoolingSettings, EosSettings, cooling_state_a2, hard_sphere_eos, plot_a2, plot_eos,
+};
+use serde_json::json;
+
+/// Elastic hard spheres against Carnahan–Starling, and the homogeneous cooling state's
+/// a₂ against van Noije & Ernst.
+pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
+    let eos = EosSettings {
+        etas: vec![0.1, 0.2, 0.3, 0.4],
+        count: if args.full { 4000 } else { 864 },
+        equilibrate: 20.0,
+        measure: if args.full { 500.0 } else { 100.0 },
+        seed: args.seed,
+    };
+    let cooling = CoolingSettings {
+        restitution: 0.8,
+        eta: 0.1,
+        count: if args.full { 20_000 } else { 4000 },
+        transient: 5.0,
+        measure: if args.full { 100.0 } else { 40.0 },
+        seed: args.seed,
+    };
+    let driven = DrivenSettings {
+        restitution: 0.8,
+        eta: 0.05,
+        count: if args.full { 8000 } else { 2000 },
+        stiffness: 1e7,
+        strength: 2.0,
+        rate: 400.0,
+        relax: 10.0,
+        measure: if args.full { 200.0 } else { 60.0 },
+        seed: args.seed,
+    };
+    let pair = DrivenSettings {
+        count: if args.full { 8000 } else { 2000 },
+        stiffness: 1e4,
+        measure: if args.full { 200.0 } else { 60.0 },
+        ..driven.clone()
+    };
+    let b = bar("theory", eos.etas.len() as u64 + 4);
+    b.set_message(format!(
+        "eMD: hard spheres at η = 0.1–0.4 (N = {}), a cooling state (N = {})",
+        eos.count, cooling.count
+    ));
+    let points = hard_sphere_eos(&eos, &|| b.inc(1))?;
+    let hcs = cooling_state_a2(&cooling)?;
+    b.inc(1);
+    let hard = driven_state(&driven, EngineKind::Emd)?;
+    b.inc(1);
+    let md = driven_state(&pair, EngineKind::Md)?;
+    b.inc(1);
+    let star = driven_state(&pair, EngineKind::EmdStar)?;
+    b.inc(1);
+    b.finish();
+    let driven_png = args.out.join("theory_driven_temperature.png");
+    emdstar_harness::driven::plot(&[&hard], driven.theory_temperature(), &driven_png)
+        .map_err(|e| anyhow!(e))?;
+    let pair_png = args.out.join("theory_driven_emdstar_md.png");
+    emdstar_harness::driven::plot(&[&md, &star], pair.theory_temperature(), &pair_png)
+        .map_err(|e| anyhow!(e))?;
+    // Two independent means: their difference's standard error.
+    let apart = |a: f64, ea: f64, b: f64, eb: f64| ((a - b).abs(), 3.0 * ea.hypot(eb));
+    let (t_off, t_bar) = apart(
+        star.temperature,
+        star.temperature_error,
+        md.temperature,
+        md.temperature_error,
+    );
+    let (p_off, p_bar) = apart(
+        star.pressure,
+        star.pressure_error,
+        md.pressure,
+        md.pressure_error,
+    );
+    let (a_off, a_bar) = apart(star.a2, star.a2_error, md.a2, md.a2_error);
+    let speed = (md.wall_seconds / md.time) / (star.wall_seconds / star.time);
+    let eos_png = args.out.join("theory_carnahan_starling.png");
+    plot_eos(&points, &eos_png).map_err(|e| anyhow!(e))?;
+    let a2_png = args.out.join("theory_cooling_a2.png");
+    plot_a2(&[("Homogeneous cooling state (eMD)", &hcs)], &a2_png).map_err(|e| anyhow!(e))?;
+    let worst = points
+        .iter()
+        .map(|p| (p.z / p.carnahan_starling - 1.0).abs())
+        .fold(0.0, f64::max);
+    let checks = vec![
+        Check::at_most(
+            "8a",
+            "elastic hard spheres (eMD): max |Z/Z_CS − 1| at η = 0.1, 0.2, 0.3, 0.4 (pressure from Σ r⊗Δp)",
+            worst,
+            0.01,
+        ),
+        Check::at_most(
+            "8b",
+            format!(
+                "cooling state ε = {}: |a₂ − a₂(van Noije & Ernst)| within 3 standard errors ({:.4} ± {:.4} against {:.4})",
+                hcs.restitution, hcs.a2, hcs.a2_error, hcs.theory
+            ),
+            (hcs.a2 - hcs.theory).abs(),
+            3.0 * hcs.a2_error,
+        ),
+        Check::at_most(
+            "8c",
+            format!(
+                "white-noise driven hard spheres (eMD, ε = {}, η = {}): |T/T_balance − 1| (energy balance with Enskog's collision rate; T = {:.4e} ± {:.1e} J)",
+                driven.restitution, driven.eta, hard.temperature, hard.temperature_error
+            ),
+            (hard.temperature / driven.theory_temperature() - 1.0).abs(),
+            0.03,
+        ),
+        Check::at_most(
+            "8d",
+            format!(
+                "white-noise driven state: |a₂ − a₂(van Noije & Ernst, driven)| within 3 standard errors ({:.4} ± {:.4} against {:.4})",
+                hard.a2,
+                hard.a2_error,
+                driven_a2(driven.restitution)
+            ),
+            (hard.a2 - driven_a2(driven.restitution)).abs(),
+            3.0 * hard.a2_error,
+        ),
+        Check::at_most(
+            "8e",
+            format!(
+                "driven state, eMD* against MD (N = {}, same kicks): |ΔT| within 3 standard errors ({:.4e} against {:.4e} J)",
+                pair.count, star.temperature, md.temperature
+            ),
+            t_off,
+            t_bar,
+        ),
+        Check::at_most(
+            "8f",
+            format!(
+                "driven state, eMD* against MD: |Δp| within 3 standard errors ({:.4} against {:.4} Pa)",
+                star.pressure, md.pressure
+            ),
+            p_off,
+            p_bar,
+        ),
+        Check::at_most(
+            "8g",
+            format!(
+                "driven state, eMD* against MD: |Δa₂| within 3 standard errors ({:.4} against {:.4})",
+                star.a2, md.a2
+            ),
+            a_off,
+            a_bar,
+        ),
+    ];
+    let mut markdown = vec![
+        "## 8. Gases against kinetic theory".to_string(),
+        String::new(),
+        format!(
+            "Elastic hard spheres (eMD, Hertz without dissipation: ε = 1), N = {} from an fcc \
+             lattice, melted over {} collisions per particle, then Z = pV/(NkT) over {} in 10 \
+             blocks (errors: standard errors of the blocks). The cooling state: eMD with a \
+             stiff linear dashpot of restitution ε = {} (the same at every speed), N = {}, η = \
+             {}, random start; a₂ sampled every half collision per particle after {}, over {} \
+             (errors from 8 blocks).",
+            eos.count,
+            eos.equilibrate,
+            eos.measure,
+            cooling.restitution,
+            cooling.count,
+            cooling.eta,
+            cooling.transient,
+            cooling.measure
+        ),
+        String::new(),
+        "| η | Z | ± | Carnahan–Starling | deviation | collisions per particle |".to_string(),
+        "|---|---|---|---|---|---|".to_string(),
+    ];
+    for p in &points {
+        markdown.push(format!(
+            "| {} | {:.4} | {:.4} | {:.4} | {:+.2} % | {:.0} |",
+            p.eta,
+            p.z,
+            p.z_error,
+            p.carnahan_starling,
+            100.0 * (p.z / p.carnahan_starling - 1.0),
+            p.collisions_per_particle
+        ));
+    }
+    Ok(StageOutput {
+        checks,
+        markdown,
+        json: json!({
+            "eos": points, "eos_settings": eos, "cooling": hcs, "cooling_settings": cooling,
+            "driven": hard, "driven_settings": driven, "driven_theory_temperature": driven.theory_temperature(),
+            "driven_md": md, "driven_emdstar": star, "driven_pair_settings": pair,
+            "emdstar_speed_over_md": speed,
+        }),
+        figures: vec![eos_png, a2_png, driven_png, pair_png],
+        info: vec![format!(
+            "driven dilute steady state (η = {}, N = {}): eMD* {speed:.2}× as fast as MD ({:.2} s against {:.2} s of wall time per simulated second)",
+            pair.eta,
+            pair.count,
+            star.wall_seconds / star.time,
+            md.wall_seconds / md.time
+        )],
+    })
+}
