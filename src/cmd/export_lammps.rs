@@ -191,7 +191,8 @@ pub struct Run {
     pub dump_every: u64,
 }
 
-/// The header of emdstar's thermo log (`emdstar_system::ThermoLog`).
+/// The first twelve columns of emdstar's thermo log (`emdstar_system::ThermoLog`); the
+/// pressure tensor, collision rate and a₂ that follow have no counterpart in the deck.
 const LOG_HEADER: &str = "# t[s] step kinetic_energy[J] potential_energy[J] total_energy[J] \
                           granular_temperature[J] px[kg*m/s] py pz contacts \
                           rotational_energy[J] rotational_temperature[J]";
@@ -231,7 +232,7 @@ pub fn input_script(system: &System, run: &Run) -> Result<String, String> {
     );
     let _ = writeln!(
         w,
-        "# Writes emdstar.log (emdstar's thermo log format; potential_energy is the"
+        "# Writes emdstar.log (the first twelve columns of emdstar's log; potential_energy is the"
     );
     let _ = writeln!(
         w,
