@@ -458,20 +458,34 @@ impl Verlet {
                 .map(|r| (&r.inv_inertia[..], &mut r.angular_acc[..])),
         };
         apply_contacts(buffers.iter().flatten(), &mut to, None);
-        // The particles in contact in increasing order, each once: flagged, then
-        // collected (sorting the parties of every contact cost a fifth of a dense step).
-        let flags = &mut self.flags;
-        flags.resize(self.contact_acc.len(), false);
-        for c in buffers.iter().flatten() {
-            let (i, j) = c.parties();
-            flags[i as usize] = true;
-            if j != WALL {
-                flags[j as usize] = true;
+        // The particles in contact in increasing order, each once. Where contacts are
+        // many, flagged and then collected (sorting the parties of every contact cost a
+        // fifth of a dense step); where they are few, sorted (the scan over every
+        // particle cost 7 % of a dilute step).
+        let parties = buffers.iter().flatten().map(|c| c.parties());
+        let n = self.contact_acc.len();
+        if 32 * buffers.iter().map(Vec::len).sum::<usize>() < n {
+            for (i, j) in parties {
+                self.touched.push(i);
+                if j != WALL {
+                    self.touched.push(j);
+                }
             }
-        }
-        for (i, flag) in flags.iter_mut().enumerate() {
-            if std::mem::take(flag) {
-                self.touched.push(i as u32);
+            self.touched.sort_unstable();
+            self.touched.dedup();
+        } else {
+            let flags = &mut self.flags;
+            flags.resize(n, false);
+            for (i, j) in parties {
+                flags[i as usize] = true;
+                if j != WALL {
+                    flags[j as usize] = true;
+                }
+            }
+            for (i, flag) in flags.iter_mut().enumerate() {
+                if std::mem::take(flag) {
+                    self.touched.push(i as u32);
+                }
             }
         }
         if let Some(rot) = rotation {
