@@ -56,7 +56,7 @@ impl EngineReport for AnyEngine {
                 "neighbour_rebuilds": e.stats().rebuilds,
                 "threads": threads,
                 "particle_steps_per_s": n * steps as f64 / wall_seconds,
-                "collisions_per_s": e.stats().ed.pair_collisions as f64 / wall_seconds,
+                "collisions_per_s": e.stats().ed.collisions() as f64 / wall_seconds,
                 "stats": hybrid_engine::stats_json(e.stats(), e.options().events),
             }),
         }
