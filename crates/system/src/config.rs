@@ -55,6 +55,9 @@
 //! # normal = [0.0, 0.0, 1.0]       # towards the particles
 //! # point = [0.0, 0.0, -1.0]
 //! # material = "steel"             # with [[materials]]
+//! # amplitude = 1e-3               # m: a vibrated wall, A sin(2π f t + φ) along the
+//! # frequency = 50.0               # Hz  normal
+//! # phase = 0.0                    # rad (default 0)
 //! # [output]
 //! # trajectory = "run.xyz"
 //! # trajectory_interval = 0.01     # s
@@ -78,7 +81,7 @@ use crate::error::{
     Result, SystemError, finite3, invalid, num, positive, representable_energy, representable_spin,
 };
 use crate::gas::{self, GasConfig};
-use crate::geometry::{SimBox, Wall};
+use crate::geometry::{SimBox, Vibration, Wall};
 use crate::initial::InitialConfig;
 use crate::interactions::Interactions;
 use crate::key_lines::KeyLines;
@@ -176,6 +179,14 @@ pub struct WallConfig {
     /// The material's name (required with several materials).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// A vibrated wall: amplitude A in m, frequency f in Hz and phase φ in rad of its
+    /// motion A sin(2π f t + φ) along the normal (amplitude and frequency together).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phase: Option<f64>,
 }
 
 /// `[output]`: file names and intervals (the CLI may override them).
@@ -357,6 +368,7 @@ impl Config {
             wall_materials.push(material_index(&table, &format!("walls[{i}]"), &w.material)?);
         }
         let mut sim_box = self.sim_box.as_ref().map(BoxConfig::sim_box).transpose()?;
+        vibrated_walls_fit(&walls, sim_box.as_ref())?;
         let mut species = Vec::new();
         let mut particles = Particles::default();
         let sources = [
@@ -644,8 +656,88 @@ impl WallConfig {
         Ok(Wall {
             normal: n.map(|c| c / len),
             point,
+            vibration: self.vibration(i)?,
         })
     }
+
+    /// The wall's vibration, if it has one: amplitude and frequency finite and
+    /// positive, the phase finite.
+    fn vibration(&self, i: usize) -> Result<Option<Vibration>> {
+        let (amplitude, frequency) = match (self.amplitude, self.frequency) {
+            (None, None) => {
+                if self.phase.is_some() {
+                    return invalid!(
+                        "walls[{i}].phase is given without walls[{i}].amplitude and \
+                         walls[{i}].frequency: a phase belongs to a vibrated wall; add both \
+                         or remove the phase"
+                    );
+                }
+                return Ok(None);
+            }
+            (Some(_), None) => {
+                return invalid!(
+                    "walls[{i}].amplitude is given without walls[{i}].frequency: a vibrated \
+                     wall needs both (in m and Hz)"
+                );
+            }
+            (None, Some(_)) => {
+                return invalid!(
+                    "walls[{i}].frequency is given without walls[{i}].amplitude: a vibrated \
+                     wall needs both (in m and Hz)"
+                );
+            }
+            (Some(a), Some(f)) => (a, f),
+        };
+        let amplitude = positive(&format!("walls[{i}].amplitude"), amplitude)?;
+        let frequency = positive(&format!("walls[{i}].frequency"), frequency)?;
+        let phase = self.phase.unwrap_or(0.0);
+        if !phase.is_finite() {
+            return invalid!("walls[{i}].phase = {phase} must be finite (in rad)");
+        }
+        Ok(Some(Vibration {
+            amplitude,
+            frequency,
+            phase,
+        }))
+    }
+}
+
+/// Refuses a vibrated wall that moves along a periodic axis of `sim_box` (its periodic
+/// images would sweep through the box).
+fn vibrated_walls_fit(walls: &[Wall], sim_box: Option<&SimBox>) -> Result<()> {
+    let Some(b) = sim_box else { return Ok(()) };
+    for (i, w) in walls.iter().enumerate() {
+        if w.vibration.is_none() {
+            continue;
+        }
+        if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
+            return invalid!(
+                "walls[{i}].amplitude: a vibrated wall moves along its normal {:?}, which has \
+                 a component along the periodic {} axis; make that axis closed \
+                 (box.periodic) or turn the wall",
+                w.normal,
+                ["x", "y", "z"][k]
+            );
+        }
+        let a = w.vibration.map_or(0.0, |v| v.amplitude);
+        let (lo, hi) = (b.lo, b.hi());
+        let outside = (0..3).find(|&k| {
+            let reach = a * w.normal[k].abs();
+            !b.periodic[k] && (w.point[k] - reach < lo[k] || w.point[k] + reach > hi[k])
+        });
+        if let Some(k) = outside {
+            return invalid!(
+                "walls[{i}].amplitude = {a:e} m takes the wall out of the box along {} \
+                 (its point {:?} ± A·normal must stay within [{:e}, {:e}]); move the wall \
+                 point inside by the amplitude or enlarge the box",
+                ["x", "y", "z"][k],
+                w.point,
+                lo[k],
+                hi[k]
+            );
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -58,8 +58,8 @@ pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};
 pub use geometry::{
-    CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
-    sparse_cell_limit, sparse_cell_width,
+    CellGrid, SimBox, Stencil, Vibration, Wall, bounded_cell_width, bounding_box, cell_along,
+    cells_per_axis, sparse_cell_limit, sparse_cell_width,
 };
 pub use initial::{InitialConfig, InitialFormat};
 pub use interactions::{Interaction, Interactions};

@@ -35,6 +35,16 @@ where
                 self.len()
             )));
         }
+        // Wall motion is config, not state: the saved walls take this engine's.
+        for (wall, built) in saved
+            .state
+            .domain
+            .walls
+            .iter_mut()
+            .zip(&self.state.domain.walls)
+        {
+            wall.vibration = built.vibration;
+        }
         saved
             .state
             .check_restored(&self.state, self.len() + B::OWN_EVENTS)
