@@ -368,7 +368,6 @@ impl Config {
             wall_materials.push(material_index(&table, &format!("walls[{i}]"), &w.material)?);
         }
         let mut sim_box = self.sim_box.as_ref().map(BoxConfig::sim_box).transpose()?;
-        vibrated_walls_fit(&walls, sim_box.as_ref())?;
         let mut species = Vec::new();
         let mut particles = Particles::default();
         let sources = [
@@ -479,6 +478,12 @@ impl Config {
                 gas::generate_gas(gas, &kinds, &species, &b, &mut particles)?;
             }
         }
+        let smallest = particles
+            .radius
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        vibrated_walls_fit(&walls, sim_box.as_ref(), smallest)?;
         let interactions = Interactions::build(&table, &species, &wall_materials)?;
         let system = System {
             particles,
@@ -703,13 +708,12 @@ impl WallConfig {
 }
 
 /// Refuses a vibrated wall that moves along a periodic axis of `sim_box` (its periodic
-/// images would sweep through the box).
-fn vibrated_walls_fit(walls: &[Wall], sim_box: Option<&SimBox>) -> Result<()> {
+/// images would sweep through the box), or whose plane leaves the box by half the
+/// `smallest` radius or more over its stroke (spheres on it would leave the box).
+fn vibrated_walls_fit(walls: &[Wall], sim_box: Option<&SimBox>, smallest: f64) -> Result<()> {
     let Some(b) = sim_box else { return Ok(()) };
     for (i, w) in walls.iter().enumerate() {
-        if w.vibration.is_none() {
-            continue;
-        }
+        let Some(vib) = w.vibration else { continue };
         if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
             return invalid!(
                 "walls[{i}].amplitude: a vibrated wall moves along its normal {:?}, which has \
@@ -719,17 +723,24 @@ fn vibrated_walls_fit(walls: &[Wall], sim_box: Option<&SimBox>) -> Result<()> {
                 ["x", "y", "z"][k]
             );
         }
-        let a = w.vibration.map_or(0.0, |v| v.amplitude);
+        let a = vib.amplitude;
+        let slack = if smallest.is_finite() {
+            0.5 * smallest
+        } else {
+            0.0
+        };
         let (lo, hi) = (b.lo, b.hi());
         let outside = (0..3).find(|&k| {
             let reach = a * w.normal[k].abs();
-            !b.periodic[k] && (w.point[k] - reach < lo[k] || w.point[k] + reach > hi[k])
+            reach > 0.0
+                && (w.point[k] - reach < lo[k] - slack || w.point[k] + reach > hi[k] + slack)
         });
         if let Some(k) = outside {
             return invalid!(
-                "walls[{i}].amplitude = {a:e} m takes the wall out of the box along {} \
-                 (its point {:?} ± A·normal must stay within [{:e}, {:e}]); move the wall \
-                 point inside by the amplitude or enlarge the box",
+                "walls[{i}].amplitude = {a:e} m takes the wall out of the box along {}: its \
+                 plane (through {:?} at rest) must stay within half the smallest radius of \
+                 the box faces {:e} and {:e}; move the wall inside by the amplitude, enlarge \
+                 the box or lower the amplitude",
                 ["x", "y", "z"][k],
                 w.point,
                 lo[k],
