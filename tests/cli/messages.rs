@@ -373,3 +373,27 @@ fn bad_vibrated_walls_are_refused_with_the_key_and_its_line() {
     assert!(written.is_empty(), "{written:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// eMD* takes a vibrated wall's velocity as constant over a contact: where a contact
+/// lasts more than 5 % of the wall's cycle (ω t_c; Hertz, Y = 1 GPa, R = 1 cm at the
+/// wall's speed A ω: t_c ≈ 0.6 ms against 8 ms at 20 Hz), a warning with the key and
+/// its line; not at 5 Hz (ω t_c ≈ 0.02), nor on MD, which resolves the contact.
+#[test]
+fn emdstar_warns_when_a_vibrated_wall_moves_much_during_a_contact() {
+    let dir = scratch("vibrated-contact");
+    let fast = vibrated("amplitude = 1e-3\nfrequency = 20.0", "[true, true, false]");
+    let slow = vibrated("amplitude = 1e-3\nfrequency = 5.0", "[true, true, false]");
+    std::fs::write(dir.join("fast.toml"), &fast).unwrap();
+    std::fs::write(dir.join("slow.toml"), &slow).unwrap();
+    let args = |engine| ["--engine", engine, "--log", "none"];
+    let warned = warnings(&dir, "fast.toml", &args("emdstar"));
+    let line = line_of(&fast, "frequency");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].contains(&format!("line {line}: walls[0].frequency: eMD* takes")),
+        "{warned:?}"
+    );
+    assert!(warnings(&dir, "slow.toml", &args("emdstar")).is_empty());
+    assert!(warnings(&dir, "fast.toml", &args("md")).is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
