@@ -38,7 +38,7 @@ pub fn vibrated_wall_warnings(config: &Config, system: &System, engine: EngineKi
                 .map_or(String::new(), |l| format!("line {l}: "));
             out.push(format!(
                 "{line}{key}: eMD* takes the wall's velocity as constant over a contact, \
-                 but a contact of {t_c:.3e} s lasts ω·t_c = {ratio:.3} of the wall's cycle \
+                 but a contact of {t_c:.3e} s spans ω·t_c = {ratio:.3} rad of the wall's phase \
                  (its velocity changes by up to A·ω²·t_c = {:.3e} m/s against a speed of \
                  A·ω = {speed:.3e} m/s); stiffer contacts or --engine md resolve the wall's \
                  motion within a contact",
