@@ -290,8 +290,7 @@ fn vibrated(floor: &str, periodic: &str) -> String {
     )
 }
 
-/// Bad keys of a vibrated wall are refused by every engine with the key and its line;
-/// the hybrid refuses a vibrated wall naming it.
+/// Bad keys of a vibrated wall are refused by every engine with the key and its line.
 #[test]
 fn bad_vibrated_walls_are_refused_with_the_key_and_its_line() {
     let closed = "[true, true, false]";
@@ -353,18 +352,6 @@ fn bad_vibrated_walls_are_refused_with_the_key_and_its_line() {
             assert_eq!(err.matches(key).count(), 1, "{what}");
         }
     }
-    let text = vibrated("amplitude = 1e-3\nfrequency = 20.0", closed);
-    std::fs::write(dir.join("good.toml"), &text).unwrap();
-    let err = error_in(&dir, &["run", "good.toml", "--engine", "hybrid", "--quiet"]);
-    let line = line_of(&text, "amplitude");
-    assert!(
-        err.contains(&format!("line {line}: walls[0].amplitude")),
-        "{err}"
-    );
-    assert!(
-        err.contains("hybrid engine does not run vibrated walls"),
-        "{err}"
-    );
     let written: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

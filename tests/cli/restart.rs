@@ -385,7 +385,7 @@ fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
 }
 
 /// A vibrated floor moves with time alone: a run resumed from half way ends in the
-/// state of one run, bitwise, on every engine that runs it.
+/// state of one run, bitwise, on every engine.
 #[test]
 fn a_run_on_a_vibrated_wall_resumed_from_half_way_ends_bitwise_as_one_run() {
     let text = std::fs::read_to_string(
@@ -394,7 +394,7 @@ fn a_run_on_a_vibrated_wall_resumed_from_half_way_ends_bitwise_as_one_run() {
     .unwrap()
     .replace("t_end = 1.0", "t_end = 0.04")
     .replace("count = 300", "count = 60");
-    for engine in ["md", "emd", "emdstar"] {
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
         let dir = scratch(&format!("vibrated-{engine}"));
         std::fs::write(dir.join("bed.toml"), &text).unwrap();
         let run = |extra: &[&str]| {

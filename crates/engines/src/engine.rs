@@ -55,21 +55,6 @@ impl AnyEngine {
                 (EngineKind::Md, _) => {}
             }
         }
-        if options.engine == EngineKind::Hybrid
-            && let Some(i) = system
-                .domain
-                .walls
-                .iter()
-                .position(|w| w.vibration.is_some())
-        {
-            bail!(
-                "config: {}",
-                config.keys.locate(&format!(
-                    "walls[{i}].amplitude: the hybrid engine does not run vibrated walls \
-                     (its mode switches take walls at rest); use --engine md, emd or emdstar"
-                ))
-            );
-        }
         let options = &options;
         Ok(match options.engine {
             EngineKind::Md => {

@@ -7,6 +7,17 @@ use crate::queue::EventQueue;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
+    /// Gives a state decoded from a checkpoint the wall motion of `built`, the engine
+    /// of its config: wall motion is config, not state, and checkpoints do not hold it.
+    pub fn take_wall_motion(&mut self, built: &Self) {
+        let walls = self.state.domain.walls.iter_mut();
+        for (wall, built) in walls.zip(&built.state.domain.walls) {
+            wall.vibration = built.vibration;
+        }
+    }
+}
+
 impl<B, Q> EventEngine<B, Q>
 where
     B: BroadPhase + Serialize + DeserializeOwned,
@@ -35,16 +46,7 @@ where
                 self.len()
             )));
         }
-        // Wall motion is config, not state: the saved walls take this engine's.
-        for (wall, built) in saved
-            .state
-            .domain
-            .walls
-            .iter_mut()
-            .zip(&self.state.domain.walls)
-        {
-            wall.vibration = built.vibration;
-        }
+        saved.take_wall_motion(self);
         saved
             .state
             .check_restored(&self.state, self.len() + B::OWN_EVENTS)
