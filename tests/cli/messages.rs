@@ -380,6 +380,7 @@ fn emdstar_warns_when_a_vibrated_wall_moves_much_during_a_contact() {
         warned[0].contains(&format!("line {line}: walls[0].frequency: eMD* takes")),
         "{warned:?}"
     );
+    assert_eq!(warnings(&dir, "fast.toml", &args("hybrid")), warned);
     assert!(warnings(&dir, "slow.toml", &args("emdstar")).is_empty());
     assert!(warnings(&dir, "fast.toml", &args("md")).is_empty());
     std::fs::remove_dir_all(&dir).unwrap();

@@ -10,10 +10,11 @@ use emdstar_system::{Config, System};
 pub const VIBRATED_CONTACT_LIMIT: f64 = 0.05;
 
 /// One line for each vibrated wall of `system` (built from `config`) whose contacts
-/// last longer than [`VIBRATED_CONTACT_LIMIT`] / ω on `engine` eMD*: the key with its
-/// line, ω t_c and what to change.
+/// last longer than [`VIBRATED_CONTACT_LIMIT`] / ω where `engine` runs eMD* (emdstar,
+/// the hybrid's events): the key with its line, ω t_c and what to change.
 pub fn vibrated_wall_warnings(config: &Config, system: &System, engine: EngineKind) -> Vec<String> {
-    if engine != EngineKind::EmdStar {
+    // The hybrid's events are eMD*'s (by default).
+    if !matches!(engine, EngineKind::EmdStar | EngineKind::Hybrid) {
         return Vec::new();
     }
     let interactions = system.interactions();
