@@ -81,7 +81,7 @@ use crate::error::{
     Result, SystemError, finite3, invalid, num, positive, representable_energy, representable_spin,
 };
 use crate::gas::{self, GasConfig};
-use crate::geometry::{SimBox, Vibration, Wall};
+use crate::geometry::{SimBox, Wall};
 use crate::initial::InitialConfig;
 use crate::interactions::Interactions;
 use crate::key_lines::KeyLines;
@@ -89,6 +89,7 @@ use crate::material_config::{InteractionConfig, MaterialConfig, names};
 use crate::materials::MaterialTable;
 use crate::state::{Particles, Species};
 use crate::system::System;
+use crate::vibration::vibrated_walls_fit;
 use emdstar_contact::Sphere;
 use serde::{Deserialize, Serialize};
 
@@ -664,91 +665,6 @@ impl WallConfig {
             vibration: self.vibration(i)?,
         })
     }
-
-    /// The wall's vibration, if it has one: amplitude and frequency finite and
-    /// positive, the phase finite.
-    fn vibration(&self, i: usize) -> Result<Option<Vibration>> {
-        let (amplitude, frequency) = match (self.amplitude, self.frequency) {
-            (None, None) => {
-                if self.phase.is_some() {
-                    return invalid!(
-                        "walls[{i}].phase is given without walls[{i}].amplitude and \
-                         walls[{i}].frequency: a phase belongs to a vibrated wall; add both \
-                         or remove the phase"
-                    );
-                }
-                return Ok(None);
-            }
-            (Some(_), None) => {
-                return invalid!(
-                    "walls[{i}].amplitude is given without walls[{i}].frequency: a vibrated \
-                     wall needs both (in m and Hz)"
-                );
-            }
-            (None, Some(_)) => {
-                return invalid!(
-                    "walls[{i}].frequency is given without walls[{i}].amplitude: a vibrated \
-                     wall needs both (in m and Hz)"
-                );
-            }
-            (Some(a), Some(f)) => (a, f),
-        };
-        let amplitude = positive(&format!("walls[{i}].amplitude"), amplitude)?;
-        let frequency = positive(&format!("walls[{i}].frequency"), frequency)?;
-        let phase = self.phase.unwrap_or(0.0);
-        if !phase.is_finite() {
-            return invalid!("walls[{i}].phase = {phase} must be finite (in rad)");
-        }
-        Ok(Some(Vibration {
-            amplitude,
-            frequency,
-            phase,
-        }))
-    }
-}
-
-/// Refuses a vibrated wall that moves along a periodic axis of `sim_box` (its periodic
-/// images would sweep through the box), or whose plane leaves the box by half the
-/// `smallest` radius or more over its stroke (spheres on it would leave the box).
-fn vibrated_walls_fit(walls: &[Wall], sim_box: Option<&SimBox>, smallest: f64) -> Result<()> {
-    let Some(b) = sim_box else { return Ok(()) };
-    for (i, w) in walls.iter().enumerate() {
-        let Some(vib) = w.vibration else { continue };
-        if let Some(k) = (0..3).find(|&k| b.periodic[k] && w.normal[k].abs() > 1e-12) {
-            return invalid!(
-                "walls[{i}].amplitude: a vibrated wall moves along its normal {:?}, which has \
-                 a component along the periodic {} axis; make that axis closed \
-                 (box.periodic) or turn the wall",
-                w.normal,
-                ["x", "y", "z"][k]
-            );
-        }
-        let a = vib.amplitude;
-        let slack = if smallest.is_finite() {
-            0.5 * smallest
-        } else {
-            0.0
-        };
-        let (lo, hi) = (b.lo, b.hi());
-        let outside = (0..3).find(|&k| {
-            let reach = a * w.normal[k].abs();
-            reach > 0.0
-                && (w.point[k] - reach < lo[k] - slack || w.point[k] + reach > hi[k] + slack)
-        });
-        if let Some(k) = outside {
-            return invalid!(
-                "walls[{i}].amplitude = {a:e} m takes the wall out of the box along {}: its \
-                 plane (through {:?} at rest) must stay within half the smallest radius of \
-                 the box faces {:e} and {:e}; move the wall inside by the amplitude, enlarge \
-                 the box or lower the amplitude",
-                ["x", "y", "z"][k],
-                w.point,
-                lo[k],
-                hi[k]
-            );
-        }
-    }
-    Ok(())
 }
 
 #[cfg(test)]

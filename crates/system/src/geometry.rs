@@ -102,46 +102,7 @@ pub struct Wall {
     /// A point of the plane (at rest, s = 0, for a vibrated wall).
     pub point: [f64; 3],
     #[serde(skip)]
-    pub vibration: Option<Vibration>,
-}
-
-/// A sinusoidal motion of a wall along its normal: s(t) = A sin(2π f t + φ).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Vibration {
-    /// A in m.
-    pub amplitude: f64,
-    /// f in Hz.
-    pub frequency: f64,
-    /// φ in rad.
-    pub phase: f64,
-}
-
-impl Vibration {
-    /// ω = 2π f in rad/s.
-    #[inline]
-    pub fn omega(&self) -> f64 {
-        std::f64::consts::TAU * self.frequency
-    }
-
-    /// s(t) = A sin(ω t + φ), the displacement along the normal, in m.
-    #[inline]
-    pub fn displacement(&self, t: f64) -> f64 {
-        self.amplitude * (self.omega() * t + self.phase).sin()
-    }
-
-    /// ṡ(t) = A ω cos(ω t + φ), in m/s.
-    #[inline]
-    pub fn speed(&self, t: f64) -> f64 {
-        let w = self.omega();
-        self.amplitude * w * (w * t + self.phase).cos()
-    }
-
-    /// The largest |s̈| = A ω², in m/s².
-    #[inline]
-    pub fn max_acceleration(&self) -> f64 {
-        let w = self.omega();
-        self.amplitude * w * w
-    }
+    pub vibration: Option<crate::vibration::Vibration>,
 }
 
 impl Wall {

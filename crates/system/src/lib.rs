@@ -46,6 +46,7 @@ pub mod stop;
 mod stress;
 mod system;
 mod tail;
+mod vibration;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
@@ -58,8 +59,8 @@ pub use error::{Result, SystemError};
 pub use files::{FileIdentity, OutputFile, check_writable, open_input, read_input};
 pub use gas::{Arrangement, GasConfig, GasKind, GasSpeciesConfig, cubic_box, fcc_gas};
 pub use geometry::{
-    CellGrid, SimBox, Stencil, Vibration, Wall, bounded_cell_width, bounding_box, cell_along,
-    cells_per_axis, sparse_cell_limit, sparse_cell_width,
+    CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box, cell_along, cells_per_axis,
+    sparse_cell_limit, sparse_cell_width,
 };
 pub use initial::{InitialConfig, InitialFormat};
 pub use interactions::{Interaction, Interactions};
@@ -74,4 +75,5 @@ pub use stress::{
 };
 pub use system::System;
 pub use tail::{Cut, KeepUntil};
+pub use vibration::Vibration;
 pub use writers::{Thermo, ThermoLog, XyzWriter};
