@@ -134,3 +134,47 @@ pub(crate) fn vibrated_walls_fit(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Config;
+
+    /// A ball of radius 0.01 at height `z` over a floor at 0.02 vibrating with
+    /// amplitude 5 mm and phase `phase`.
+    fn ball(z: f64, phase: f64) -> crate::Result<crate::System> {
+        Config::from_toml(&format!(
+            "t_end = 0.1\n[material]\nmodel = \"linear\"\nstiffness = 1e4\ndensity = 1000.0\n\
+             [box]\nsize = [1.0, 1.0, 1.0]\nperiodic = [true, true, false]\n\
+             [[walls]]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.5, 0.5, 0.02]\n\
+             amplitude = 5e-3\nfrequency = 10.0\nphase = {phase:e}\n\
+             [[walls]]\nnormal = [0.0, 0.0, -1.0]\npoint = [0.5, 0.5, 1.0]\n\
+             [[particles]]\nradius = 0.01\nposition = [0.5, 0.5, {z:e}]\n"
+        ))?
+        .build()
+    }
+
+    #[test]
+    fn a_particle_must_start_in_front_of_the_wall_where_it_is_at_t_0() {
+        // 3 mm above contact with the plane at rest: in front of it at phase 0, behind
+        // it at phase π/2 (the wall 5 mm up).
+        ball(0.033, 0.0).unwrap();
+        let err = ball(0.033, std::f64::consts::FRAC_PI_2)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("behind wall 0"), "{err}");
+    }
+
+    #[test]
+    fn the_wall_s_motion_follows_its_keys() {
+        let s = ball(0.5, 0.3).unwrap();
+        let w = s.domain.walls[0];
+        let v = w.vibration.unwrap();
+        let omega = 2.0 * std::f64::consts::PI * 10.0;
+        let t = 0.0123;
+        let s_t = 5e-3 * (omega * t + 0.3).sin();
+        assert!((w.point_at(t)[2] - (0.02 + s_t)).abs() < 1e-15);
+        assert!((w.velocity_at(t)[2] - 5e-3 * omega * (omega * t + 0.3).cos()).abs() < 1e-15);
+        assert!((v.max_acceleration() - 5e-3 * omega * omega).abs() < 1e-12);
+        assert!((w.distance_at([0.5, 0.5, 0.5], t) - (0.48 - s_t)).abs() < 1e-15);
+    }
+}
