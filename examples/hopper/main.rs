@@ -114,7 +114,7 @@ fn hopper(seed: u64, model: Model, frictionless: bool) -> System {
     let m_eff = PairProperties::spheres(&sphere, &sphere).m_eff;
     let s = std::f64::consts::FRAC_1_SQRT_2;
     let (left, right) = (0.5 * (WIDTH - OUTLET), 0.5 * (WIDTH + OUTLET));
-    let wall = |normal: [f64; 3], point: [f64; 3]| Wall { normal, point };
+    let wall = |normal: [f64; 3], point: [f64; 3]| Wall::fixed(normal, point);
     let walls = vec![
         wall([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
         wall([-1.0, 0.0, 0.0], [WIDTH, 0.0, 0.0]),
@@ -229,6 +229,7 @@ fn run(seed: u64, md: bool, setup: Setup) -> Run {
     let outlet = Wall {
         normal: [0.0, 1.0, 0.0],
         point: [0.0, -RADIUS, 0.0],
+        vibration: None,
     };
     let mut opts = HybridOptions {
         outlet: Some(outlet),

@@ -277,6 +277,13 @@ pub fn input_script(system: &System, run: &Run) -> Result<String, String> {
         );
     }
     for (k, wall) in walls.iter().enumerate() {
+        if wall.vibration.is_some() {
+            return Err(format!(
+                "walls[{k}].amplitude: the export writes walls at rest (fix wall/gran), so a \
+                 vibrated wall would stand still in LAMMPS; export a config without the \
+                 wall's amplitude and frequency"
+            ));
+        }
         let Some(axis) = (0..3).find(|&a| wall.normal[a].abs() == 1.0) else {
             return Err(format!(
                 "walls[{k}] has normal {:?}: fix wall/gran takes planes normal to x, y or z only",

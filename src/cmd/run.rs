@@ -184,6 +184,10 @@ fn simulate(args: &RunArgs, threads: usize) -> Result<ExitCode> {
     for warning in emdstar_engines::unused_keys(&config, &args.engine) {
         eprintln!("warning: {warning}");
     }
+    let engine = args.engine.engine;
+    for warning in emdstar_engines::vibrated_wall_warnings(&config, &system, engine) {
+        eprintln!("warning: {warning}");
+    }
     let engine = AnyEngine::build(&args.engine, &config, system, DEFAULT_DT_FRACTION)?;
     let output = config.output.clone().unwrap_or_default();
     let files = RunFiles::resolve(

@@ -254,5 +254,19 @@ fn the_deck_holds_each_pair_and_wall_and_laws_without_a_counterpart_are_refused(
     std::fs::write(dir.join("slanted.toml"), slanted).unwrap();
     let err = error_in(&dir, &["export", "lammps", "slanted.toml", "slanted"]);
     assert!(err.contains("walls[0]"), "{err}");
+    // A vibrated wall would stand still in fix wall/gran: refused, naming it.
+    let vibrated = "t_end = 0.1\n[material]\nmodel = \"linear\"\nstiffness = 1e4\n\
+                    damping = 1.0\ndensity = 1000.0\n[box]\nsize = [1.0, 1.0, 1.0]\n\
+                    periodic = [true, true, false]\n[[walls]]\nnormal = [0, 0, 1]\n\
+                    point = [0, 0, 0.05]\namplitude = 0.01\nfrequency = 5.0\n[[walls]]\n\
+                    normal = [0, 0, -1]\npoint = [0, 0, 1]\n[[particles]]\nradius = 0.1\n\
+                    position = [0.5, 0.5, 0.5]\n";
+    std::fs::write(dir.join("vibrated.toml"), vibrated).unwrap();
+    let err = error_in(&dir, &["export", "lammps", "vibrated.toml", "vibrated"]);
+    assert!(
+        err.contains("walls[0].amplitude") && err.contains("at rest"),
+        "{err}"
+    );
+    assert!(!dir.join("vibrated").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

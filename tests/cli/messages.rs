@@ -277,3 +277,111 @@ fn soft_spheres_that_would_pass_through_each_other_are_refused_with_the_factor_t
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A ball over a floor and under a lid (closed z, periodic x and y), the floor's keys
+/// `floor`.
+fn vibrated(floor: &str, periodic: &str) -> String {
+    format!(
+        "t_end = 0.01\ngravity = [0.0, 0.0, -9.81]\n[material]\nmodel = \"hertz\"\n\
+         poisson = 0.3\n{GLASS}\n[box]\nsize = [0.1, 0.1, 0.1]\nperiodic = {periodic}\n\
+         [[walls]]\nnormal = [0.0, 0.0, 1.0]\npoint = [0.0, 0.0, 0.01]\n{floor}\n\
+         [[walls]]\nnormal = [0.0, 0.0, -1.0]\npoint = [0.0, 0.0, 0.1]\n\
+         [[particles]]\n{SPHERE}\nposition = [0.05, 0.05, 0.05]\n"
+    )
+}
+
+/// Bad keys of a vibrated wall are refused by every engine with the key and its line.
+#[test]
+fn bad_vibrated_walls_are_refused_with_the_key_and_its_line() {
+    let closed = "[true, true, false]";
+    // (config, key, the start of the line that sets it, words of the message)
+    let cases = [
+        (
+            vibrated("amplitude = -1e-3\nfrequency = 20.0", closed),
+            "walls[0].amplitude",
+            "amplitude",
+            "greater than zero",
+        ),
+        (
+            vibrated("amplitude = 1e-3\nfrequency = inf", closed),
+            "walls[0].frequency",
+            "frequency",
+            "greater than zero",
+        ),
+        (
+            vibrated("amplitude = 1e-3\nfrequency = 20.0\nphase = nan", closed),
+            "walls[0].phase",
+            "phase",
+            "finite",
+        ),
+        (
+            vibrated("amplitude = 1e-3", closed),
+            "walls[0].amplitude",
+            "amplitude",
+            "needs both",
+        ),
+        (
+            vibrated("phase = 1.0", closed),
+            "walls[0].phase",
+            "phase",
+            "belongs to a vibrated wall",
+        ),
+        (
+            vibrated("amplitude = 1e-3\nfrequency = 20.0", "[true, true, true]"),
+            "walls[0].amplitude",
+            "amplitude",
+            "periodic z axis",
+        ),
+        (
+            vibrated("amplitude = 0.02\nfrequency = 20.0", closed),
+            "walls[0].amplitude",
+            "amplitude",
+            "out of the box along z",
+        ),
+    ];
+    let dir = scratch("vibrated");
+    for (k, (text, key, line_start, words)) in cases.iter().enumerate() {
+        let name = format!("case{k}.toml");
+        std::fs::write(dir.join(&name), text).unwrap();
+        let line = line_of(text, line_start);
+        for engine in ENGINES {
+            let err = error_in(&dir, &["run", &name, "--engine", engine, "--quiet"]);
+            let what = format!("{engine}, {key}: {err}");
+            assert!(err.contains(&format!("line {line}:")), "{what}");
+            assert!(err.contains(words), "{what}");
+            assert_eq!(err.matches(key).count(), 1, "{what}");
+        }
+    }
+    let written: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.ends_with(".toml"))
+        .collect();
+    assert!(written.is_empty(), "{written:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// eMD* takes a vibrated wall's velocity as constant over a contact: where a contact
+/// lasts more than 5 % of the wall's cycle (ω t_c; Hertz, Y = 1 GPa, R = 1 cm at the
+/// wall's speed A ω: t_c ≈ 0.6 ms against 8 ms at 20 Hz), a warning with the key and
+/// its line; not at 5 Hz (ω t_c ≈ 0.02), nor on MD, which resolves the contact.
+#[test]
+fn emdstar_warns_when_a_vibrated_wall_moves_much_during_a_contact() {
+    let dir = scratch("vibrated-contact");
+    let fast = vibrated("amplitude = 1e-3\nfrequency = 20.0", "[true, true, false]");
+    let slow = vibrated("amplitude = 1e-3\nfrequency = 5.0", "[true, true, false]");
+    std::fs::write(dir.join("fast.toml"), &fast).unwrap();
+    std::fs::write(dir.join("slow.toml"), &slow).unwrap();
+    let args = |engine| ["--engine", engine, "--log", "none"];
+    let warned = warnings(&dir, "fast.toml", &args("emdstar"));
+    let line = line_of(&fast, "frequency");
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].contains(&format!("line {line}: walls[0].frequency: eMD* takes")),
+        "{warned:?}"
+    );
+    assert_eq!(warnings(&dir, "fast.toml", &args("hybrid")), warned);
+    assert!(warnings(&dir, "slow.toml", &args("emdstar")).is_empty());
+    assert!(warnings(&dir, "fast.toml", &args("md")).is_empty());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -383,3 +383,38 @@ fn signals_stop_every_engine_with_whole_files_and_a_checkpoint() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A vibrated floor moves with time alone: a run resumed from half way ends in the
+/// state of one run, bitwise, on every engine.
+#[test]
+fn a_run_on_a_vibrated_wall_resumed_from_half_way_ends_bitwise_as_one_run() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/configs/vibrated_bed.toml"),
+    )
+    .unwrap()
+    .replace("t_end = 1.0", "t_end = 0.04")
+    .replace("count = 300", "count = 60");
+    for engine in ["md", "emd", "emdstar", "hybrid"] {
+        let dir = scratch(&format!("vibrated-{engine}"));
+        std::fs::write(dir.join("bed.toml"), &text).unwrap();
+        let run = |extra: &[&str]| {
+            let mut args = vec!["run", "bed.toml", "--engine", engine, "--quiet"];
+            args.extend_from_slice(extra);
+            stdout_in(&dir, &args)
+        };
+        run(&["--trajectory", "one.xyz", "--log", "one.log"]);
+        let files = ["--trajectory", "two.xyz", "--log", "two.log"];
+        let mut first = files.to_vec();
+        first.extend(["--t-end", "0.0213", "--checkpoint", "half.ckpt"]);
+        run(&first);
+        let mut second = files.to_vec();
+        second.extend(["--resume", "half.ckpt"]);
+        run(&second);
+        for (a, b) in [("one.xyz", "two.xyz"), ("one.log", "two.log")] {
+            let x = std::fs::read(dir.join(a)).unwrap();
+            let y = std::fs::read(dir.join(b)).unwrap();
+            assert!(x == y, "{engine}: {b} differs from {a} of one run");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -173,6 +173,8 @@ pub struct ForceModel<'a> {
     pub walls: &'a [Wall],
     pub gravity: [f64; 3],
     pub contact_end: ContactEnd,
+    /// The time of the forces: where vibrated walls are, and how fast they move.
+    pub time: f64,
 }
 
 impl<'a> ForceModel<'a> {
@@ -192,7 +194,13 @@ impl<'a> ForceModel<'a> {
             walls: &domain.walls,
             gravity: domain.gravity,
             contact_end,
+            time: 0.0,
         }
+    }
+
+    /// The model with the walls where they are at time `t`.
+    pub fn at(self, t: f64) -> Self {
+        Self { time: t, ..self }
     }
 
     /// Adds the contacts of particle `i` at `xi` with the walls and with the partners
@@ -219,7 +227,7 @@ impl<'a> ForceModel<'a> {
             }
         }
         for (w, wall) in self.walls.iter().enumerate() {
-            let overlap = radius[i] - wall.distance(xi);
+            let overlap = radius[i] - wall.distance_at(xi, self.time);
             if overlap > 0.0 {
                 *contacts += 1;
                 *potential += elastic_energy(self.interactions.wall(species[i], w).law(), overlap);
@@ -321,9 +329,9 @@ impl<S: TangentialSlot> ForceKernel<'_, S> {
         let model = &self.model;
         let ri = model.radius[i];
         for (w, wall) in model.walls.iter().enumerate() {
-            let overlap = ri - wall.distance(xi);
+            let overlap = ri - wall.distance_at(xi, model.time);
             if overlap > 0.0 {
-                self.wall(i, w, wall, overlap, vi, out);
+                self.wall(i, w, wall, overlap, xi, vi, out);
             }
         }
         let list = self.list;
@@ -343,23 +351,43 @@ impl<S: TangentialSlot> ForceKernel<'_, S> {
         }
     }
 
-    /// The contact of a wall with particle i at overlap ξ > 0.
+    /// The contact of a wall with particle i (at `xi`) at overlap ξ > 0. A vibrated
+    /// wall is where it is at the force's time and moves: the overlap one step ago and
+    /// the rate ξ̇ = −n·(v_i − u) take its velocity u.
     #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
     fn wall(
         &self,
         i: usize,
         w: usize,
         wall: &Wall,
         overlap: f64,
+        xi: [f64; 3],
         vi: [f64; 3],
         out: &mut impl ForceSink<S::Contact>,
     ) {
         let dt = 2.0 * self.h;
         let n = wall.normal;
-        let overlap_prev = overlap + dt * (n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]);
-        let v = self.predict(i, vi);
-        let rate = -(n[0] * v[0] + n[1] * v[1] + n[2] * v[2]);
         let model = &self.model;
+        let (overlap_prev, u_mid, u) = match wall.vibration {
+            None => (
+                overlap + dt * (n[0] * vi[0] + n[1] * vi[1] + n[2] * vi[2]),
+                [0.0; 3],
+                [0.0; 3],
+            ),
+            Some(_) => {
+                // One step ago the particle was at x − dt·v and the wall where it was then.
+                let x_prev = std::array::from_fn(|k| xi[k] - dt * vi[k]);
+                let t = model.time;
+                (
+                    model.radius[i] - wall.distance_at(x_prev, t - dt),
+                    wall.velocity_at(t - self.h),
+                    wall.velocity_at(t),
+                )
+            }
+        };
+        let v = self.predict(i, vi);
+        let rate = -(n[0] * (v[0] - u[0]) + n[1] * (v[1] - u[1]) + n[2] * (v[2] - u[2]));
         let interaction = model.interactions.wall(model.species[i], w);
         let law = interaction.law();
         let touch = Touch {
@@ -370,8 +398,8 @@ impl<S: TangentialSlot> ForceKernel<'_, S> {
             n,
             d: [0.0; 3],
             d_prev: [0.0; 3],
-            v: [vi, [0.0; 3]],
-            v_pred: [v, [0.0; 3]],
+            v: [vi, u_mid],
+            v_pred: [v, u],
             overlap,
             overlap_prev,
             rate,

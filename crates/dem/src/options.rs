@@ -104,7 +104,8 @@ pub enum MdError {
 /// duration of every species pair and of every species against a wall, at the
 /// reference normal speed v = 2·max|v_i| + |g|·t_end (the largest relative speed two
 /// particles can reach; the Hertz duration falls as v^(−1/5), Müller & Pöschel 2013,
-/// Eq. 55). Linear laws take the shorter of the elastic and the damped duration (Schwager &
+/// Eq. 55), or, against a vibrated wall, max|v_i| plus the wall's speed A ω where that
+/// is more. Linear laws take the shorter of the elastic and the damped duration (Schwager &
 /// Pöschel 2007), Hertz laws the elastic one. `None` when nothing can collide (at rest and without gravity).
 pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>, MdError> {
     let p = &system.particles;
@@ -114,7 +115,13 @@ pub fn shortest_contact_time(system: &System, t_end: f64) -> Result<Option<f64>,
         .map(|v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt())
         .fold(0.0, f64::max);
     let g = system.domain.gravity;
-    let v_ref = 2.0 * v_max + (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * t_end;
+    let mut v_ref = 2.0 * v_max + (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * t_end;
+    // A vibrated wall meets a sphere at up to its own speed A ω more.
+    for w in &system.domain.walls {
+        if let Some(vib) = w.vibration {
+            v_ref = v_ref.max(v_max + vib.amplitude * vib.omega());
+        }
+    }
     if v_ref.is_nan() || v_ref <= 0.0 {
         return Ok(None);
     }

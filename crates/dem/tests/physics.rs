@@ -83,6 +83,7 @@ fn central_wall_bounce_has_the_laws_restitution() {
     let wall = Wall {
         normal: [0.0, 0.0, 1.0],
         point: [0.0, 0.0, -0.5],
+        vibration: None,
     };
     let bounce = |law, v0: f64| {
         let mut system = free_system(

@@ -75,6 +75,7 @@ mod simulation;
 mod state;
 mod stats;
 mod sweep;
+pub mod vibrated;
 
 pub use auto::Engine;
 pub use broad_phase::{BroadPhase, Crossings, Epochs, Neighbours};

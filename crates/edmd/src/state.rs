@@ -458,12 +458,17 @@ impl<Q: EventQueue> State<Q> {
             }
             let wall = self.domain.walls[w];
             let h = dot(wall.normal, sub(self.slot[i].kin.pos, wall.point));
-            let dt = crate::detect::sphere_wall(
-                h,
+            let (speed, accel) = (
                 dot(wall.normal, self.slot[i].kin.vel),
                 dot(wall.normal, self.domain.gravity),
-                self.slot[i].kin.radius,
             );
+            let radius = self.slot[i].kin.radius;
+            let dt = match &wall.vibration {
+                None => crate::detect::sphere_wall(h, speed, accel, radius),
+                Some(vib) => {
+                    crate::vibrated::sphere_vibrated_wall(now, h, speed, accel, radius, vib)
+                }
+            };
             if now + dt < self.slot[i].ev.coll_time {
                 self.slot[i].ev.coll_time = now + dt;
                 self.slot[i].ev.coll_partner = (n + w) as u32;

@@ -128,6 +128,7 @@ fn a_rough_sphere_leaves_a_wall_like_a_superball() {
         walls: vec![Wall {
             normal: [0.0, 0.0, 1.0],
             point: [0.0; 3],
+            vibration: None,
         }],
         ..Domain::default()
     };
@@ -270,10 +271,12 @@ fn a_frictional_gas_between_walls_under_gravity_never_gains_energy() {
             Wall {
                 normal: [0.0, 0.0, 1.0],
                 point: [0.0, 0.0, lo],
+                vibration: None,
             },
             Wall {
                 normal: [0.0, 0.0, -1.0],
                 point: [0.0, 0.0, hi],
+                vibration: None,
             },
         ],
         gravity: [0.0, 0.0, -0.5],
@@ -409,6 +412,7 @@ fn frictional_emdstar_runs_walls_and_refuses_pure_coulomb_sliding() {
         walls: vec![Wall {
             normal: [0.0, 0.0, 1.0],
             point: [0.0; 3],
+            vibration: None,
         }],
         ..Domain::default()
     };

@@ -194,6 +194,7 @@ fn automatic_broad_phase_takes_epochs_only_for_a_held_gas() {
     let floor = |sign: f64, z: f64| Wall {
         normal: [0.0, 0.0, sign],
         point: [0.0, 0.0, z],
+        vibration: None,
     };
     let z = (region.lo[2], region.lo[2] + region.size[2]);
     open_z.1.walls.push(floor(1.0, z.0));
@@ -237,11 +238,13 @@ fn bad_input_gets_clear_errors() {
     walled.1.walls.push(Wall {
         normal: [1.0, 0.0, 0.0],
         point: [x[0] - 0.2, 0.0, 0.0],
+        vibration: None,
     });
     let b = walled.1.sim_box.unwrap();
     walled.1.walls.push(Wall {
         normal: [-1.0, 0.0, 0.0],
         point: [b.lo[0] + b.size[0], 0.0, 0.0],
+        vibration: None,
     });
     let err = Engine::<emdstar_edmd::IndexedHeap>::new(&walled.0, &walled.1, elastic())
         .err()
@@ -285,11 +288,13 @@ fn ball_between_walls_under_gravity_keeps_its_energy() {
             Wall {
                 normal: [0.0, 0.0, 1.0],
                 point: [0.0; 3],
+                vibration: None,
             },
             // A lid the ball never reaches (it bounces up to z = 3).
             Wall {
                 normal: [0.0, 0.0, -1.0],
                 point: [0.0, 0.0, 10.0],
+                vibration: None,
             },
         ],
         gravity: [0.0, 0.0, -9.81],

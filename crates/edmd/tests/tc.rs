@@ -25,6 +25,7 @@ fn a_ball_on_a_floor_bounces_elastically_once_its_flights_are_shorter_than_tc() 
         walls: vec![Wall {
             normal: [0.0, 0.0, 1.0],
             point: [0.0; 3],
+            vibration: None,
         }],
         gravity: [0.0, 0.0, -g],
         ..Domain::default()

@@ -31,6 +31,7 @@ mod options;
 pub mod output;
 pub mod run;
 mod setup;
+mod vibrated;
 
 pub use engine::AnyEngine;
 pub use keys::{unused_keys, unwritten_intervals};
@@ -39,3 +40,4 @@ pub use options::{
     InterferenceChoice, MdChoice, MorChoice, parse_engine,
 };
 pub use setup::{event_engine, md_options, mor_source};
+pub use vibrated::{VIBRATED_CONTACT_LIMIT, vibrated_wall_warnings};

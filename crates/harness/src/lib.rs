@@ -18,6 +18,7 @@
 //! - [`floor`]: the cost floor of eMD*'s cell crossings on its own grid and queue;
 //! - [`theory`]: elastic hard spheres against Carnahan–Starling, the cooling state's
 //!   a₂ against van Noije & Ernst, through the engines' observables;
+//! - [`vibrated`]: a ball on a vibrated plate against the period-1 orbit;
 //! - [`check`]: a numbered check with its bar and verdict;
 //! - [`engines`]: building systems and driving the three engines on them.
 
@@ -37,6 +38,7 @@ pub use emdstar_plot as plot;
 pub mod speed;
 pub mod stats;
 pub mod theory;
+pub mod vibrated;
 
 mod error;
 

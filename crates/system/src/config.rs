@@ -55,6 +55,9 @@
 //! # normal = [0.0, 0.0, 1.0]       # towards the particles
 //! # point = [0.0, 0.0, -1.0]
 //! # material = "steel"             # with [[materials]]
+//! # amplitude = 1e-3               # m: a vibrated wall, A sin(2π f t + φ) along the
+//! # frequency = 50.0               # Hz  normal
+//! # phase = 0.0                    # rad (default 0)
 //! # [output]
 //! # trajectory = "run.xyz"
 //! # trajectory_interval = 0.01     # s
@@ -86,6 +89,7 @@ use crate::material_config::{InteractionConfig, MaterialConfig, names};
 use crate::materials::MaterialTable;
 use crate::state::{Particles, Species};
 use crate::system::System;
+use crate::vibration::vibrated_walls_fit;
 use emdstar_contact::Sphere;
 use serde::{Deserialize, Serialize};
 
@@ -176,6 +180,14 @@ pub struct WallConfig {
     /// The material's name (required with several materials).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
+    /// A vibrated wall: amplitude A in m, frequency f in Hz and phase φ in rad of its
+    /// motion A sin(2π f t + φ) along the normal (amplitude and frequency together).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phase: Option<f64>,
 }
 
 /// `[output]`: file names and intervals (the CLI may override them).
@@ -467,6 +479,12 @@ impl Config {
                 gas::generate_gas(gas, &kinds, &species, &b, &mut particles)?;
             }
         }
+        let smallest = particles
+            .radius
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        vibrated_walls_fit(&walls, sim_box.as_ref(), smallest)?;
         let interactions = Interactions::build(&table, &species, &wall_materials)?;
         let system = System {
             particles,
@@ -644,6 +662,7 @@ impl WallConfig {
         Ok(Wall {
             normal: n.map(|c| c / len),
             point,
+            vibration: self.vibration(i)?,
         })
     }
 }

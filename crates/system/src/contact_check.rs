@@ -6,7 +6,7 @@
 //! The approach speed is an estimate of a typical impact, not a bound: for two
 //! spheres the rms relative speed of the particles, √(2⟨|v − ⟨v⟩|²⟩), plus the speed
 //! gained by falling (one sphere falling onto another at rest); against a wall the
-//! rms speed √⟨|v|²⟩ plus the fall. A particle falls at most for `t_end` and at most
+//! rms speed √⟨|v|²⟩ plus the fall (plus A ω of a vibrated wall). A particle falls at most for `t_end` and at most
 //! across the region it moves in (the diagonal of the box or of the particles'
 //! bounding box, or its height above a wall). Impacts much faster than these are
 //! rare in a gas; a bound such as twice the fastest speed refuses sound runs (a
@@ -36,6 +36,8 @@ struct Approach {
     rms: f64,
     fastest: f64,
     fall: f64,
+    /// The fastest vibrated wall's speed A ω.
+    wall_speed: f64,
 }
 
 impl Approach {
@@ -62,14 +64,22 @@ impl Approach {
         } else {
             0.0
         };
+        // A vibrated wall meets the spheres at up to its own speed A ω more.
+        let wall_speed = system
+            .domain
+            .walls
+            .iter()
+            .filter_map(|w| w.vibration.map(|v| v.amplitude * v.omega()))
+            .fold(0.0, f64::max);
         Self {
             pair: relative_rms + fall,
-            wall: rms + fall,
-            extreme: 2.0 * (fastest + fall),
+            wall: rms + fall + wall_speed,
+            extreme: 2.0 * (fastest + fall) + wall_speed,
             relative_rms,
             rms,
             fastest,
             fall,
+            wall_speed,
         }
     }
 
@@ -80,6 +90,11 @@ impl Approach {
             String::new()
         };
         match wall {
+            true if self.wall_speed > 0.0 => format!(
+                "the particles' rms speed {:.3e} m/s{fall} plus the vibrated walls' speed \
+                 {:.3e} m/s",
+                self.rms, self.wall_speed
+            ),
             true => format!("the particles' rms speed {:.3e} m/s{fall}", self.rms),
             false => format!(
                 "the particles' rms relative speed {:.3e} m/s{fall}",

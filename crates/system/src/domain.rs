@@ -101,7 +101,7 @@ impl Domain {
                 });
             }
             for (w_index, w) in self.walls.iter().enumerate() {
-                let d = w.distance(x);
+                let d = w.distance_at(x, 0.0);
                 if d < p.radius[i] {
                     return Err(SystemError::Misplaced {
                         i: id,
@@ -235,6 +235,7 @@ mod tests {
         let wall = |z: f64, n: f64| Wall {
             normal: [0.0, 0.0, n],
             point: [0.0, 0.0, z],
+            vibration: None,
         };
         let mut d = Domain::periodic(sim_box);
         let err = d.check(&p).unwrap_err().to_string();
@@ -265,6 +266,7 @@ mod tests {
         let tilted = Wall {
             normal: [0.0, 0.6, 0.8],
             point: [0.0; 3],
+            vibration: None,
         };
         d.walls.push(tilted);
         let err = d.check(&p).unwrap_err().to_string();

@@ -92,19 +92,70 @@ pub fn bounding_box(positions: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
 ///
 /// Particles live on the side the unit `normal` points to; a sphere of radius R at
 /// signed distance d = n·(x − point) overlaps the wall by ξ = R − d.
+///
+/// A vibrated wall ([`Vibration`]) moves along its normal: its plane passes through
+/// `point + s(t) normal` at time t. Its motion is a function of time fixed by the
+/// config, so saved states do not hold it (the config digest ties a checkpoint to it).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Wall {
     pub normal: [f64; 3],
+    /// A point of the plane (at rest, s = 0, for a vibrated wall).
     pub point: [f64; 3],
+    #[serde(skip)]
+    pub vibration: Option<crate::vibration::Vibration>,
 }
 
 impl Wall {
-    /// Signed distance of `p` from the wall plane, positive on the particles' side.
+    /// A wall at rest.
+    pub fn fixed(normal: [f64; 3], point: [f64; 3]) -> Self {
+        Self {
+            normal,
+            point,
+            vibration: None,
+        }
+    }
+
+    /// Signed distance of `p` from the wall plane (at rest), positive on the particles'
+    /// side.
     #[inline]
     pub fn distance(&self, p: [f64; 3]) -> f64 {
         (0..3)
             .map(|k| self.normal[k] * (p[k] - self.point[k]))
             .sum()
+    }
+
+    /// Signed distance of `p` from the plane where the wall is at time `t` (the plane
+    /// at rest for a wall that does not vibrate).
+    #[inline]
+    pub fn distance_at(&self, p: [f64; 3], t: f64) -> f64 {
+        match &self.vibration {
+            None => self.distance(p),
+            Some(v) => self.distance(p) - v.displacement(t),
+        }
+    }
+
+    /// A point of the plane at time `t`.
+    #[inline]
+    pub fn point_at(&self, t: f64) -> [f64; 3] {
+        match &self.vibration {
+            None => self.point,
+            Some(v) => {
+                let s = v.displacement(t);
+                std::array::from_fn(|k| self.point[k] + s * self.normal[k])
+            }
+        }
+    }
+
+    /// The wall's velocity at time `t` (zero for a wall at rest).
+    #[inline]
+    pub fn velocity_at(&self, t: f64) -> [f64; 3] {
+        match &self.vibration {
+            None => [0.0; 3],
+            Some(v) => {
+                let u = v.speed(t);
+                self.normal.map(|c| u * c)
+            }
+        }
     }
 }
 

@@ -46,6 +46,7 @@ pub mod stop;
 mod stress;
 mod system;
 mod tail;
+mod vibration;
 mod writers;
 
 pub use checkpoint::{CHECKPOINT_VERSION, Checkpoint, CheckpointFile, write_atomically};
@@ -74,4 +75,5 @@ pub use stress::{
 };
 pub use system::System;
 pub use tail::{Cut, KeepUntil};
+pub use vibration::Vibration;
 pub use writers::{Thermo, ThermoLog, XyzWriter};

@@ -9,6 +9,7 @@ use emdstar_harness::driven::{DrivenSettings, driven_a2, driven_state};
 use emdstar_harness::theory::{
     CoolingSettings, EosSettings, cooling_state_a2, hard_sphere_eos, plot_a2, plot_eos,
 };
+use emdstar_harness::vibrated::{OrbitSettings, orbit};
 use serde_json::json;
 
 /// Elastic hard spheres against Carnahan–Starling, and the homogeneous cooling state's
@@ -46,7 +47,8 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         measure: if args.full { 200.0 } else { 60.0 },
         ..driven.clone()
     };
-    let b = bar("theory", eos.etas.len() as u64 + 4);
+    let plate = OrbitSettings::default();
+    let b = bar("theory", eos.etas.len() as u64 + 5);
     b.set_message(format!(
         "eMD: hard spheres at η = 0.1–0.4 (N = {}), a cooling state (N = {})",
         eos.count, cooling.count
@@ -60,7 +62,15 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     b.inc(1);
     let star = driven_state(&pair, EngineKind::EmdStar)?;
     b.inc(1);
+    let orbits = [EngineKind::Emd, EngineKind::EmdStar, EngineKind::Md]
+        .map(|kind| orbit(&plate, kind).map_err(|e| anyhow!(e)));
+    let [plate_emd, plate_star, plate_md] = orbits;
+    let (plate_emd, plate_star, plate_md) = (plate_emd?, plate_star?, plate_md?);
+    b.inc(1);
     b.finish();
+    let plate_png = args.out.join("theory_vibrated_plate.png");
+    emdstar_harness::vibrated::plot(&[&plate_emd, &plate_star, &plate_md], &plate, &plate_png)
+        .map_err(|e| anyhow!(e))?;
     let driven_png = args.out.join("theory_driven_temperature.png");
     emdstar_harness::driven::plot(&[&hard], driven.theory_temperature(), &driven_png)
         .map_err(|e| anyhow!(e))?;
@@ -91,7 +101,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         .iter()
         .map(|p| (p.z / p.carnahan_starling - 1.0).abs())
         .fold(0.0, f64::max);
-    let checks = vec![
+    let mut checks = vec![
         Check::at_most(
             "8a",
             "elastic hard spheres (eMD): max |Z/Z_CS − 1| at η = 0.1, 0.2, 0.3, 0.4 (pressure from Σ r⊗Δp)",
@@ -155,6 +165,20 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             a_bar,
         ),
     ];
+    let plate_check = |id: &str, run: &emdstar_harness::vibrated::OrbitRun, bar: f64| {
+        Check::at_most(
+            id,
+            format!(
+                "ball on a vibrated plate (Γ = {}, e = {}), {}: plate phase at the apex within {bar} rad of the period-1 orbit's ψ + π over {}–{} s (height {:.1e} of gT²/8)",
+                plate.gamma, plate.restitution, run.engine, plate.from, plate.to, run.height_error
+            ),
+            run.phase_error,
+            bar,
+        )
+    };
+    checks.push(plate_check("8h", &plate_emd, 1e-3));
+    checks.push(plate_check("8i", &plate_star, 1e-2));
+    checks.push(plate_check("8j", &plate_md, 1e-2));
     let mut markdown = vec![
         "## 8. Gases against kinetic theory".to_string(),
         String::new(),
@@ -197,8 +221,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             "driven": hard, "driven_settings": driven, "driven_theory_temperature": driven.theory_temperature(),
             "driven_md": md, "driven_emdstar": star, "driven_pair_settings": pair,
             "emdstar_speed_over_md": speed,
+            "vibrated_plate": [plate_emd, plate_star, plate_md], "vibrated_plate_settings": plate,
         }),
-        figures: vec![eos_png, a2_png, driven_png, pair_png],
+        figures: vec![eos_png, a2_png, driven_png, pair_png, plate_png],
         info: vec![format!(
             "driven dilute steady state (η = {}, N = {}): eMD* {speed:.2}× as fast as MD ({:.2} s against {:.2} s of wall time per simulated second)",
             pair.eta,

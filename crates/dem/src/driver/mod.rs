@@ -73,6 +73,10 @@ pub struct Verlet {
     /// MD without gravity: the kinetic tensor kept by particle, added when a velocity
     /// changes (see [`LazyKinetic`]); `None`: summed at every step.
     pub(crate) lazy: Option<LazyKinetic>,
+    /// The time the next force evaluation is at, where vibrated walls are (set by the
+    /// engine before each; a function of the step count, so not saved).
+    #[serde(skip)]
+    pub(crate) wall_time: f64,
 }
 
 impl Verlet {
@@ -101,7 +105,13 @@ impl Verlet {
             stress: StressSums::default(),
             stress_mark: None,
             lazy: None,
+            wall_time: 0.0,
         }
+    }
+
+    /// Sets the time of the next force evaluations (where vibrated walls are then).
+    pub fn set_wall_time(&mut self, t: f64) {
+        self.wall_time = t;
     }
 
     /// The options in use.
@@ -429,7 +439,7 @@ impl Verlet {
         h: f64,
     ) -> ForceKernel<'a, K::Slot<'a>> {
         ForceKernel {
-            model: model(system, &self.opts),
+            model: model(system, &self.opts).at(self.wall_time),
             list: &self.list,
             contact_acc: &self.contact_acc,
             h,

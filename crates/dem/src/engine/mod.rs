@@ -175,6 +175,7 @@ impl Md {
             self.verlet.step_fits(v_bound, dt)?;
         }
         self.steps += 1;
+        self.verlet.set_wall_time(self.time());
         self.verlet.sweep(&mut self.system, All, kick, dt);
         Ok(())
     }
@@ -184,7 +185,7 @@ impl Md {
     /// (Hertz, Müller & Pöschel 2013, Eq. 51), plus −Σ m g·x.
     pub fn thermo(&self) -> Thermo {
         let p = &self.particles_now();
-        let model = crate::driver::model(&self.system, &self.verlet.opts);
+        let model = crate::driver::model(&self.system, &self.verlet.opts).at(self.time());
         let interactions = &self.system.interactions;
         let mut potential = self
             .verlet

@@ -121,7 +121,25 @@ pub fn finish_transient<H: Host>(h: &mut H, i: usize) {
     let early = h.pending_time(i) - h.now();
     let g = transient_gravity(h.gravity(), h.walls(), h.particles(), h.partner(i));
     let v = h.pending_velocity(i);
-    h.set_velocity(i, std::array::from_fn(|k| v[k] - g[k] * early));
+    let mut v: [f64; 3] = std::array::from_fn(|k| v[k] - g[k] * early);
+    if let Some(w) = (h.partner(i) as usize).checked_sub(h.particles())
+        && let Some(wall) = h.walls().get(w).copied()
+        && let Some(vib) = wall.vibration
+    {
+        // The contact ran in the frame of a vibrated wall moving at its speed u₀ at
+        // the E^φ (the TC clock's stamp); the sphere leaves it where and as the
+        // contact left it in the wall's frame now: shifted by the wall's departure
+        // from uniform motion, with the change of the wall's velocity.
+        let (t0, now) = (h.last_contact(i).time, h.now());
+        let u0 = vib.speed(t0);
+        let shift = vib.displacement(now) - vib.displacement(t0) - u0 * (now - t0);
+        let du = vib.speed(now) - u0;
+        let x = h.position(i);
+        let n = wall.normal;
+        h.place(i, std::array::from_fn(|k| x[k] + shift * n[k]));
+        v = std::array::from_fn(|k| v[k] + du * n[k]);
+    }
+    h.set_velocity(i, v);
     h.clear_transient(i);
     h.changed(i);
 }
@@ -358,8 +376,9 @@ fn walls_block<H: Host>(
             if own_wall == Some(w) {
                 continue;
             }
-            let h_new = dot(wall.normal, sub(x_new, wall.point));
-            let h_old = dot(wall.normal, sub(x_old, wall.point));
+            let point = wall.point_at(h.now());
+            let h_new = dot(wall.normal, sub(x_new, point));
+            let h_old = dot(wall.normal, sub(x_old, point));
             if h_new < h.radius(p) && h_new < h_old {
                 return true;
             }
@@ -369,14 +388,38 @@ fn walls_block<H: Host>(
 }
 
 /// Executes the predicted collision of `i` with wall `w` now by its rule in `rules`.
+///
+/// A vibrated wall's collision is resolved in its frame at the impact: its position
+/// and velocity u now, the rule applied to the velocity relative to u, u added back
+/// (eMD*: u is taken as constant over the contact). A predicted time at which the
+/// sphere does not touch it yet (see [`crate::vibrated::sphere_vibrated_wall`]) is a
+/// check: the sphere is predicted again.
 pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize) -> Result<()> {
     h.sync(i);
     settle_transients(h, rules, &[i]);
     let wall = h.walls()[w];
     let n = wall.normal;
-    let vn = dot(n, h.velocity(i));
+    if let Some(vib) = wall.vibration {
+        let now = h.now();
+        let point = wall.point_at(now);
+        let height = dot(n, sub(h.position(i), point));
+        let relative = dot(n, h.velocity(i)) - vib.speed(now);
+        let (r, a) = (h.radius(i), vib.amplitude);
+        let slack = 16.0 * crate::vibrated::contact_tolerance(height, r, a, relative, now);
+        if height - r > slack {
+            h.changed(i);
+            h.predict(i);
+            return Ok(());
+        }
+    }
+    let point = wall.point_at(h.now());
+    let u = wall.velocity_at(h.now());
+    let vn = match wall.vibration {
+        None => dot(n, h.velocity(i)),
+        Some(_) => dot(n, sub(h.velocity(i), u)),
+    };
     h.stats().wall_collisions += 1;
-    let height = dot(n, sub(h.position(i), wall.point));
+    let height = dot(n, sub(h.position(i), point));
     if height < h.radius(i) && vn >= 0.0 {
         h.stats().stabilising += 1;
     }
@@ -387,19 +430,26 @@ pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize)
         h.predict(i);
         return Ok(());
     }
-    let me = party(h, i, sub(h.position(i), wall.point));
+    let mut me = party(h, i, sub(h.position(i), point));
+    if wall.vibration.is_some() {
+        me.velocity = sub(me.velocity, u);
+    }
     let now = h.now();
     let since = now - h.last_contact(i).time;
     stamp(h, &[i], now);
     let decision = {
         let (rule, mut ctx) = rules.wall(h.species(i), w, since, h.stats());
-        rule.wall(&mut ctx, &me, &wall, -vn)?
+        let decision = rule.wall(&mut ctx, &me, &wall, -vn)?;
+        match wall.vibration {
+            None => decision,
+            Some(_) => decision.moved_by(u),
+        }
     };
     let mut fallback = None;
     match decision {
         Decision::Kick(kick) => apply_kick(h, &[i], &kick),
         Decision::Transient(t) => {
-            let placed = std::array::from_fn(|k| t.placed[0][k] + wall.point[k]);
+            let placed = std::array::from_fn(|k| t.placed[0][k] + point[k]);
             if walls_block(h, &[i], &[placed], Some(w)) {
                 h.stats().exception_rotation += 1;
                 apply_kick(h, &[i], &t.fallback);

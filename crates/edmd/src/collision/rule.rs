@@ -101,6 +101,27 @@ pub enum Decision {
     Transient(Transient),
 }
 
+impl Decision {
+    /// The decision seen from a frame moving at `u` (a vibrated wall's at impact):
+    /// every velocity it sets plus `u`, positions and spins as they are.
+    pub fn moved_by(self, u: [f64; 3]) -> Self {
+        let shift = |v: [f64; 3]| std::array::from_fn(|k| v[k] + u[k]);
+        let kick = |k: Kick| Kick {
+            velocity: k.velocity.map(shift),
+            ..k
+        };
+        match self {
+            Self::Kick(k) => Self::Kick(kick(k)),
+            Self::Transient(t) => Self::Transient(Transient {
+                moving: shift(t.moving),
+                after: t.after.map(shift),
+                fallback: kick(t.fallback),
+                ..t
+            }),
+        }
+    }
+}
+
 /// A pair's impact: r = x_i − x_j (minimum image), |r|, and v = v_i − v_j.
 #[derive(Debug, Clone, Copy)]
 pub struct PairImpact {

@@ -80,6 +80,7 @@ fn normalised_walls(walls: &[Wall]) -> Result<Vec<Wall>> {
             Ok(Wall {
                 normal: wall.normal.map(|x| x / len),
                 point: wall.point,
+                vibration: wall.vibration,
             })
         })
         .collect()

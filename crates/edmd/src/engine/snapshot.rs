@@ -7,6 +7,17 @@ use crate::queue::EventQueue;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
+impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
+    /// Gives a state decoded from a checkpoint the wall motion of `built`, the engine
+    /// of its config: wall motion is config, not state, and checkpoints do not hold it.
+    pub fn take_wall_motion(&mut self, built: &Self) {
+        let walls = self.state.domain.walls.iter_mut();
+        for (wall, built) in walls.zip(&built.state.domain.walls) {
+            wall.vibration = built.vibration;
+        }
+    }
+}
+
 impl<B, Q> EventEngine<B, Q>
 where
     B: BroadPhase + Serialize + DeserializeOwned,
@@ -35,6 +46,7 @@ where
                 self.len()
             )));
         }
+        saved.take_wall_motion(self);
         saved
             .state
             .check_restored(&self.state, self.len() + B::OWN_EVENTS)

@@ -261,6 +261,7 @@ fn a_ball_coming_to_rest_on_a_floor_stops_as_an_inelastic_collapse() {
         walls: vec![emdstar_system::Wall {
             normal: [0.0, 0.0, 1.0],
             point: [0.0; 3],
+            vibration: None,
         }],
         gravity: [0.0, 0.0, -g],
         ..Domain::default()

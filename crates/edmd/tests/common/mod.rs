@@ -44,7 +44,7 @@ pub fn walled_fcc(cells: usize, density: f64, seed: u64) -> (Particles, Domain) 
             normal[k] = sign;
             let mut point = [0.0; 3];
             point[k] = side - sign * 0.5;
-            setup.1.walls.push(Wall { normal, point });
+            setup.1.walls.push(Wall::fixed(normal, point));
         }
     }
     setup

@@ -225,6 +225,9 @@ impl Hybrid {
     fn step(&mut self) -> Result<(), HybridError> {
         let dt = self.opts.dt;
         let g = self.system.domain.gravity;
+        // Forces of particles that join the TD ones now take vibrated walls where
+        // they are now; the sweep's, at t + dt.
+        self.td.set_wall_time(self.time());
         if self.upkeep.list {
             // MD's step: the contact kick, then the list check with its speed bound.
             let kick = self.td.next_kick();
@@ -260,6 +263,7 @@ impl Hybrid {
                     kick
                 }
             };
+            self.td.set_wall_time(t1);
             if self.modes.count(Mode::Time) == self.modes.len() {
                 // Every particle TD: MD's sweep itself, without a test per pair.
                 self.td.sweep(&mut self.system, All, kick, dt);

@@ -174,7 +174,7 @@ impl Hybrid {
                 .domain
                 .walls
                 .iter()
-                .any(|w| w.distance(xi) < radius[i])
+                .any(|w| w.distance_at(xi, self.time()) < radius[i])
             {
                 touching[i] = true;
             }

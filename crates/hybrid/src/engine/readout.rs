@@ -86,7 +86,8 @@ impl Hybrid {
             &self.system.interactions,
             &self.system.domain,
             ContactEnd::ForceZero,
-        );
+        )
+        .at(self.time());
         let mut potential = self
             .td
             .rotation()

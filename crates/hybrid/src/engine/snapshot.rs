@@ -19,6 +19,12 @@ impl Hybrid {
                  version or another engine"
             ))
         })?;
+        // Wall motion is config, not state: the saved walls take this engine's.
+        let walls = saved.system.domain.walls.iter_mut();
+        for (wall, built) in walls.zip(&self.system.domain.walls) {
+            wall.vibration = built.vibration;
+        }
+        saved.ed.take_wall_motion(&self.ed);
         let same_system = saved.system.species == self.system.species
             && saved.system.domain == self.system.domain
             && saved.modes.len() == self.modes.len();
@@ -48,6 +54,7 @@ impl Hybrid {
         );
         saved.ed.swap_rules(&mut self.ed);
         saved.td.restored(&saved.system.particles);
+        saved.td.set_wall_time(saved.time());
         *self = saved;
         Ok(())
     }

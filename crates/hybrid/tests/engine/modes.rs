@@ -290,6 +290,7 @@ fn particles_behind_the_outlet_leave_and_the_rest_falls_freely() {
         outlet: Some(emdstar_system::Wall {
             normal: [0.0, 1.0, 0.0],
             point: [0.0, 0.0, 0.0],
+            vibration: None,
         }),
         ..HybridOptions::with_dt(dt)
     };
