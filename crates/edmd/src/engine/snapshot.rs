@@ -35,6 +35,8 @@ where
                 self.len()
             )));
         }
+        // The shear rate is the config's, not saved.
+        saved.state.domain.shear_rate = self.state.domain.shear_rate;
         saved
             .state
             .check_restored(&self.state, self.len() + B::OWN_EVENTS)
