@@ -472,6 +472,14 @@ impl Config {
             }
         }
         let interactions = Interactions::build(&table, &species, &wall_materials)?;
+        let shear_rate = self.shear_rate(gravity)?;
+        if let (Some(_), Some(b)) = (&self.gas, &sim_box)
+            && shear_rate != 0.0
+        {
+            // A generated gas starts in the steady shear flow: its Maxwell velocities
+            // are the peculiar ones, the streaming profile added.
+            crate::LeesEdwards::new(b, -shear_rate).peculiar(&mut particles);
+        }
         let system = System {
             particles,
             species,
@@ -480,7 +488,7 @@ impl Config {
                 sim_box,
                 walls,
                 gravity,
-                shear_rate: self.shear_rate(gravity)?,
+                shear_rate,
             },
         };
         system.validate()?;
