@@ -26,17 +26,20 @@ fn shear_engine(config: &Config, options: &mut EngineOptions) -> Result<()> {
     };
     match (options.engine, options.edmd.broad_phase) {
         (EngineKind::Hybrid, _) => refuse(
-            "the hybrid engine does not run Lees–Edwards boundaries; use --engine md or emd",
+            "the hybrid engine does not run Lees–Edwards boundaries; use --engine emd",
         ),
         (EngineKind::EmdStar, _) => refuse(
             "eMD* does not run Lees–Edwards boundaries (its transients would straddle the \
-             sliding face); use --engine emd or md",
+             sliding face); use --engine emd",
         ),
         (EngineKind::Emd, BroadPhaseChoice::Auto) => {
             options.edmd.broad_phase = BroadPhaseChoice::Crossings;
             Ok(())
         }
-        (EngineKind::Emd, BroadPhaseChoice::Crossings) | (EngineKind::Md, _) => Ok(()),
+        (EngineKind::Md, _) => refuse(
+            "force-based MD does not run Lees–Edwards boundaries; use --engine emd",
+        ),
+        (EngineKind::Emd, BroadPhaseChoice::Crossings) => Ok(()),
         (EngineKind::Emd, other) => refuse(&format!(
             "Lees–Edwards boundaries run on the crossings broad phase only, not on \
              {other:?}; use --broad-phase crossings or auto"
