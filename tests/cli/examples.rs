@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The configs these tests cover; a new example must be added here (and tested).
-const EXAMPLES: [&str; 8] = [
+const EXAMPLES: [&str; 9] = [
     "cooling_hertz_gas.toml",
     "driven_gas.toml",
     "frictional_gas_walls.toml",
@@ -16,6 +16,7 @@ const EXAMPLES: [&str; 8] = [
     "oblique_collision.toml",
     "polydisperse_mixture.toml",
     "restitution_input.toml",
+    "sheared_gas.toml",
     "walls_gravity.toml",
 ];
 
@@ -89,6 +90,34 @@ fn every_example_config_is_covered() {
         let config = Config::from_file(&example(name)).unwrap();
         config.build().unwrap_or_else(|e| panic!("{name}: {e}"));
     }
+}
+
+#[test]
+fn the_sheared_gas_resists_the_shear_and_heats_up_on_emd_only() {
+    let (dir, config) = short_copy("sheared_gas.toml", 0.3);
+    let emd = run(&dir, &config, "emd");
+    let p = &emd["means"]["pressure_tensor_pa"];
+    let (pxy, pxz, pyz) = (
+        p[3].as_f64().unwrap(),
+        p[4].as_f64().unwrap(),
+        p[5].as_f64().unwrap(),
+    );
+    // The shear stress opposes the flow (P_xy < 0, a positive viscosity); the other
+    // off-diagonal parts are noise.
+    assert!(pxy < 0.0 && pxz.abs() < 0.2 * pxy.abs() && pyz.abs() < 0.2 * pxy.abs(), "{emd}");
+    // Shear heating outweighs the dissipation from the start's 3.5 mJ.
+    assert!(num(&emd, "granular_temperature_final") > 5e-3, "{emd}");
+    let path = config.display().to_string();
+    for engine in ["md", "emdstar", "hybrid"] {
+        let err = error_in(&dir, &["run", &path, "--engine", engine]);
+        assert!(
+            err.contains("line 29") && err.contains("box.shear_rate") && err.contains("emd"),
+            "{engine}: {err}"
+        );
+    }
+    let err = error_in(&dir, &["run", &path, "--engine", "emd", "--broad-phase", "epochs"]);
+    assert!(err.contains("box.shear_rate") && err.contains("crossings"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
