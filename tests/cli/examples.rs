@@ -104,7 +104,10 @@ fn the_sheared_gas_resists_the_shear_and_heats_up_on_emd_only() {
     );
     // The shear stress opposes the flow (P_xy < 0, a positive viscosity); the other
     // off-diagonal parts are noise.
-    assert!(pxy < 0.0 && pxz.abs() < 0.2 * pxy.abs() && pyz.abs() < 0.2 * pxy.abs(), "{emd}");
+    assert!(
+        pxy < 0.0 && pxz.abs() < 0.2 * pxy.abs() && pyz.abs() < 0.2 * pxy.abs(),
+        "{emd}"
+    );
     // Shear heating outweighs the dissipation from the start's 3.5 mJ.
     assert!(num(&emd, "granular_temperature_final") > 5e-3, "{emd}");
     let path = config.display().to_string();
@@ -115,8 +118,14 @@ fn the_sheared_gas_resists_the_shear_and_heats_up_on_emd_only() {
             "{engine}: {err}"
         );
     }
-    let err = error_in(&dir, &["run", &path, "--engine", "emd", "--broad-phase", "epochs"]);
-    assert!(err.contains("box.shear_rate") && err.contains("crossings"), "{err}");
+    let err = error_in(
+        &dir,
+        &["run", &path, "--engine", "emd", "--broad-phase", "epochs"],
+    );
+    assert!(
+        err.contains("box.shear_rate") && err.contains("crossings"),
+        "{err}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }
 

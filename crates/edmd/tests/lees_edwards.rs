@@ -45,7 +45,11 @@ fn a_free_particle_through_the_sheared_face_becomes_its_slid_image() {
             now.position[0]
         );
     }
-    assert!((now.velocity[0][0] - vx).abs() < 1e-14, "{:?}", now.velocity[0]);
+    assert!(
+        (now.velocity[0][0] - vx).abs() < 1e-14,
+        "{:?}",
+        now.velocity[0]
+    );
     assert_eq!(now.velocity[0][1], v0[1]);
     // And down through the bottom at t_c = 2 s: forward by the offset then, Δ = 2.4 m.
     let mut p = Particles::default();
@@ -54,8 +58,16 @@ fn a_free_particle_through_the_sheared_face_becomes_its_slid_image() {
     e.advance_to(3.0).unwrap();
     let now = e.particles();
     let want_x = (1.0 + 0.7 * tc + delta + (0.7 + u) * (t - tc)).rem_euclid(size[0]);
-    assert!((now.position[0][0] - want_x).abs() < 1e-12, "{:?}", now.position[0]);
-    assert!((now.position[0][1] - 3.75).abs() < 1e-12, "{:?}", now.position[0]);
+    assert!(
+        (now.position[0][0] - want_x).abs() < 1e-12,
+        "{:?}",
+        now.position[0]
+    );
+    assert!(
+        (now.position[0][1] - 3.75).abs() < 1e-12,
+        "{:?}",
+        now.position[0]
+    );
     assert!((now.velocity[0][0] - (0.7 + u)).abs() < 1e-14);
 }
 
@@ -97,11 +109,7 @@ fn the_work_of_the_sheared_boundaries_heats_the_gas_by_the_shear_stress() {
     let s1 = e.stress_sums();
     let pxy_integral = (s1.kinetic[3] - s0.kinetic[3]) + (s1.collisional[3] - s0.collisional[3]);
     let work = -rate * pxy_integral;
-    assert!(
-        s1.collisions > 10_000,
-        "{} collisions",
-        s1.collisions
-    );
+    assert!(s1.collisions > 10_000, "{} collisions", s1.collisions);
     // The gas heats by a good fraction of its energy.
     assert!(e1 - e0 > 0.2 * e0, "{e0} -> {e1}");
     assert!(
@@ -122,9 +130,12 @@ fn epochs_neighbours_and_emdstar_are_refused_under_shear() {
         ..periodic
     };
     for kind in [BroadPhaseKind::Epochs, BroadPhaseKind::Neighbours] {
-        let got =
-            Engine::<emdstar_edmd::IndexedHeap>::with_broad_phase(
-                &particles, &domain, Physics::hard_spheres(1.0), kind);
+        let got = Engine::<emdstar_edmd::IndexedHeap>::with_broad_phase(
+            &particles,
+            &domain,
+            Physics::hard_spheres(1.0),
+            kind,
+        );
         assert!(got.is_err(), "{kind:?} ran a sheared box");
     }
 }

@@ -131,7 +131,9 @@ pub fn plot_viscosity(
     let (lo, hi) = r
         .blocks
         .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| (lo.min(b.kt), hi.max(b.kt)));
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), b| {
+            (lo.min(b.kt), hi.max(b.kt))
+        });
     let curve: Vec<(f64, f64)> = (0..=40)
         .map(|k| {
             let kt = lo + (hi - lo) * k as f64 / 40.0;
@@ -139,7 +141,7 @@ pub fn plot_viscosity(
         })
         .collect();
     let mut panel = Panel::new(
-        &format!(
+        format!(
             "Sheared elastic hard spheres (eMD, Lees–Edwards), φ = {}, shear rate {} /s",
             s.phi, s.rate
         ),
@@ -154,7 +156,7 @@ pub fn plot_viscosity(
         Style::Line,
     ));
     panel.series.push(Series::new(
-        &format!(
+        format!(
             "eMD: −P_xy / shear rate, per block (η/η_E = {:.3} ± {:.3})",
             r.ratio, r.ratio_error
         ),

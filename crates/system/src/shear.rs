@@ -133,12 +133,18 @@ mod tests {
         let s = sheared(0.5);
         let (mut p, mut v) = ([1.0, 2.1, 1.0], [0.3, 0.2, 0.0]);
         assert_eq!(s.wrap(&mut p, &mut v, 1.5), 1);
-        assert!((p[0] - 3.5).abs() < 1e-12 && (p[1] - 0.1).abs() < 1e-12, "{p:?}");
+        assert!(
+            (p[0] - 3.5).abs() < 1e-12 && (p[1] - 0.1).abs() < 1e-12,
+            "{p:?}"
+        );
         assert!((v[0] - (0.3 - 1.0)).abs() < 1e-12, "{v:?}");
         // And back through the bottom: the inverse.
         let (mut q, mut w) = ([3.5, -0.1, 1.0], [v[0], -0.2, 0.0]);
         assert_eq!(s.wrap(&mut q, &mut w, 1.5), -1);
-        assert!((q[0] - 1.0).abs() < 1e-12 && (q[1] - 1.9).abs() < 1e-12, "{q:?}");
+        assert!(
+            (q[0] - 1.0).abs() < 1e-12 && (q[1] - 1.9).abs() < 1e-12,
+            "{q:?}"
+        );
         assert!((w[0] - 0.3).abs() < 1e-12, "{w:?}");
     }
 
@@ -152,12 +158,18 @@ mod tests {
         let (r, up) = s.image(d, t);
         assert_eq!(up, -1);
         // x_j − Δ = 0.5: r_x = 1.0 − 0.5.
-        assert!((r[0] - 0.5).abs() < 1e-12 && (r[1] - 0.2).abs() < 1e-12, "{r:?}");
+        assert!(
+            (r[0] - 0.5).abs() < 1e-12 && (r[1] - 0.2).abs() < 1e-12,
+            "{r:?}"
+        );
         assert_eq!(s.image_velocity(up), -1.0);
         // Seen from j, the image of i above lies at x_i + Δ = 2.5.
         let (r, up) = s.image(std::array::from_fn(|k| xj[k] - xi[k]), t);
         assert_eq!(up, 1);
-        assert!((r[0] + 0.5).abs() < 1e-12 && (r[1] + 0.2).abs() < 1e-12, "{r:?}");
+        assert!(
+            (r[0] + 0.5).abs() < 1e-12 && (r[1] + 0.2).abs() < 1e-12,
+            "{r:?}"
+        );
         // Without shear it is the ordinary minimum image.
         let (r, _) = sheared(0.0).image(d, t);
         assert!((r[0] + 1.0).abs() < 1e-12, "{r:?}");

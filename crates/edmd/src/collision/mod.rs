@@ -187,7 +187,11 @@ fn party<H: Host>(h: &H, p: usize, position: [f64; 3]) -> Party {
 /// `v` with `vx` added along x (untouched, to the bit, where `vx` is 0).
 #[inline(always)]
 fn shifted(v: [f64; 3], vx: f64) -> [f64; 3] {
-    if vx == 0.0 { v } else { [v[0] + vx, v[1], v[2]] }
+    if vx == 0.0 {
+        v
+    } else {
+        [v[0] + vx, v[1], v[2]]
+    }
 }
 
 /// Applies `kick` to the parties `who` (one for a wall).
