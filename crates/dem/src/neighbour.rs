@@ -4,7 +4,7 @@
 //! every particle (the hybrid engine's bookkeeping).
 
 use crate::options::MdError;
-use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
+use emdstar_system::{CellGrid, LeesEdwards, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -37,6 +37,10 @@ pub struct NeighbourList {
     upper_start: Vec<u32>,
     #[serde(skip)]
     upper_entries: Vec<u32>,
+    /// Under Lees–Edwards shear: γ̇ L_y, the x-velocity of the image one box up (set
+    /// with the shifts by [`NeighbourList::slide`]; 0 without shear).
+    #[serde(skip)]
+    image_speed: f64,
 }
 
 /// A non-empty cell next to the one being scanned: its particles
@@ -126,10 +130,14 @@ impl NeighbourList {
     /// Writes the non-empty cells next to cell `c` (itself included) to `cells`, in the
     /// order of [`CellGrid::for_each_neighbour`], and returns their number.
     #[inline]
-    fn near(&self, c: [usize; 3], cells: &mut [Near; 27]) -> usize {
+    fn near(&self, c: [usize; 3], cells: &mut [Near; 27], sheared: bool) -> usize {
         let grid = &self.grid;
         let mut n = 0;
         grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+            if sheared && shift[1] != 0 {
+                // Across the sliding face: see `build_half_sheared`.
+                return;
+            }
             let code =
                 (shift[0] + 1) as usize + 3 * (shift[1] + 1) as usize + 9 * (shift[2] + 1) as usize;
             let (first, end) = (
@@ -173,6 +181,23 @@ impl NeighbourList {
     /// Builds the half layout with cut-off R_i + R_j + `skin` for particles sorted by
     /// [`Self::sort_order`] (`positions` in that order).
     pub fn build_half(&mut self, positions: &[[f64; 3]], radius: &[f64], skin: f64) {
+        self.build_half_sheared(positions, radius, skin, None);
+    }
+
+    /// [`Self::build_half`] in a box sheared by `shear` = (its Lees–Edwards images, the
+    /// time now): the cells that do not wrap in y as usual; across the sliding y face a
+    /// cell in a border row takes the whole opposite row (within one cell in z), each
+    /// pair under the image nearest now ([`Self::slide`] then moves the images on).
+    pub fn build_half_sheared(
+        &mut self,
+        positions: &[[f64; 3]],
+        radius: &[f64],
+        skin: f64,
+        shear: Option<(&LeesEdwards, f64)>,
+    ) {
+        if let Some((le, t)) = shear {
+            self.slide_to(le, t, centred_offset(le, t));
+        }
         self.start.clear();
         self.entries.clear();
         self.upper_start.clear();
@@ -195,7 +220,7 @@ impl NeighbourList {
             // The full stencil, keeping j < i: a half stencil would list some pairs
             // that meet through a periodic wrap under their lower index.
             let mut cells = [Near::default(); 27];
-            let n_cells = self.near(c, &mut cells);
+            let n_cells = self.near(c, &mut cells, shear.is_some());
             for i in a..b {
                 let (xi, ri) = (positions[i], radius[i] + skin);
                 for near in &cells[..n_cells] {
@@ -206,9 +231,99 @@ impl NeighbourList {
                         }
                     }
                 }
+                if let Some((le, _)) = shear {
+                    self.push_across(le, c, (i, ri), positions, radius);
+                }
                 self.start.push(self.entries.len() as u32);
             }
         }
+    }
+
+    /// Adds the partners j < i of particle i (in cell `c`, cut-off radius `ri` + R_j)
+    /// across the sliding face: the whole border row opposite, each j under its image
+    /// nearest now (the shifts as [`Self::slide`] set them).
+    fn push_across(
+        &mut self,
+        le: &LeesEdwards,
+        c: [usize; 3],
+        (i, ri): (usize, f64),
+        positions: &[[f64; 3]],
+        radius: &[f64],
+    ) {
+        let grid = &self.grid;
+        let dims = grid.dims;
+        let mut rows = [(0usize, 0usize, 0i8, 0i8); 9];
+        let mut n_rows = 0;
+        grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+            let x = other % dims[0];
+            if shift[1] != 0 && shift[0] == 0 && x == c[0] {
+                let (y, z) = ((other / dims[0]) % dims[1], other / (dims[0] * dims[1]));
+                rows[n_rows] = (y, z, shift[1], shift[2]);
+                n_rows += 1;
+            }
+        });
+        let (lx, delta) = (le.size[0], self.shifts[16][0]);
+        let xi = positions[i];
+        for &(y, z, up, sz) in &rows[..n_rows] {
+            let first = grid.index([0, y, z]);
+            let (from, to) = (
+                grid.cell_start[first] as usize,
+                grid.cell_start[first + dims[0]] as usize,
+            );
+            for j in from..to.min(i) {
+                // The image `up` boxes up at x + up·Δ, then the nearest along x.
+                let dx = xi[0] - positions[j][0] - f64::from(up) * delta;
+                let sx = (dx / lx).round().clamp(-1.0, 1.0);
+                let code = (sx + 1.0) as usize + 3 * (up + 1) as usize + 9 * (sz + 1) as usize;
+                if within(xi, positions[j], self.shifts[code], ri + radius[j]) {
+                    self.entries.push(j as u32 | (code as u32) << INDEX_BITS);
+                }
+            }
+        }
+    }
+
+    /// Moves the images across the sliding face on to time `t` (Lees & Edwards 1972):
+    /// the shifts of the images one box up or down become s_x L_x ± Δ, with Δ the
+    /// offset continued from where the last slide (or build) left it, so that it never
+    /// jumps by L_x while a list lives.
+    pub fn slide(&mut self, le: &LeesEdwards, t: f64) {
+        let lx = le.size[0];
+        let travelled = le.image_speed() * t;
+        let wraps = ((travelled - self.shifts[16][0]) / lx).round();
+        self.slide_to(le, t, travelled - wraps * lx);
+    }
+
+    fn slide_to(&mut self, le: &LeesEdwards, _t: f64, delta: f64) {
+        for (code, shift) in self.shifts.iter_mut().enumerate() {
+            let (sx, up) = ((code % 3) as f64 - 1.0, ((code / 3) % 3) as f64 - 1.0);
+            if up != 0.0 {
+                shift[0] = sx * le.size[0] + up * delta;
+            }
+        }
+        self.image_speed = le.image_speed();
+    }
+
+    /// The image of j nearest to i for d = x_i − x_j in a sheared box, with the offset
+    /// of the last [`Self::slide`]: the separation and the image's x-velocity relative
+    /// to j.
+    pub fn sheared_image(&self, le: &LeesEdwards, mut d: [f64; 3]) -> ([f64; 3], f64) {
+        let [lx, ly, lz] = le.size;
+        let up = (d[1] / ly).round();
+        d[1] -= up * ly;
+        d[0] -= up * self.shifts[16][0];
+        d[0] -= lx * (d[0] / lx).round();
+        if le.periodic_z {
+            d[2] -= lz * (d[2] / lz).round();
+        }
+        (d, up * self.image_speed)
+    }
+
+    /// The x-velocity of the image an entry names relative to the particle it stands
+    /// for: ±γ̇ L_y across the sliding face, else 0.
+    #[inline(always)]
+    pub fn image_vx(&self, entry: u32) -> f64 {
+        let up = ((entry >> INDEX_BITS) / 3) % 3;
+        (up as f64 - 1.0) * self.image_speed
     }
 
     /// Builds the upper part from the half list (in O(pairs), no distance is
@@ -274,6 +389,14 @@ impl NeighbourList {
             self.shifts[(entry >> INDEX_BITS) as usize],
         )
     }
+}
+
+/// The offset Δ(t) of the image above, taken in [−L_x/2, L_x/2): with it the nearest
+/// image of a pair across the face is at most one box away along x.
+fn centred_offset(le: &LeesEdwards, t: f64) -> f64 {
+    let lx = le.size[0];
+    let d = le.offset(t);
+    if d >= 0.5 * lx { d - lx } else { d }
 }
 
 #[cfg(test)]

@@ -67,8 +67,8 @@ pub enum MdError {
     #[error("time step dt = {0} must be a finite number greater than zero")]
     BadDt(f64),
     #[error(
-        "box.shear_rate = {0}: force-based MD does not run Lees–Edwards boundaries; use the \
-         eMD engine (--engine emd)"
+        "box.shear_rate = {0}: the hybrid engine does not run Lees–Edwards boundaries; use \
+         --engine md or emd"
     )]
     Sheared(f64),
     #[error("skin = {0} must be a finite number ≥ 0")]
@@ -152,9 +152,6 @@ pub fn prepare_system(
     skin: Option<f64>,
     t_end: f64,
 ) -> Result<f64, MdError> {
-    if system.domain.shear_rate != 0.0 {
-        return Err(MdError::Sheared(system.domain.shear_rate));
-    }
     system.validate()?;
     if !(dt.is_finite() && dt > 0.0) {
         return Err(MdError::BadDt(dt));

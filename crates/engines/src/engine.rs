@@ -26,20 +26,17 @@ fn shear_engine(config: &Config, options: &mut EngineOptions) -> Result<()> {
     };
     match (options.engine, options.edmd.broad_phase) {
         (EngineKind::Hybrid, _) => {
-            refuse("the hybrid engine does not run Lees–Edwards boundaries; use --engine emd")
+            refuse("the hybrid engine does not run Lees–Edwards boundaries; use --engine md or emd")
         }
         (EngineKind::EmdStar, _) => refuse(
             "eMD* does not run Lees–Edwards boundaries (its transients would straddle the \
-             sliding face); use --engine emd",
+             sliding face); use --engine emd or md",
         ),
         (EngineKind::Emd, BroadPhaseChoice::Auto) => {
             options.edmd.broad_phase = BroadPhaseChoice::Crossings;
             Ok(())
         }
-        (EngineKind::Md, _) => {
-            refuse("force-based MD does not run Lees–Edwards boundaries; use --engine emd")
-        }
-        (EngineKind::Emd, BroadPhaseChoice::Crossings) => Ok(()),
+        (EngineKind::Emd, BroadPhaseChoice::Crossings) | (EngineKind::Md, _) => Ok(()),
         (EngineKind::Emd, other) => refuse(&format!(
             "Lees–Edwards boundaries run on the crossings broad phase only, not on \
              {other:?}; use --broad-phase crossings or auto"

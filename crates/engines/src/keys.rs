@@ -40,7 +40,7 @@ const KEYS: &[Key] = &[
     },
     Key {
         name: "box.shear_rate",
-        engines: &[Emd],
+        engines: &[Md, Emd],
         set: |c, _| {
             c.sim_box
                 .as_ref()
