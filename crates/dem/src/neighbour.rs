@@ -504,6 +504,61 @@ mod tests {
     }
 
     #[test]
+    fn a_sheared_list_holds_exactly_the_pairs_close_through_the_sliding_images() {
+        // γ̇ L_y t = 2.6 m at t = 1.3 s in a 4 m box: the images above and below are slid
+        // by ±2.6 m (−1.4 m centred). Every pair closer than the cut-off through its
+        // Lees–Edwards image (brute force over all pairs), and the image named is it.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [4.0; 3],
+            periodic: [true; 3],
+        };
+        let le = LeesEdwards::new(&b, 0.5);
+        let t = 1.3;
+        let x = cloud(1000, 4.0, 11);
+        let r: Vec<f64> = (0..x.len()).map(|i| 0.1 + 0.02 * (i % 3) as f64).collect();
+        let skin = 0.1;
+        let mut want = Vec::new();
+        for i in 0..x.len() {
+            for j in 0..i {
+                let d = std::array::from_fn(|k| x[i][k] - x[j][k]);
+                let (d, _) = le.image(d, t);
+                let cut = r[i] + r[j] + skin;
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
+                    want.push((j, i));
+                }
+            }
+        }
+        let mut list = NeighbourList::default();
+        let order = list.sort_order(&x, Some(&b), 2.0 * 0.14 + skin, 2.0).unwrap();
+        let xs: Vec<[f64; 3]> = order.iter().map(|&k| x[k as usize]).collect();
+        let rs: Vec<f64> = order.iter().map(|&k| r[k as usize]).collect();
+        list.build_half_sheared(&xs, &rs, skin, Some((&le, t)));
+        let mut got = Vec::new();
+        let mut across = 0;
+        for i in 0..xs.len() {
+            for &e in list.of(i) {
+                let (j, s) = list.split(e);
+                assert!(within(xs[i], xs[j], s, rs[i] + rs[j] + skin), "{i} {j} {s:?}");
+                if list.image_vx(e) != 0.0 {
+                    across += 1;
+                    assert_eq!(list.image_vx(e), s[1].signum() * 2.0, "{s:?}");
+                }
+                let (a, b) = (order[i] as usize, order[j] as usize);
+                got.push((a.min(b), a.max(b)));
+            }
+        }
+        got.sort_unstable();
+        want.sort_unstable();
+        assert!(across > 10, "{across} pairs across the sliding face");
+        assert_eq!(got, want);
+        // Slid on by 0.1 s the images move 0.2 m along x, continuously.
+        let before = list.shifts[16][0];
+        list.slide(&le, t + 0.1);
+        assert!((list.shifts[16][0] - before - 0.2).abs() < 1e-12);
+    }
+
+    #[test]
     fn the_upper_part_names_the_image_across_a_periodic_face_from_the_other_side() {
         let b = SimBox {
             lo: [0.0; 3],
