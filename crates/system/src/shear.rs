@@ -40,6 +40,15 @@ impl LeesEdwards {
         (self.image_speed() * t).rem_euclid(self.size[0])
     }
 
+    /// Δ(t) taken in [−L_x/2, L_x/2): with it the nearest image of a pair across the
+    /// face is at most one box away along x.
+    #[inline]
+    pub fn centred_offset(&self, t: f64) -> f64 {
+        let lx = self.size[0];
+        let d = self.offset(t);
+        if d >= 0.5 * lx { d - lx } else { d }
+    }
+
     /// The streaming velocity u_x(y) = γ̇ (y − y_mid) of the steady profile.
     #[inline]
     pub fn streaming(&self, y: f64) -> f64 {
