@@ -196,7 +196,7 @@ impl NeighbourList {
         shear: Option<(&LeesEdwards, f64)>,
     ) {
         if let Some((le, t)) = shear {
-            self.slide_to(le, t, le.centred_offset(t));
+            self.slide_to(le, le.centred_offset(t));
         }
         self.start.clear();
         self.entries.clear();

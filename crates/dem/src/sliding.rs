@@ -57,10 +57,11 @@ impl NeighbourList {
         let lx = le.size[0];
         let travelled = le.image_speed() * t;
         let wraps = ((travelled - self.shifts[16][0]) / lx).round();
-        self.slide_to(le, t, travelled - wraps * lx);
+        self.slide_to(le, travelled - wraps * lx);
     }
 
-    pub(crate) fn slide_to(&mut self, le: &LeesEdwards, _t: f64, delta: f64) {
+    /// Sets the shifts of the images one box up or down for the offset `delta`.
+    pub(crate) fn slide_to(&mut self, le: &LeesEdwards, delta: f64) {
         for (code, shift) in self.shifts.iter_mut().enumerate() {
             let (sx, up) = ((code % 3) as f64 - 1.0, ((code / 3) % 3) as f64 - 1.0);
             if up != 0.0 {
