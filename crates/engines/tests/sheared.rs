@@ -7,7 +7,7 @@
 
 use emdstar_engines::observe::{reading, since};
 use emdstar_engines::{AnyEngine, EngineKind, EngineOptions};
-use emdstar_system::Config;
+use emdstar_system::{Config, Particles};
 
 fn engine(text: &str, kind: EngineKind) -> AnyEngine {
     let config = Config::from_toml(text).unwrap();
@@ -136,5 +136,46 @@ fn md_and_emd_shear_the_same_gas_with_the_same_stress() {
     assert!(
         (t_md / t_emd - 1.0).abs() < 0.08,
         "T: MD {t_md}, eMD {t_emd}"
+    );
+}
+
+/// Σ ½ m c² with c = v − γ̇ (y − L_y/2) e_x (the box from 0).
+fn peculiar_energy(p: &Particles, rate: f64, ly: f64) -> f64 {
+    (0..p.len())
+        .map(|i| {
+            let mut c = p.velocity[i];
+            c[0] -= rate * (p.position[i][1] - 0.5 * ly);
+            0.5 * p.mass[i] * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+        })
+        .sum()
+}
+
+/// An elastic soft-sphere gas sheared hard: the boundaries' work −γ̇ V ∫P_xy dt (the
+/// tensor MD sums, kinetic and virial) is the gain of the peculiar kinetic plus the
+/// elastic energy, to the accuracy of the time step.
+#[test]
+fn md_heats_a_sheared_elastic_gas_by_the_work_of_the_boundaries() {
+    let (rate, side) = (0.5, 12.04);
+    let text = format!(
+        "t_end = 4.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
+         rms_speed = 1.7320508\nseed = 9\n[box]\nsize = [{side}, {side}, {side}]\n\
+         shear_rate = {rate}\n",
+        material(1.0)
+    );
+    let mut e = engine(&text, EngineKind::Md);
+    let sim = e.sim_mut();
+    let energy = |sim: &dyn emdstar_system::Simulation| {
+        peculiar_energy(&sim.particles(), rate, side) + sim.thermo().potential_energy
+    };
+    let (e0, s0) = (energy(sim), sim.stress_sums());
+    sim.advance_to(4.0).unwrap();
+    let (e1, s1) = (energy(sim), sim.stress_sums());
+    let work = -rate * (s1.kinetic[3] - s0.kinetic[3] + s1.collisional[3] - s0.collisional[3]);
+    eprintln!("energy {e0} -> {e1}: gain {}, work {work}", e1 - e0);
+    assert!(e1 - e0 > 0.1 * e0, "{e0} -> {e1}");
+    assert!(
+        ((e1 - e0) / work - 1.0).abs() < 2e-3,
+        "gain {} against the work {work}",
+        e1 - e0
     );
 }
