@@ -160,6 +160,7 @@ fn hopper(seed: u64, model: Model, frictionless: bool) -> System {
         }),
         walls,
         gravity: [0.0, -9.81, 0.0],
+        ..Domain::default()
     };
     System::one_material(particles, species, &normal, tangential, domain)
         .expect("the hopper's system")

@@ -39,7 +39,8 @@ mod theory;
 ///      rotational temperatures by MD, frictional eMD* and Walton's eMD;
 ///   8. [theory] kinetic theory through the log's observables: elastic hard spheres'
 ///      pressure against Carnahan–Starling at η = 0.1–0.4, and a2 of the homogeneous
-///      cooling state (ε = 0.8) against van Noije & Ernst.
+///      cooling state (ε = 0.8) against van Noije & Ernst; the shear viscosity of
+///      hard spheres under Lees–Edwards shear against Enskog's.
 ///
 /// The default (quick) run takes about a minute on 2 cores and uses the default
 /// tables built into the program; --full runs the paper's scale (N = 10⁴ gases, 10⁴

@@ -17,6 +17,7 @@ const EXAMPLES: [&str; 9] = [
     "polydisperse_mixture.toml",
     "restitution_input.toml",
     "vibrated_bed.toml",
+    "sheared_gas.toml",
     "walls_gravity.toml",
 ];
 
@@ -90,6 +91,52 @@ fn every_example_config_is_covered() {
         let config = Config::from_file(&example(name)).unwrap();
         config.build().unwrap_or_else(|e| panic!("{name}: {e}"));
     }
+}
+
+#[test]
+fn the_sheared_gas_resists_the_shear_and_heats_up_in_emd_and_md() {
+    let (dir, config) = short_copy("sheared_gas.toml", 0.3);
+    let emd = run(&dir, &config, "emd");
+    // MD steps through the contacts (0.7 ms each, 1/50 of it a step): a shorter run (the same
+    // directory and file, the config rewritten).
+    let (_, config) = short_copy("sheared_gas.toml", 0.05);
+    let md = run(&dir, &config, "md");
+    for summary in [&emd, &md] {
+        let p = &summary["means"]["pressure_tensor_pa"];
+        let (pxy, pxz, pyz) = (
+            p[3].as_f64().unwrap(),
+            p[4].as_f64().unwrap(),
+            p[5].as_f64().unwrap(),
+        );
+        // The shear stress opposes the flow (P_xy < 0, a positive viscosity); the
+        // other off-diagonal parts are noise.
+        assert!(
+            pxy < 0.0 && pxz.abs() < 0.25 * pxy.abs() && pyz.abs() < 0.25 * pxy.abs(),
+            "{summary}"
+        );
+        // Shear heating outweighs the dissipation from the start's 3.5 mJ.
+        assert!(
+            num(summary, "granular_temperature_final") > 3.6e-3,
+            "{summary}"
+        );
+    }
+    let path = config.display().to_string();
+    for engine in ["emdstar", "hybrid"] {
+        let err = error_in(&dir, &["run", &path, "--engine", engine]);
+        assert!(
+            err.contains("line 30") && err.contains("box.shear_rate") && err.contains("emd"),
+            "{engine}: {err}"
+        );
+    }
+    let err = error_in(
+        &dir,
+        &["run", &path, "--engine", "emd", "--broad-phase", "epochs"],
+    );
+    assert!(
+        err.contains("box.shear_rate") && err.contains("crossings"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]

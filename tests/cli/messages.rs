@@ -48,6 +48,13 @@ fn each_bad_value_names_its_key_once_with_its_line_on_every_engine() {
              rms_speed = 1.0\nseed = 1\n"
         )
     };
+    let sheared = |top: &str, box_keys: &str| {
+        format!(
+            "t_end = 0.1\n{top}[material]\nmodel = \"hertz\"\npoisson = 0.3\nyoung = 1e9\n\
+             density = 2500.0\n[gas]\ncount = 8\nradius = 0.01\narrangement = \"lattice\"\n\
+             rms_speed = 1.0\nseed = 1\n[box]\nsize = [0.2, 0.2, 0.2]\n{box_keys}"
+        )
+    };
     let frictional = "t_end = 0.1\n[material]\nmodel = \"linear\"\nstiffness = 1e4\n\
                       damping = 0.1\ndensity = 1000.0\nfriction = 0.5\n\
                       tangential_stiffness = 1e4\ntangential_damping = 1e308\n[gas]\ncount = 8\n\
@@ -129,6 +136,24 @@ fn each_bad_value_names_its_key_once_with_its_line_on_every_engine() {
             "md.skin",
             "skin = -1.0",
             "≥ 0",
+        ),
+        (
+            sheared("", "shear_rate = nan\n"),
+            "box.shear_rate",
+            "shear_rate = nan",
+            "finite",
+        ),
+        (
+            sheared("", "periodic = [true, false, true]\nshear_rate = 2.0\n"),
+            "box.shear_rate",
+            "shear_rate = 2.0",
+            "periodic along x",
+        ),
+        (
+            sheared("gravity = [0.0, -9.81, 0.0]\n", "shear_rate = 2.0\n"),
+            "box.shear_rate",
+            "shear_rate = 2.0",
+            "along z only",
         ),
         (
             pair(GLASS, SPHERE, "") + "[events]\ntc = -1e-5\n",

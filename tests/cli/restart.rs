@@ -93,6 +93,44 @@ fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
     }
 }
 
+/// Lees–Edwards boundaries keep no state of their own (the offset is γ̇ L_y t; MD's list
+/// carries its images' shifts): a sheared eMD or MD run resumed half-way writes the
+/// files of the one run, byte for byte.
+#[test]
+fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
+    let dir = scratch("sheared");
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/configs/sheared_gas.toml");
+    let text = std::fs::read_to_string(example).unwrap();
+    let text = text.replace("t_end = 2.0 ", "t_end = 0.2 ");
+    assert!(text.contains("t_end = 0.2 "));
+    std::fs::write(dir.join("sheared.toml"), text).unwrap();
+    for engine in ["emd", "md"] {
+        let run = |extra: &[&str]| {
+            let mut args = vec!["run", "sheared.toml", "--engine", engine, "--quiet"];
+            args.extend_from_slice(extra);
+            stdout_in(&dir, &args);
+        };
+        run(&["--trajectory", "one.xyz", "--log", "one.log"]);
+        for t_half in ["0.1", "0.123"] {
+            let two = |ext: &str| format!("two-{engine}-{t_half}.{ext}");
+            let (traj, log, ckpt) = (two("xyz"), two("log"), two("ckpt"));
+            let files = ["--trajectory", &traj, "--log", &log, "--checkpoint", &ckpt];
+            let mut first = files.to_vec();
+            first.extend(["--t-end", t_half]);
+            run(&first);
+            let mut second = files.to_vec();
+            second.extend(["--resume", &ckpt]);
+            run(&second);
+            for (a, b) in [(&traj, "one.xyz"), (&log, "one.log")] {
+                let x = std::fs::read(dir.join(a)).unwrap();
+                let y = std::fs::read(dir.join(b)).unwrap();
+                assert!(x == y, "{engine}: {a} differs from {b} of one run");
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn wrong_checkpoints_are_refused_with_reasons() {
     let cfg = config();

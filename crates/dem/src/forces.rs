@@ -346,7 +346,13 @@ impl<S: TangentialSlot> ForceKernel<'_, S> {
             let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
             let l = ri + model.radius[j];
             if r2 < l * l {
-                self.pair(i, j, d, r2.sqrt(), l, vi, velocity[j], out);
+                // Across a Lees–Edwards face j's image moves at v_j + image_vx e_x.
+                let vx = list.image_vx(entry);
+                let mut vj = velocity[j];
+                if vx != 0.0 {
+                    vj[0] += vx;
+                }
+                self.pair(i, j, d, r2.sqrt(), l, vi, vj, out);
             }
         }
     }

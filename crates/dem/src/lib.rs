@@ -77,6 +77,7 @@ mod frictional;
 mod neighbour;
 mod options;
 mod simulation;
+mod sliding;
 mod verlet;
 
 pub use driver::{All, Members, Verlet, check_and_wrap};

@@ -4,7 +4,7 @@
 //! every particle (the hybrid engine's bookkeeping).
 
 use crate::options::MdError;
-use emdstar_system::{CellGrid, SimBox, Stencil, bounding_box};
+use emdstar_system::{CellGrid, LeesEdwards, SimBox, Stencil, bounding_box};
 
 /// Bits of a list entry that hold the neighbour's index; the rest hold its image code.
 pub const INDEX_BITS: u32 = 27;
@@ -37,6 +37,10 @@ pub struct NeighbourList {
     upper_start: Vec<u32>,
     #[serde(skip)]
     upper_entries: Vec<u32>,
+    /// Under Lees–Edwards shear: γ̇ L_y, the x-velocity of the image one box up (set
+    /// with the shifts by [`NeighbourList::slide`]; 0 without shear).
+    #[serde(skip)]
+    pub(crate) image_speed: f64,
 }
 
 /// A non-empty cell next to the one being scanned: its particles
@@ -52,7 +56,7 @@ struct Near {
 
 /// Whether the image of x_j at `shift` lies within `cut` of x_i.
 #[inline(always)]
-fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
+pub(crate) fn within(xi: [f64; 3], xj: [f64; 3], shift: [f64; 3], cut: f64) -> bool {
     let d = [
         xi[0] - xj[0] - shift[0],
         xi[1] - xj[1] - shift[1],
@@ -126,10 +130,14 @@ impl NeighbourList {
     /// Writes the non-empty cells next to cell `c` (itself included) to `cells`, in the
     /// order of [`CellGrid::for_each_neighbour`], and returns their number.
     #[inline]
-    fn near(&self, c: [usize; 3], cells: &mut [Near; 27]) -> usize {
+    fn near(&self, c: [usize; 3], cells: &mut [Near; 27], sheared: bool) -> usize {
         let grid = &self.grid;
         let mut n = 0;
         grid.for_each_neighbour(c, Stencil::Full, |other, shift| {
+            if sheared && shift[1] != 0 {
+                // Across the sliding face: see `build_half_sheared`.
+                return;
+            }
             let code =
                 (shift[0] + 1) as usize + 3 * (shift[1] + 1) as usize + 9 * (shift[2] + 1) as usize;
             let (first, end) = (
@@ -173,6 +181,23 @@ impl NeighbourList {
     /// Builds the half layout with cut-off R_i + R_j + `skin` for particles sorted by
     /// [`Self::sort_order`] (`positions` in that order).
     pub fn build_half(&mut self, positions: &[[f64; 3]], radius: &[f64], skin: f64) {
+        self.build_half_sheared(positions, radius, skin, None);
+    }
+
+    /// [`Self::build_half`] in a box sheared by `shear` = (its Lees–Edwards images, the
+    /// time now): the cells that do not wrap in y as usual; across the sliding y face a
+    /// cell in a border row takes the whole opposite row (within one cell in z), each
+    /// pair under the image nearest now ([`Self::slide`] then moves the images on).
+    pub fn build_half_sheared(
+        &mut self,
+        positions: &[[f64; 3]],
+        radius: &[f64],
+        skin: f64,
+        shear: Option<(&LeesEdwards, f64)>,
+    ) {
+        if let Some((le, t)) = shear {
+            self.slide_to(le, le.centred_offset(t));
+        }
         self.start.clear();
         self.entries.clear();
         self.upper_start.clear();
@@ -195,7 +220,7 @@ impl NeighbourList {
             // The full stencil, keeping j < i: a half stencil would list some pairs
             // that meet through a periodic wrap under their lower index.
             let mut cells = [Near::default(); 27];
-            let n_cells = self.near(c, &mut cells);
+            let n_cells = self.near(c, &mut cells, shear.is_some());
             for i in a..b {
                 let (xi, ri) = (positions[i], radius[i] + skin);
                 for near in &cells[..n_cells] {
@@ -205,6 +230,9 @@ impl NeighbourList {
                             self.entries.push(j as u32 | near.code);
                         }
                     }
+                }
+                if let Some((le, _)) = shear {
+                    self.push_across(le, c, (i, ri), positions, radius);
                 }
                 self.start.push(self.entries.len() as u32);
             }
@@ -378,6 +406,66 @@ mod tests {
                 "each pair under its lower index, periodic {periodic:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_sheared_list_holds_exactly_the_pairs_close_through_the_sliding_images() {
+        // γ̇ L_y t = 2.6 m at t = 1.3 s in a 4 m box: the images above and below are slid
+        // by ±2.6 m (−1.4 m centred). Every pair closer than the cut-off through its
+        // Lees–Edwards image (brute force over all pairs), and the image named is it.
+        let b = SimBox {
+            lo: [0.0; 3],
+            size: [4.0; 3],
+            periodic: [true; 3],
+        };
+        let le = LeesEdwards::new(&b, 0.5);
+        let t = 1.3;
+        let x = cloud(1000, 4.0, 11);
+        let r: Vec<f64> = (0..x.len()).map(|i| 0.1 + 0.02 * (i % 3) as f64).collect();
+        let skin = 0.1;
+        let mut want = Vec::new();
+        for i in 0..x.len() {
+            for j in 0..i {
+                let d = std::array::from_fn(|k| x[i][k] - x[j][k]);
+                let (d, _) = le.image(d, t);
+                let cut = r[i] + r[j] + skin;
+                if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cut * cut {
+                    want.push((j, i));
+                }
+            }
+        }
+        let mut list = NeighbourList::default();
+        let order = list
+            .sort_order(&x, Some(&b), 2.0 * 0.14 + skin, 2.0)
+            .unwrap();
+        let xs: Vec<[f64; 3]> = order.iter().map(|&k| x[k as usize]).collect();
+        let rs: Vec<f64> = order.iter().map(|&k| r[k as usize]).collect();
+        list.build_half_sheared(&xs, &rs, skin, Some((&le, t)));
+        let mut got = Vec::new();
+        let mut across = 0;
+        for i in 0..xs.len() {
+            for &e in list.of(i) {
+                let (j, s) = list.split(e);
+                assert!(
+                    within(xs[i], xs[j], s, rs[i] + rs[j] + skin),
+                    "{i} {j} {s:?}"
+                );
+                if list.image_vx(e) != 0.0 {
+                    across += 1;
+                    assert_eq!(list.image_vx(e), s[1].signum() * 2.0, "{s:?}");
+                }
+                let (a, b) = (order[i] as usize, order[j] as usize);
+                got.push((a.min(b), a.max(b)));
+            }
+        }
+        got.sort_unstable();
+        want.sort_unstable();
+        assert!(across > 10, "{across} pairs across the sliding face");
+        assert_eq!(got, want);
+        // Slid on by 0.1 s the images move 0.2 m along x, continuously.
+        let before = list.shifts[16][0];
+        list.slide(&le, t + 0.1);
+        assert!((list.shifts[16][0] - before - 0.2).abs() < 1e-12);
     }
 
     #[test]

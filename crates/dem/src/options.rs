@@ -66,6 +66,11 @@ pub enum MdError {
     },
     #[error("time step dt = {0} must be a finite number greater than zero")]
     BadDt(f64),
+    #[error(
+        "box.shear_rate = {0}: the hybrid engine does not run Lees–Edwards boundaries; use \
+         --engine md or emd"
+    )]
+    Sheared(f64),
     #[error("skin = {0} must be a finite number ≥ 0")]
     BadSkin(f64),
     #[error(

@@ -59,6 +59,12 @@ impl<Q: EventQueue> Engine<Q> {
             return Self::with_cell_width(particles, domain, physics, 0.0);
         }
         let p = Prepared::new(particles, domain, physics, 0.0)?;
+        if domain.shear_rate != 0.0 && kind != BroadPhaseKind::Auto {
+            return Err(EngineError::Invalid(format!(
+                "Lees–Edwards boundaries (box.shear_rate) run on the crossings broad phase \
+                 only, not on {kind:?}; use BroadPhase::Crossings"
+            )));
+        }
         if kind == BroadPhaseKind::Epochs && !p.epochs_fit() {
             return Err(EngineError::Invalid(EPOCHS_DO_NOT_FIT.into()));
         }

@@ -86,7 +86,7 @@ pub struct LinkedCells {
     layers: [[isize; 9]; 6],
     /// Per axis and coordinate c: the coordinates at c − 1, c, c + 1 (wrapped, NONE
     /// beyond a closed axis) and the image shift of each in units of the box size.
-    around: [Vec<[(u32, i8); 3]>; 3],
+    pub(crate) around: [Vec<[(u32, i8); 3]>; 3],
     next: Vec<u32>,
     prev: Vec<u32>,
     /// Cell coordinates of each particle.

@@ -49,6 +49,52 @@ pub fn sphere_sphere(r: [f64; 3], v: [f64; 3], sigma: f64) -> f64 {
     gap / (-b + disc.sqrt())
 }
 
+/// The first collision time of a sphere with the periodic images along x of a
+/// partner, r + k·`lx`·e_x (k any integer), moving at `v` relative to it: across a
+/// Lees–Edwards face the images stream past along x, so the image that meets the
+/// sphere first need not be the nearest now. Only the images whose x passage overlaps
+/// the time window in which the y–z distance is below σ are tested.
+pub fn sphere_x_images(r: [f64; 3], v: [f64; 3], sigma: f64, lx: f64) -> f64 {
+    // Window [t1, t2] (t1 ≥ 0) where (r_y + v_y t)² + (r_z + v_z t)² < σ².
+    let a = v[1] * v[1] + v[2] * v[2];
+    let b = r[1] * v[1] + r[2] * v[2];
+    let c = r[1] * r[1] + r[2] * r[2] - sigma * sigma;
+    let (t1, t2) = if a == 0.0 {
+        if c >= 0.0 {
+            return f64::INFINITY;
+        }
+        // Two passages of the images along x, one of which lies wholly in the window.
+        (0.0, 2.0 * lx / v[0].abs())
+    } else {
+        let disc = b * b - a * c;
+        if disc <= 0.0 {
+            return f64::INFINITY;
+        }
+        let root = disc.sqrt();
+        let t2 = (-b + root) / a;
+        if t2 < 0.0 {
+            return f64::INFINITY;
+        }
+        (((-b - root) / a).max(0.0), t2)
+    };
+    if !t2.is_finite() {
+        // At rest relative along x: only the nearest image.
+        let k = -(r[0] / lx).round();
+        return sphere_sphere([r[0] + k * lx, r[1], r[2]], v, sigma);
+    }
+    // r_x + k lx + v_x t ∈ [−σ, σ] for some t in the window.
+    let (x1, x2) = (r[0] + v[0] * t1, r[0] + v[0] * t2);
+    let (lo, hi) = (x1.min(x2), x1.max(x2));
+    let k_min = ((-sigma - hi) / lx).ceil() as i64;
+    let k_max = ((sigma - lo) / lx).floor() as i64;
+    let mut best = f64::INFINITY;
+    for k in k_min..=k_max.min(k_min + 64) {
+        let rk = [r[0] + k as f64 * lx, r[1], r[2]];
+        best = best.min(sphere_sphere(rk, v, sigma));
+    }
+    best
+}
+
 /// Whether [`sphere_sphere`] is finite: approaching (r·v < 0) with a positive
 /// discriminant, Bannerman et al. 2014, Algorithm 1, lines 2-5, without a square
 /// root or division and as a single comparison, so that a loop over candidate pairs

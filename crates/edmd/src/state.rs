@@ -296,6 +296,16 @@ impl<Q: EventQueue> State<Q> {
     fn add_motion_kinetic(&self, to: &mut Sym3, i: usize, t: f64) {
         let kin = &self.slot[i].kin;
         let (m, dt, v) = (self.mass[i], t - kin.stamp, kin.vel);
+        if let Some(le) = self.lees_edwards() {
+            // The peculiar velocity c = v − γ̇ (y − y_mid) e_x changes along the flight
+            // as c₀ + b·s with b = (−γ̇ v_y, 0, g_z) (gravity only along z here).
+            let c0 = [v[0] - le.streaming(kin.pos[1]), v[1], v[2]];
+            let b = [-le.rate * v[1], 0.0, self.domain.gravity[2]];
+            add_kinetic(to, m * dt, c0);
+            add_scaled(to, sym_outer(c0, b), m * dt * dt);
+            add_scaled(to, sym_outer(b, b), m * dt * dt * dt / 3.0);
+            return;
+        }
         add_kinetic(to, m * dt, v);
         if self.has_gravity {
             let g = self.domain.gravity;
@@ -320,6 +330,12 @@ impl<Q: EventQueue> State<Q> {
             self.add_motion_kinetic(&mut k, i, t);
         }
         k
+    }
+
+    /// The sliding images of a sheared box, if sheared.
+    #[inline(always)]
+    pub(crate) fn lees_edwards(&self) -> Option<emdstar_system::LeesEdwards> {
+        self.domain.lees_edwards()
     }
 
     /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions

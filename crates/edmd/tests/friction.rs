@@ -280,6 +280,7 @@ fn a_frictional_gas_between_walls_under_gravity_never_gains_energy() {
             },
         ],
         gravity: [0.0, 0.0, -0.5],
+        ..Domain::default()
     };
     let mut e: Engine = Engine::new(&p, &d, rough(0.9, Walton::new(0.4, 0.2).unwrap())).unwrap();
     let total = |e: &Engine| {

@@ -298,6 +298,7 @@ fn ball_between_walls_under_gravity_keeps_its_energy() {
             },
         ],
         gravity: [0.0, 0.0, -9.81],
+        ..Domain::default()
     };
     let setup = (ball, domain);
     let mut e: Engine = Engine::new(&setup.0, &setup.1, elastic()).unwrap();

@@ -15,6 +15,35 @@ pub enum AnyEngine {
     Hybrid(Box<Hybrid>),
 }
 
+/// Refuses the engines and broad phases that do not run Lees–Edwards boundaries, and
+/// picks cell crossings for the event engines.
+fn shear_engine(config: &Config, options: &mut EngineOptions) -> Result<()> {
+    let refuse = |why: &str| -> Result<()> {
+        bail!(
+            "config: {}",
+            config.keys.locate(&format!("box.shear_rate: {why}"))
+        )
+    };
+    match (options.engine, options.edmd.broad_phase) {
+        (EngineKind::Hybrid, _) => {
+            refuse("the hybrid engine does not run Lees–Edwards boundaries; use --engine md or emd")
+        }
+        (EngineKind::EmdStar, _) => refuse(
+            "eMD* does not run Lees–Edwards boundaries (its transients would straddle the \
+             sliding face); use --engine emd or md",
+        ),
+        (EngineKind::Emd, BroadPhaseChoice::Auto) => {
+            options.edmd.broad_phase = BroadPhaseChoice::Crossings;
+            Ok(())
+        }
+        (EngineKind::Emd, BroadPhaseChoice::Crossings) | (EngineKind::Md, _) => Ok(()),
+        (EngineKind::Emd, other) => refuse(&format!(
+            "Lees–Edwards boundaries run on the crossings broad phase only, not on \
+             {other:?}; use --broad-phase crossings or auto"
+        )),
+    }
+}
+
 impl AnyEngine {
     /// The engine `options` choose for `system` (built from `config`). Step engines
     /// take steps of `dt_fraction` × the shortest contact time unless told otherwise
@@ -54,6 +83,9 @@ impl AnyEngine {
                 ),
                 (EngineKind::Md, _) => {}
             }
+        }
+        if system.domain.shear_rate != 0.0 {
+            shear_engine(config, &mut options)?;
         }
         let options = &options;
         Ok(match options.engine {

@@ -39,6 +39,15 @@ const KEYS: &[Key] = &[
         set: |c, _| c.md.as_ref().is_some_and(|m| m.contact_end.is_some()),
     },
     Key {
+        name: "box.shear_rate",
+        engines: &[Md, Emd],
+        set: |c, _| {
+            c.sim_box
+                .as_ref()
+                .is_some_and(|b| b.shear_rate.is_some_and(|r| r != 0.0))
+        },
+    },
+    Key {
         name: "events.tc",
         engines: EVENT_ENGINES,
         set: |c, _| c.events.as_ref().is_some_and(|e| e.tc.is_some()),

@@ -15,7 +15,11 @@ pub fn reading(sim: &dyn Simulation) -> StressMark {
 /// The observables of `sim` between `from` and now (pressure and collision rate NaN
 /// without an interval or without a box), a₂ now.
 pub fn since(sim: &dyn Simulation, from: Option<&StressMark>) -> Observables {
-    let particles = sim.particles();
+    let mut particles = sim.particles();
+    if let Some(le) = sim.domain().lees_edwards() {
+        // Under shear a₂ is that of the velocities relative to the streaming profile.
+        le.peculiar(&mut particles);
+    }
     let a2 = sonine_a2(&particles);
     let now = reading(sim);
     let volume = sim

@@ -35,6 +35,7 @@ pub mod friction_pairs;
 pub mod pair_summary;
 pub mod pairs;
 pub use emdstar_plot as plot;
+pub mod shear;
 pub mod speed;
 pub mod stats;
 pub mod theory;

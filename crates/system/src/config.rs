@@ -51,6 +51,7 @@
 //! # size = [2.0, 2.0, 2.0]
 //! # lo = [-1.0, -1.0, -1.0]        # default [0, 0, 0]
 //! # periodic = [true, true, false] # default all periodic
+//! # shear_rate = 0.1               # 1/s: Lees–Edwards shear, x flow, y gradient
 //! # [[walls]]
 //! # normal = [0.0, 0.0, 1.0]       # towards the particles
 //! # point = [0.0, 0.0, -1.0]
@@ -165,6 +166,9 @@ pub struct BoxConfig {
     pub lo: [f64; 3],
     #[serde(default = "all_periodic")]
     pub periodic: [bool; 3],
+    /// Lees–Edwards shear rate γ̇ in 1/s: flow along x, gradient along y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_rate: Option<f64>,
 }
 
 fn all_periodic() -> [bool; 3] {
@@ -486,6 +490,14 @@ impl Config {
             .fold(f64::INFINITY, f64::min);
         vibrated_walls_fit(&walls, sim_box.as_ref(), smallest)?;
         let interactions = Interactions::build(&table, &species, &wall_materials)?;
+        let shear_rate = self.shear_rate(gravity)?;
+        if let (Some(_), Some(b)) = (&self.gas, &sim_box)
+            && shear_rate != 0.0
+        {
+            // A generated gas starts in the steady shear flow: its Maxwell velocities
+            // are the peculiar ones, the streaming profile added.
+            crate::LeesEdwards::new(b, -shear_rate).peculiar(&mut particles);
+        }
         let system = System {
             particles,
             species,
@@ -494,11 +506,49 @@ impl Config {
                 sim_box,
                 walls,
                 gravity,
+                shear_rate,
             },
         };
         system.validate()?;
         system.check_contacts(self.t_end)?;
         Ok(system)
+    }
+}
+
+impl Config {
+    /// `box.shear_rate`, checked: finite, x and y periodic (flow and gradient), no
+    /// gravity along them (0 where not given).
+    fn shear_rate(&self, gravity: [f64; 3]) -> Result<f64> {
+        let Some(b) = &self.sim_box else {
+            return Ok(0.0);
+        };
+        let Some(rate) = b.shear_rate else {
+            return Ok(0.0);
+        };
+        if !rate.is_finite() {
+            return invalid!(
+                "box.shear_rate = {} must be a finite number (1/s)",
+                num(rate)
+            );
+        }
+        if rate != 0.0 {
+            if !(b.periodic[0] && b.periodic[1]) {
+                return invalid!(
+                    "box.shear_rate = {rate} needs Lees–Edwards boundaries, periodic along x \
+                     (the flow) and y (the gradient), but box.periodic = {:?}; make x and y \
+                     periodic or drop the shear rate",
+                    b.periodic
+                );
+            }
+            if gravity[0] != 0.0 || gravity[1] != 0.0 {
+                return invalid!(
+                    "box.shear_rate = {rate} with gravity {gravity:?}: gravity along the flow \
+                     (x) or the gradient (y) breaks the homogeneous shear flow; give gravity \
+                     along z only, or drop the shear rate"
+                );
+            }
+        }
+        Ok(rate)
     }
 }
 

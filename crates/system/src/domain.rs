@@ -3,6 +3,7 @@
 
 use crate::error::{Result, SystemError, invalid};
 use crate::geometry::{CellGrid, SimBox, Stencil, Wall, bounded_cell_width, bounding_box};
+use crate::shear::LeesEdwards;
 use crate::state::Particles;
 use emdstar_contact::vec3::{norm, norm2, sub};
 
@@ -14,6 +15,10 @@ pub struct Domain {
     pub walls: Vec<Wall>,
     /// Uniform acceleration in m/s².
     pub gravity: [f64; 3],
+    /// Lees–Edwards shear rate γ̇ in 1/s (x flow, y gradient; 0: none). Set from the
+    /// config at every build, so not saved.
+    #[serde(skip)]
+    pub shear_rate: f64,
 }
 
 impl Domain {
@@ -22,6 +27,15 @@ impl Domain {
         Self {
             sim_box: Some(sim_box),
             ..Self::default()
+        }
+    }
+
+    /// The sliding images of a sheared box, if the box is sheared.
+    #[inline]
+    pub fn lees_edwards(&self) -> Option<LeesEdwards> {
+        match &self.sim_box {
+            Some(b) if self.shear_rate != 0.0 => Some(LeesEdwards::new(b, self.shear_rate)),
+            _ => None,
         }
     }
 

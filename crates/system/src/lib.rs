@@ -40,6 +40,7 @@ mod material_config;
 mod materials;
 mod methods;
 mod parse;
+mod shear;
 mod simulation;
 mod state;
 pub mod stop;
@@ -68,6 +69,7 @@ pub use key_lines::KeyLines;
 pub use material_config::{InteractionConfig, MaterialConfig};
 pub use materials::{Dissipation, Elastic, Material, MaterialTable, PairEntry, Reference};
 pub use methods::Method;
+pub use shear::LeesEdwards;
 pub use simulation::{Simulation, SimulationError, VelocityChange};
 pub use state::{Particles, Species, permute};
 pub use stress::{

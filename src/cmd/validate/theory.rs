@@ -6,6 +6,7 @@ use anyhow::{Result, anyhow};
 use emdstar_engines::EngineKind;
 use emdstar_harness::Check;
 use emdstar_harness::driven::{DrivenSettings, driven_a2, driven_state};
+use emdstar_harness::shear::{ShearSettings, plot_viscosity, sheared_viscosity};
 use emdstar_harness::theory::{
     CoolingSettings, EosSettings, cooling_state_a2, hard_sphere_eos, plot_a2, plot_eos,
 };
@@ -48,7 +49,19 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         ..driven.clone()
     };
     let plate = OrbitSettings::default();
-    let b = bar("theory", eos.etas.len() as u64 + 5);
+    let shear = ShearSettings {
+        phi: 0.15,
+        count: if args.full { 8000 } else { 4000 },
+        rate: 0.2,
+        blocks: 21,
+        block: 2.5,
+        seeds: if args.full {
+            (0..4).map(|k| args.seed + k).collect()
+        } else {
+            vec![args.seed, args.seed + 1]
+        },
+    };
+    let b = bar("theory", eos.etas.len() as u64 + 6);
     b.set_message(format!(
         "eMD: hard spheres at η = 0.1–0.4 (N = {}), a cooling state (N = {})",
         eos.count, cooling.count
@@ -66,6 +79,8 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         .map(|kind| orbit(&plate, kind).map_err(|e| anyhow!(e)));
     let [plate_emd, plate_star, plate_md] = orbits;
     let (plate_emd, plate_star, plate_md) = (plate_emd?, plate_star?, plate_md?);
+    b.inc(1);
+    let sheared = sheared_viscosity(&shear)?;
     b.inc(1);
     b.finish();
     let plate_png = args.out.join("theory_vibrated_plate.png");
@@ -93,6 +108,8 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     );
     let (a_off, a_bar) = apart(star.a2, star.a2_error, md.a2, md.a2_error);
     let speed = (md.wall_seconds / md.time) / (star.wall_seconds / star.time);
+    let shear_png = args.out.join("theory_shear_viscosity.png");
+    plot_viscosity(&shear, &sheared, &shear_png).map_err(|e| anyhow!(e))?;
     let eos_png = args.out.join("theory_carnahan_starling.png");
     plot_eos(&points, &eos_png).map_err(|e| anyhow!(e))?;
     let a2_png = args.out.join("theory_cooling_a2.png");
@@ -179,6 +196,17 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     checks.push(plate_check("8h", &plate_emd, 1e-3));
     checks.push(plate_check("8i", &plate_star, 1e-2));
     checks.push(plate_check("8j", &plate_md, 1e-2));
+    checks.push(
+        Check::at_most(
+            "8k",
+            format!(
+                "sheared elastic hard spheres (eMD, Lees–Edwards, φ = {}, γ̇ = {} /s): |η/η_Enskog − 1| (η = −P_xy/γ̇ per block at its T; {:.4} ± {:.4})",
+                shear.phi, shear.rate, sheared.ratio, sheared.ratio_error
+            ),
+            (sheared.ratio - 1.0).abs(),
+            0.05,
+        ),
+    );
     let mut markdown = vec![
         "## 8. Gases against kinetic theory".to_string(),
         String::new(),
@@ -222,8 +250,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             "driven_md": md, "driven_emdstar": star, "driven_pair_settings": pair,
             "emdstar_speed_over_md": speed,
             "vibrated_plate": [plate_emd, plate_star, plate_md], "vibrated_plate_settings": plate,
+            "shear": sheared, "shear_settings": shear,
         }),
-        figures: vec![eos_png, a2_png, driven_png, pair_png, plate_png],
+        figures: vec![eos_png, a2_png, driven_png, pair_png, plate_png, shear_png],
         info: vec![format!(
             "driven dilute steady state (η = {}, N = {}): eMD* {speed:.2}× as fast as MD ({:.2} s against {:.2} s of wall time per simulated second)",
             pair.eta,

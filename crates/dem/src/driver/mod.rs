@@ -228,6 +228,15 @@ impl Verlet {
     ) -> Result<Vec<u32>, MdError> {
         let min_cell = 2.0 * system.max_radius() + self.skin;
         let sim_box = system.domain.sim_box;
+        let shear = system.domain.lees_edwards();
+        if let Some(le) = &shear {
+            // Through the sliding y face x and v_x shift with the image (before the
+            // plain wrap, which then has nothing left to do).
+            let p = &mut system.particles;
+            for ((x, v), image) in p.position.iter_mut().zip(&mut p.velocity).zip(&mut p.image) {
+                image[1] += le.wrap(x, v, t);
+            }
+        }
         check_and_wrap(&mut system.particles, sim_box.as_ref(), t, skip)?;
         let p = &mut system.particles;
         let order = self
@@ -252,7 +261,9 @@ impl Verlet {
                 self.touched.push(i as u32);
             }
         }
-        self.list.build_half(&p.position, &p.radius, self.skin);
+        let shear = shear.as_ref().map(|le| (le, t));
+        self.list
+            .build_half_sheared(&p.position, &p.radius, self.skin, shear);
         self.drift_bound = 0.0;
         self.rebuilds += 1;
         Ok(order)
@@ -293,6 +304,9 @@ impl Verlet {
         } else {
             self.sweep_kind::<SmoothKind, M>(system, members, gk, dt, h)
         };
+        if let Some(le) = system.domain.lees_edwards() {
+            self.add_streaming_kinetic(&system.particles, &le, dt);
+        }
         self.v_max = v2.sqrt();
         self.drift_bound += self.v_max * dt;
         self.lagging = true;

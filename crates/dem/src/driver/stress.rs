@@ -11,7 +11,8 @@ use super::Verlet;
 use super::slots::SlotKind;
 use crate::forces::{ContactRecord, WALL};
 use emdstar_system::{
-    Particles, StressMark, StressSums, Sym3, System, add_kinetic, add_scaled, sym_outer,
+    LeesEdwards, Particles, StressMark, StressSums, Sym3, System, add_kinetic, add_scaled,
+    sym_outer,
 };
 
 /// The kinetic tensor of MD without gravity, kept by particle: a velocity changes only
@@ -104,12 +105,28 @@ impl Verlet {
         }
     }
 
+    /// Under Lees–Edwards shear the kinetic part is of the peculiar velocities
+    /// c = v − u_x(y) e_x: adds dt·Σ m (c ⊗ c − v ⊗ v) of the drift just made to the
+    /// Σ m v ⊗ v the sweep added, with u_x at the drift's mid-point.
+    pub(super) fn add_streaming_kinetic(&mut self, p: &Particles, le: &LeesEdwards, dt: f64) {
+        let mut k = [0.0; 6];
+        for i in 0..p.len() {
+            let (x, v, m) = (p.position[i], p.velocity[i], p.mass[i]);
+            let u = le.streaming(x[1] - 0.5 * dt * v[1]);
+            k[0] += m * u * (u - 2.0 * v[0]);
+            k[3] -= m * u * v[1];
+            k[4] -= m * u * v[2];
+        }
+        add_scaled(&mut self.stress.kinetic, k, dt);
+    }
+
     /// Adds dt·Σ r_ij ⊗ F_ij of the pair contacts just applied, in their order, and
     /// counts those that began this step (apart one step ago: the drift was
     /// x += dt·v exactly).
     pub(super) fn add_virial<K: SlotKind>(&mut self, system: &System, dt: f64) {
         let p = &system.particles;
         let sim_box = system.domain.sim_box.as_ref();
+        let shear = system.domain.lees_edwards();
         let mut w = [0.0; 6];
         let mut begun = 0;
         for c in K::chunks(&mut self.buffers).iter().flatten() {
@@ -119,9 +136,15 @@ impl Verlet {
             }
             let (i, j) = (i as usize, j as usize);
             let d: [f64; 3] = std::array::from_fn(|k| p.position[i][k] - p.position[j][k]);
-            let d = sim_box.map_or(d, |b| b.min_image(d));
+            let (d, image_vx) = match &shear {
+                Some(le) => self.list.sheared_image(le, d),
+                None => (sim_box.map_or(d, |b| b.min_image(d)), 0.0),
+            };
             add_scaled(&mut w, sym_outer(d, c.force()), 1.0);
-            let (vi, vj) = (p.velocity[i], p.velocity[j]);
+            let (vi, mut vj) = (p.velocity[i], p.velocity[j]);
+            if image_vx != 0.0 {
+                vj[0] += image_vx;
+            }
             let prev: [f64; 3] = std::array::from_fn(|k| d[k] - dt * (vi[k] - vj[k]));
             let l = p.radius[i] + p.radius[j];
             if prev[0] * prev[0] + prev[1] * prev[1] + prev[2] * prev[2] >= l * l {

@@ -23,7 +23,7 @@ impl Md {
         system.interactions.check_runs_on(Method::Md, walls)?;
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         let mut verlet = Verlet::new(&system, opts, skin);
-        if system.domain.gravity == [0.0; 3] {
+        if system.domain.gravity == [0.0; 3] && system.domain.shear_rate == 0.0 {
             verlet.keep_kinetic_by_particle(system.particles.len());
         }
         verlet.rebuild(&mut system, 0.0, |_| false)?;
@@ -96,13 +96,27 @@ impl Md {
     /// positions.
     fn particles_now(&self) -> Particles {
         let p = &self.system.particles;
-        Particles {
+        let mut now = Particles {
             velocity: self
                 .verlet
                 .velocities_now(p, All, self.system.domain.gravity),
             angular_velocity: self.verlet.spins_now(p),
             ..p.clone()
+        };
+        if let Some(le) = self.system.domain.lees_edwards() {
+            // Between rebuilds a particle may lie beyond the sliding face: its image in
+            // the box (see `LeesEdwards::wrap`).
+            let t = self.time();
+            for ((x, v), image) in now
+                .position
+                .iter_mut()
+                .zip(&mut now.velocity)
+                .zip(&mut now.image)
+            {
+                image[1] += le.wrap(x, v, t);
+            }
         }
+        now
     }
 
     /// Advances `n` steps of velocity Verlet (see the crate docs), velocities in step
@@ -168,7 +182,13 @@ impl Md {
         let (kick, dt) = (self.verlet.next_kick(), self.verlet.opts.dt);
         let touched_v2 = self.verlet.kick(&mut self.system.particles, kick);
         let g = self.system.domain.gravity;
-        let v_bound = self.verlet.speed_bound(touched_v2, g, kick);
+        let mut v_bound = self.verlet.speed_bound(touched_v2, g, kick);
+        let shear = self.system.domain.lees_edwards();
+        if let Some(le) = &shear {
+            // The images across the sliding face move at γ̇ L_y relative to the box: a
+            // pair across it closes in by up to that besides its two drifts.
+            v_bound += 0.5 * le.image_speed().abs();
+        }
         if !self.verlet.list_holds(self.verlet.drift_bound, v_bound, dt) {
             let t = self.time();
             self.verlet.rebuild(&mut self.system, t, |_| false)?;
@@ -176,7 +196,13 @@ impl Md {
         }
         self.steps += 1;
         self.verlet.set_wall_time(self.time());
+        if let Some(le) = &shear {
+            self.verlet.list.slide(le, self.time());
+        }
         self.verlet.sweep(&mut self.system, All, kick, dt);
+        if let Some(le) = &shear {
+            self.verlet.drift_bound += 0.5 * le.image_speed().abs() * dt;
+        }
         Ok(())
     }
 
@@ -194,11 +220,14 @@ impl Md {
             .map_or(0.0, |r| r.spring_energy(interactions, p));
         let mut contacts = 0;
         let list = &self.verlet.list;
+        // The list's images are those of the stored positions (not wrapped since the
+        // last rebuild, which a sheared box's readout does).
+        let stored = &self.system.particles.position;
         for i in 0..p.len() {
             let xi = p.position[i];
             let sums = (&mut contacts, &mut potential);
             let entries = list.of(i).iter().copied();
-            model.add_elastic(i, xi, entries, list, &p.position, sums);
+            model.add_elastic(i, stored[i], entries, list, stored, sums);
             let g = self.system.domain.gravity;
             potential -= p.mass[i] * (g[0] * xi[0] + g[1] * xi[1] + g[2] * xi[2]);
         }
@@ -208,7 +237,14 @@ impl Md {
             kinetic_energy: p.kinetic_energy(),
             rotational_energy: p.rotational_energy(),
             potential_energy: potential,
-            granular_temperature: p.granular_temperature(),
+            granular_temperature: match self.system.domain.lees_edwards() {
+                Some(le) => {
+                    let mut c = p.clone();
+                    le.peculiar(&mut c);
+                    c.granular_temperature()
+                }
+                None => p.granular_temperature(),
+            },
             rotational_temperature: p.rotational_temperature(),
             momentum: p.momentum(),
             contacts,

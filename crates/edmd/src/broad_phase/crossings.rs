@@ -29,7 +29,7 @@ impl Crossings {
     /// (time, partner or NONE, whether it is a stabilising collision now), and whether
     /// a particle met blocks the rotation of a running exception-(a) probe.
     #[inline(always)]
-    fn earliest_in<Q: EventQueue>(
+    pub(super) fn earliest_in<Q: EventQueue>(
         &self,
         s: &State<Q>,
         i: usize,
@@ -97,6 +97,11 @@ impl Crossings {
         dir: i64,
     ) {
         let best = s.slot[i].ev.coll_time;
+        if let Some(le) = s.lees_edwards()
+            && self.grid.interior(c).is_none()
+        {
+            return self.scan_new_layer_sheared(s, &le, i, (c, axis, dir));
+        }
         let (found, _) = if let Some(base) = self.grid.interior(c) {
             let cells = self
                 .grid
@@ -157,6 +162,11 @@ impl BroadPhase for Crossings {
     fn predict_pairs<Q: EventQueue>(&mut self, s: &mut State<Q>, i: usize) {
         let c = self.grid.coords[i];
         let best = s.slot[i].ev.coll_time;
+        if let Some(le) = s.lees_edwards()
+            && self.grid.interior(c).is_none()
+        {
+            return self.predict_pairs_sheared(s, &le, i);
+        }
         let (found, blocked) = if let Some(base) = self.grid.interior(c) {
             let cells = self.grid.interior_neighbours(base).map(|c| (c, [0.0; 3]));
             self.earliest_in(s, i, cells, best)
@@ -185,6 +195,12 @@ impl BroadPhase for Crossings {
         s.advance(i, now);
         let mut c = self.grid.coords[i];
         let (next, shift) = self.grid.step(axis, c[axis], dir);
+        if axis == 1
+            && shift != 0.0
+            && let Some(le) = s.lees_edwards()
+        {
+            return self.cross_sheared_face(s, &le, i, (next, shift, dir));
+        }
         c[axis] = next;
         s.slot[i].kin.pos[axis] += shift;
         if shift != 0.0 {

@@ -11,6 +11,7 @@ mod crossings;
 mod epoch_pairs;
 mod epochs;
 mod neighbours;
+mod sheared;
 
 pub use crossings::Crossings;
 pub use epochs::Epochs;

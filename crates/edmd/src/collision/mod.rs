@@ -57,6 +57,11 @@ pub trait Host {
     fn species(&self, i: usize) -> u32;
     /// The shortest periodic image of a separation.
     fn min_image(&self, d: [f64; 3]) -> [f64; 3];
+    /// The nearest image of j for d = x_i − x_j now: the separation to it and the
+    /// x-velocity it moves with relative to j (non-zero across a Lees–Edwards face).
+    fn image(&self, d: [f64; 3]) -> ([f64; 3], f64) {
+        (self.min_image(d), 0.0)
+    }
     fn gravity(&self) -> [f64; 3];
     fn walls(&self) -> &[Wall];
 
@@ -197,6 +202,16 @@ fn party<H: Host>(h: &H, p: usize, position: [f64; 3]) -> Party {
     }
 }
 
+/// `v` with `vx` added along x (untouched, to the bit, where `vx` is 0).
+#[inline(always)]
+fn shifted(v: [f64; 3], vx: f64) -> [f64; 3] {
+    if vx == 0.0 {
+        v
+    } else {
+        [v[0] + vx, v[1], v[2]]
+    }
+}
+
 /// Applies `kick` to the parties `who` (one for a wall).
 fn apply_kick<H: Host>(h: &mut H, who: &[usize], kick: &Kick) {
     if kick.substitute {
@@ -217,16 +232,19 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     h.sync(i);
     h.sync(j);
     if !settle_transients(h, rules, &[i, j]) {
-        let r = h.min_image(sub(h.position(i), h.position(j)));
-        if dot(r, sub(h.velocity(i), h.velocity(j))) >= 0.0 {
+        let (r, image_vx) = h.image(sub(h.position(i), h.position(j)));
+        if dot(r, sub(h.velocity(i), shifted(h.velocity(j), image_vx))) >= 0.0 {
             h.stats().interference_resolved += 1;
             h.predict(i);
             h.predict(j);
             return Ok(false);
         }
     }
-    let r = h.min_image(sub(h.position(i), h.position(j)));
-    let v = sub(h.velocity(i), h.velocity(j));
+    // Across a Lees–Edwards face j's image moves at v_j + image_vx·e_x: the rules act
+    // on the image, and j takes the image's change of velocity.
+    let (r, image_vx) = h.image(sub(h.position(i), h.position(j)));
+    let vj_image = shifted(h.velocity(j), image_vx);
+    let v = sub(h.velocity(i), vj_image);
     let contact = h.radius(i) + h.radius(j);
     let distance = dot(r, r).sqrt();
     let emdstar = rules.is_emdstar();
@@ -244,7 +262,10 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     let pj = h.position(j);
     let parties = [
         party(h, i, std::array::from_fn(|k| pj[k] + r[k])),
-        party(h, j, pj),
+        Party {
+            velocity: vj_image,
+            ..party(h, j, pj)
+        },
     ];
     let impact = PairImpact { r, distance, v };
     let (si, sj) = (h.species(i), h.species(j));
@@ -260,11 +281,12 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     // the pair moves with its centre of mass), counted once the E^φ stands.
     let mut later = [0.0; 6];
     match decision {
-        Decision::Kick(kick) => {
+        Decision::Kick(mut kick) => {
             if emdstar {
                 // No E^φ placed the pair: it leaves from outside contact.
                 note_contact(h, i, j, 0.0);
             }
+            kick.velocity[1] = shifted(kick.velocity[1], -image_vx);
             apply_kick(h, &[i, j], &kick);
         }
         Decision::Transient(t) if walls_block(h, &[i, j], &t.placed, None) => {
@@ -306,7 +328,7 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
         h.predict(i);
         h.predict(j);
     }
-    let after = [h.velocity(i), h.velocity(j)];
+    let after = [h.velocity(i), shifted(h.velocity(j), image_vx)];
     let w = &mut h.stats().collisional_virial;
     virial::add_pair_impulse(w, r, &parties, after);
     add_scaled(w, later, 1.0);

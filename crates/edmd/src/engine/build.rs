@@ -175,6 +175,13 @@ impl<Q: EventQueue> Prepared<Q> {
         };
         check_particles(particles, &domain, &physics)?;
         let rules = Rules::new(physics, domain.walls.len())?;
+        if domain.shear_rate != 0.0 && rules.is_emdstar() {
+            return invalid(
+                "eMD* does not run Lees–Edwards boundaries (box.shear_rate): use eMD or hard \
+                 spheres"
+                    .into(),
+            );
+        }
         let max_contact = 2.0 * particles.radius.iter().copied().fold(0.0, f64::max);
         // An impossible packing fraction first: it would also show as an overlap.
         let region = region_of(particles, domain.sim_box, max_contact)?;
@@ -284,6 +291,7 @@ impl<Q: EventQueue> Prepared<Q> {
             .map(|p| p.kin.radius)
             .fold(f64::INFINITY, f64::min);
         !s.has_gravity
+            && s.domain.shear_rate == 0.0
             && !self.rules.is_emdstar()
             && self.max_contact <= 4.0 * smallest
             && Neighbours::fits(&s.region, self.max_contact, s.len())
@@ -292,6 +300,7 @@ impl<Q: EventQueue> Prepared<Q> {
     /// Whether epochs can run here at all (no gravity, a region they fit).
     pub fn epochs_fit(&self) -> bool {
         !self.state.has_gravity
+            && self.state.domain.shear_rate == 0.0
             && Epochs::fits(&self.state.region, self.max_contact, self.state.len())
     }
 }

@@ -85,6 +85,17 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
     }
 
     #[inline]
+    fn image(&self, d: [f64; 3]) -> ([f64; 3], f64) {
+        match self.state.lees_edwards() {
+            Some(le) => {
+                let (r, up) = le.image(d, self.state.time);
+                (r, le.image_velocity(up))
+            }
+            None => (self.state.min_image(d), 0.0),
+        }
+    }
+
+    #[inline]
     fn gravity(&self) -> [f64; 3] {
         self.state.domain.gravity
     }

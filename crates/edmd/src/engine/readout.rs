@@ -105,6 +105,19 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     }
 }
 
+/// The granular temperature of `p`, of the velocities relative to the streaming
+/// profile in a sheared box.
+pub(crate) fn peculiar_temperature(p: &Particles, domain: &Domain) -> f64 {
+    match domain.lees_edwards() {
+        Some(le) => {
+            let mut q = p.clone();
+            le.peculiar(&mut q);
+            q.granular_temperature()
+        }
+        None => p.granular_temperature(),
+    }
+}
+
 impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// The particles now, by original particle number, without moving any stored
     /// state: positions where each particle is now (wrapped into the box), velocities
@@ -147,7 +160,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             kinetic_energy: p.kinetic_energy(),
             rotational_energy: p.rotational_energy(),
             potential_energy: potential,
-            granular_temperature: p.granular_temperature(),
+            granular_temperature: peculiar_temperature(&p, &self.state.domain),
             rotational_temperature: p.rotational_temperature(),
             momentum: p.momentum(),
             contacts: 0,

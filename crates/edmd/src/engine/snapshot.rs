@@ -47,6 +47,8 @@ where
             )));
         }
         saved.take_wall_motion(self);
+        // The shear rate is the config's, not saved.
+        saved.state.domain.shear_rate = self.state.domain.shear_rate;
         saved
             .state
             .check_restored(&self.state, self.len() + B::OWN_EVENTS)

@@ -77,6 +77,9 @@ impl Hybrid {
         mor: Box<dyn MorSource>,
         t_end: f64,
     ) -> Result<Self, HybridError> {
+        if system.domain.shear_rate != 0.0 {
+            return Err(MdError::Sheared(system.domain.shear_rate).into());
+        }
         let skin = prepare_system(&mut system, opts.dt, opts.skin, t_end)?;
         if skin == 0.0 {
             // Event-driven particles only see partners within the skin.
