@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The configs these tests cover; a new example must be added here (and tested).
-const EXAMPLES: [&str; 9] = [
+const EXAMPLES: [&str; 10] = [
     "cooling_hertz_gas.toml",
     "driven_gas.toml",
     "frictional_gas_walls.toml",
@@ -16,8 +16,8 @@ const EXAMPLES: [&str; 9] = [
     "oblique_collision.toml",
     "polydisperse_mixture.toml",
     "restitution_input.toml",
-    "vibrated_bed.toml",
     "sheared_gas.toml",
+    "vibrated_bed.toml",
     "walls_gravity.toml",
 ];
 
