@@ -179,7 +179,7 @@ pub fn orbit(settings: &OrbitSettings, kind: EngineKind) -> Result<OrbitRun> {
         .collect();
     let worst = |f: fn(&Apex) -> f64| window.iter().map(|a| f(a).abs()).fold(0.0, f64::max);
     Ok(OrbitRun {
-        engine: format!("{kind:?}"),
+        engine: kind.name().to_string(),
         phase_error: worst(|a| a.phase_error),
         height_error: worst(|a| a.height_error),
         compared: window.len(),
