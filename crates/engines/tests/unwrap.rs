@@ -120,9 +120,6 @@ fn unwrapped_positions_follow_free_flight_in_every_engine() {
             "{name}: {:?}",
             end.image
         );
-        if name == "Hybrid" {
-            continue;
-        }
         // Restored at t = 3.5 and run on: the same flags and positions at the end.
         let mut again =
             AnyEngine::build(&options, &config, config.build().unwrap(), 1.0 / 50.0).unwrap();
