@@ -32,6 +32,30 @@ fn last_frame(path: &Path) -> String {
     lines[lines.len() - n - 1..].join("\n")
 }
 
+/// Runs `run` to `t_half` with a checkpoint and resumes it to the end: its trajectory
+/// and log are those of the one run in `dir` (`one.xyz`, `one.log`), byte for byte.
+fn assert_split_run_writes_one_run<T>(
+    dir: &Path,
+    run: impl Fn(&[&str]) -> T,
+    tag: &str,
+    t_half: &str,
+) {
+    let name = |ext: &str| format!("split-{t_half}.{ext}");
+    let (traj, log, ckpt) = (name("xyz"), name("log"), name("ckpt"));
+    let files = ["--trajectory", &traj, "--log", &log, "--checkpoint", &ckpt];
+    let mut first = files.to_vec();
+    first.extend(["--t-end", t_half]);
+    run(&first);
+    let mut second = files.to_vec();
+    second.extend(["--resume", &ckpt]);
+    run(&second);
+    for (a, b) in [(&traj, "one.xyz"), (&log, "one.log")] {
+        let x = std::fs::read(dir.join(a)).unwrap();
+        let y = std::fs::read(dir.join(b)).unwrap();
+        assert!(x == y, "{tag}: {a} differs from {b} of one run");
+    }
+}
+
 #[test]
 fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
     let cfg = config();
@@ -74,20 +98,7 @@ fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
         // the first part stopped between two log lines and two frames (it wrote a last
         // line and frame there, which resuming cut).
         for t_half in ["0.01", "0.0123"] {
-            let three = |ext: &str| format!("three-{t_half}.{ext}");
-            let (traj, log, ckpt) = (three("xyz"), three("log"), three("ckpt"));
-            let files = ["--trajectory", &traj, "--log", &log, "--checkpoint", &ckpt];
-            let mut first = files.to_vec();
-            first.extend(["--t-end", t_half]);
-            run(&first);
-            let mut second = files.to_vec();
-            second.extend(["--resume", &ckpt]);
-            run(&second);
-            for (a, b) in [(&traj, "one.xyz"), (&log, "one.log")] {
-                let x = std::fs::read(dir.join(a)).unwrap();
-                let y = std::fs::read(dir.join(b)).unwrap();
-                assert!(x == y, "{engine}: {a} differs from {b} of one run");
-            }
+            assert_split_run_writes_one_run(&dir, &run, engine, t_half);
         }
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -112,20 +123,7 @@ fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
         };
         run(&["--trajectory", "one.xyz", "--log", "one.log"]);
         for t_half in ["0.1", "0.123"] {
-            let two = |ext: &str| format!("two-{engine}-{t_half}.{ext}");
-            let (traj, log, ckpt) = (two("xyz"), two("log"), two("ckpt"));
-            let files = ["--trajectory", &traj, "--log", &log, "--checkpoint", &ckpt];
-            let mut first = files.to_vec();
-            first.extend(["--t-end", t_half]);
-            run(&first);
-            let mut second = files.to_vec();
-            second.extend(["--resume", &ckpt]);
-            run(&second);
-            for (a, b) in [(&traj, "one.xyz"), (&log, "one.log")] {
-                let x = std::fs::read(dir.join(a)).unwrap();
-                let y = std::fs::read(dir.join(b)).unwrap();
-                assert!(x == y, "{engine}: {a} differs from {b} of one run");
-            }
+            assert_split_run_writes_one_run(&dir, &run, engine, t_half);
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -441,18 +439,7 @@ fn a_run_on_a_vibrated_wall_resumed_from_half_way_ends_bitwise_as_one_run() {
             stdout_in(&dir, &args)
         };
         run(&["--trajectory", "one.xyz", "--log", "one.log"]);
-        let files = ["--trajectory", "two.xyz", "--log", "two.log"];
-        let mut first = files.to_vec();
-        first.extend(["--t-end", "0.0213", "--checkpoint", "half.ckpt"]);
-        run(&first);
-        let mut second = files.to_vec();
-        second.extend(["--resume", "half.ckpt"]);
-        run(&second);
-        for (a, b) in [("one.xyz", "two.xyz"), ("one.log", "two.log")] {
-            let x = std::fs::read(dir.join(a)).unwrap();
-            let y = std::fs::read(dir.join(b)).unwrap();
-            assert!(x == y, "{engine}: {b} differs from {a} of one run");
-        }
+        assert_split_run_writes_one_run(&dir, &run, engine, "0.0213");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
