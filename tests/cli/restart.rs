@@ -98,7 +98,7 @@ fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
         // the first part stopped between two log lines and two frames (it wrote a last
         // line and frame there, which resuming cut).
         for t_half in ["0.01", "0.0123"] {
-            assert_split_run_writes_one_run(&dir, &run, engine, t_half);
+            assert_split_run_writes_one_run(&dir, run, engine, t_half);
         }
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -123,7 +123,7 @@ fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
         };
         run(&["--trajectory", "one.xyz", "--log", "one.log"]);
         for t_half in ["0.1", "0.123"] {
-            assert_split_run_writes_one_run(&dir, &run, engine, t_half);
+            assert_split_run_writes_one_run(&dir, run, engine, t_half);
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -439,7 +439,7 @@ fn a_run_on_a_vibrated_wall_resumed_from_half_way_ends_bitwise_as_one_run() {
             stdout_in(&dir, &args)
         };
         run(&["--trajectory", "one.xyz", "--log", "one.log"]);
-        assert_split_run_writes_one_run(&dir, &run, engine, "0.0213");
+        assert_split_run_writes_one_run(&dir, run, engine, "0.0213");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
