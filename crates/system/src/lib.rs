@@ -26,6 +26,7 @@ mod checkpoint;
 mod config;
 mod contact_check;
 mod domain;
+mod domain_config;
 mod driving;
 mod error;
 mod files;

@@ -1,7 +1,7 @@
 //! Vibrated walls: the motion A sin(2π f t + φ) of a wall along its normal, its config
 //! keys and their checks.
 
-use crate::config::WallConfig;
+use crate::domain_config::WallConfig;
 use crate::error::{Result, invalid, positive};
 use crate::geometry::{SimBox, Wall};
 
