@@ -82,6 +82,27 @@ struct LawKeys<'a> {
     tangential_restitution: Option<f64>,
 }
 
+/// The [`LawKeys`] of a `[material]` or `[[interactions]]` entry (the same fields).
+macro_rules! law_keys {
+    ($entry:expr, $key:expr) => {
+        LawKeys {
+            key: $key,
+            stiffness: $entry.stiffness,
+            damping: $entry.damping,
+            young: $entry.young,
+            poisson: $entry.poisson,
+            dissipation: $entry.dissipation,
+            restitution: $entry.restitution,
+            restitution_speed: $entry.restitution_speed,
+            friction: $entry.friction,
+            tangential_stiffness: $entry.tangential_stiffness,
+            tangential_damping: $entry.tangential_damping,
+            tangential: $entry.tangential.as_deref(),
+            tangential_restitution: $entry.tangential_restitution,
+        }
+    };
+}
+
 fn parse_model(key: &str, model: &str) -> Result<Model> {
     model
         .parse()
@@ -92,21 +113,7 @@ impl MaterialConfig {
     /// The material `key` names (`material` or `materials[i]`), checked.
     pub fn material(&self, key: &str) -> Result<Material> {
         let model = parse_model(key, &self.model)?;
-        let keys = LawKeys {
-            key,
-            stiffness: self.stiffness,
-            damping: self.damping,
-            young: self.young,
-            poisson: self.poisson,
-            dissipation: self.dissipation,
-            restitution: self.restitution,
-            restitution_speed: self.restitution_speed,
-            friction: self.friction,
-            tangential_stiffness: self.tangential_stiffness,
-            tangential_damping: self.tangential_damping,
-            tangential: self.tangential.as_deref(),
-            tangential_restitution: self.tangential_restitution,
-        };
+        let keys = law_keys!(self, key);
         let density = match self.density {
             Some(rho) => Some(crate::error::positive(&format!("{key}.density"), rho)?),
             None => None,
@@ -142,21 +149,7 @@ impl InteractionConfig {
             Some(m) => Some(parse_model(key, m)?),
             None => None,
         };
-        let keys = LawKeys {
-            key,
-            stiffness: self.stiffness,
-            damping: self.damping,
-            young: self.young,
-            poisson: self.poisson,
-            dissipation: self.dissipation,
-            restitution: self.restitution,
-            restitution_speed: self.restitution_speed,
-            friction: self.friction,
-            tangential_stiffness: self.tangential_stiffness,
-            tangential_damping: self.tangential_damping,
-            tangential: self.tangential.as_deref(),
-            tangential_restitution: self.tangential_restitution,
-        };
+        let keys = law_keys!(self, key);
         // Without a model, the pair's model is the materials' (which must agree).
         let pair_model = match model {
             Some(m) => m,
