@@ -22,6 +22,7 @@
 // Component loops `for k in 0..3` over several arrays read best as they are.
 #![allow(clippy::needless_range_loop)]
 
+mod cell_grid;
 mod checkpoint;
 mod config;
 mod contact_check;
