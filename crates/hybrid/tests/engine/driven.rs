@@ -4,9 +4,10 @@
 //! present, the energy white noise feeds is (3/2) m ξ₀² (1 − 1/N) per particle and
 //! second, within its sampling error.
 
-use crate::common::{gas_under_gravity, hybrid_with, md, steps_to, system};
-use emdstar_edmd::rules::ExactMor;
-use emdstar_edmd::{BroadPhaseKind, Engine, Interference, Physics};
+use crate::common::{
+    dense_hertz_gas, emdstar_engine, gas_under_gravity, hybrid_with, md, steps_to, system,
+};
+use emdstar_edmd::Engine;
 use emdstar_hybrid::{Hybrid, HybridOptions, Mode};
 use emdstar_system::{Drive, DriveKind, Simulation, System};
 
@@ -30,24 +31,7 @@ fn tick(h: &mut Hybrid, d: &Drive, k: u64) {
 
 #[test]
 fn driven_with_every_particle_time_driven_is_md_to_the_bit() {
-    let gas = system(
-        r#"
-t_end = 0.1
-[material]
-model = "hertz"
-young = 1e9
-poisson = 0.4
-dissipation = 1e-4
-density = 1140.0
-[gas]
-count = 64
-radius = 0.1
-arrangement = "random"
-packing_fraction = 0.3
-rms_speed = 1.0
-seed = 5
-"#,
-    );
+    let gas = dense_hertz_gas();
     for kind in [WHITE_NOISE, ANDERSEN] {
         let (dt, steps, _) = steps_to(&gas, 0.1, 0.02);
         let mut h = hybrid_with(&gas, HybridOptions::with_dt(dt), 0.1);
@@ -83,18 +67,7 @@ seed = 5
 /// The eMD* engine on cell crossings (the hybrid's event core), driven at the same
 /// step boundaries: its state and counts after `ticks` ticks every `every` steps.
 fn emdstar_driven(sys: &System, d: &Drive, dt: f64, every: u64, ticks: u64) -> Engine {
-    let physics = Physics::EmdStar {
-        interactions: sys.interactions().clone(),
-        mor: Box::new(ExactMor),
-        interference: Interference::HitOnly,
-    };
-    let mut e: Engine = Engine::with_broad_phase(
-        &sys.particles,
-        &sys.domain,
-        physics,
-        BroadPhaseKind::Crossings,
-    )
-    .unwrap();
+    let mut e = emdstar_engine(sys);
     for k in 1..=ticks {
         e.run_until((k * every) as f64 * dt).unwrap();
         e.change_velocities(&mut |v, m| d.apply(k, v, m)).unwrap();
