@@ -13,8 +13,8 @@ impl Hybrid {
     ///   their velocities are in step with the positions; the step that follows starts
     ///   with a half kick from the forces at the boundary (MD's first step again);
     /// - the ED particles as the event engine has them: pending E^v events run first
-    ///   (eMD*'s exception (b), [MP13] Sec. VI B 5), each particle moved to now, its
-    ///   flight up to now in the kinetic sums;
+    ///   (eMD*'s exception (b), Müller & Pöschel 2013, Sec. VI B 5), each particle
+    ///   moved to now, its flight up to now in the kinetic sums;
     /// - `change` gets every velocity and mass in config order, so a thermostat draws
     ///   what it draws on the other engines;
     /// - the ED particles are predicted again, and the speed bounds of the list, the
