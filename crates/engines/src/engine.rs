@@ -67,11 +67,6 @@ impl AnyEngine {
         let mut options = options.clone();
         if driving.is_some() {
             match (options.engine, options.edmd.broad_phase) {
-                (EngineKind::Hybrid, _) => bail!(
-                    "[driving] is not run by the hybrid engine (its time-driven and \
-                     event-driven parts would both have to take the kicks): use --engine md, \
-                     emd or emdstar"
-                ),
                 (EngineKind::Emd | EngineKind::EmdStar, BroadPhaseChoice::Auto) => {
                     options.edmd.broad_phase = BroadPhaseChoice::Crossings;
                 }
@@ -81,7 +76,7 @@ impl AnyEngine {
                      that {other:?} bounds its predictions by): use --broad-phase crossings \
                      or auto"
                 ),
-                (EngineKind::Md, _) => {}
+                (EngineKind::Md | EngineKind::Hybrid, _) => {}
             }
         }
         if system.domain.shear_rate != 0.0 {

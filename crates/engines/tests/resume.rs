@@ -175,7 +175,12 @@ fn driven_runs_killed_or_stopped_and_resumed_write_the_files_of_one_run() {
     // numbers follow from the checkpoint's time, the numbers from the seed).
     let dir = scratch("driven");
     quiet_kills();
-    for kind in [EngineKind::Md, EngineKind::Emd, EngineKind::EmdStar] {
+    for kind in [
+        EngineKind::Md,
+        EngineKind::Emd,
+        EngineKind::EmdStar,
+        EngineKind::Hybrid,
+    ] {
         kills_and_stops(&dir, kind, "xyz", true);
     }
     std::fs::remove_dir_all(&dir).unwrap();

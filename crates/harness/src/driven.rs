@@ -5,8 +5,8 @@
 use crate::plot::{Axis, PALETTE, Panel, Series, Style, write_png};
 use crate::theory::{block_mean, build, by_collisions, gas_config};
 use crate::{HarnessError, Result};
-use emdstar_engines::EngineKind;
 use emdstar_engines::observe::since;
+use emdstar_engines::{AnyEngine, EngineKind};
 use emdstar_system::{Config, sonine_a2};
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -84,6 +84,9 @@ pub struct DrivenRun {
     pub samples: Vec<(f64, f64)>,
     pub wall_seconds: f64,
     pub time: f64,
+    /// The hybrid: the mean fraction of its particles that were time-driven, over its
+    /// steps (None for the other engines).
+    pub time_driven_fraction: Option<f64>,
 }
 
 impl DrivenSettings {
@@ -145,6 +148,14 @@ pub fn driven_state(s: &DrivenSettings, kind: EngineKind) -> Result<DrivenRun> {
         rate.push(obs.collision_rate);
     })?;
     let wall_seconds = clock.elapsed().as_secs_f64();
+    let time = sim.time();
+    let time_driven_fraction = match &e {
+        AnyEngine::Hybrid(h) => {
+            let stats = h.stats();
+            Some(stats.td_particle_steps as f64 / (stats.steps as f64 * s.count as f64))
+        }
+        _ => None,
+    };
     let (temperature, temperature_error) = block_mean(&t, 8);
     let (pressure, pressure_error) = block_mean(&p, 8);
     let (a2, a2_error) = block_mean(&a2, 8);
@@ -159,8 +170,26 @@ pub fn driven_state(s: &DrivenSettings, kind: EngineKind) -> Result<DrivenRun> {
         collision_rate: rate.iter().sum::<f64>() / rate.len() as f64,
         samples,
         wall_seconds,
-        time: sim.time(),
+        time,
+        time_driven_fraction,
     })
+}
+
+/// How far two independent runs of the same driven gas lie apart, in T, pressure and
+/// a₂: each |difference| with three standard errors of the difference (from the two
+/// runs' block errors).
+pub fn apart(a: &DrivenRun, b: &DrivenRun) -> [(f64, f64); 3] {
+    let one = |x: f64, ex: f64, y: f64, ey: f64| ((x - y).abs(), 3.0 * ex.hypot(ey));
+    [
+        one(
+            a.temperature,
+            a.temperature_error,
+            b.temperature,
+            b.temperature_error,
+        ),
+        one(a.pressure, a.pressure_error, b.pressure, b.pressure_error),
+        one(a.a2, a.a2_error, b.a2, b.a2_error),
+    ]
 }
 
 /// Temperature against time for each run, with the energy balance's steady value.
@@ -213,5 +242,55 @@ mod tests {
         let omega = 4.0 * density * sigma * sigma * g * (PI * t / m).sqrt();
         let lost = (1.0 - eps * eps) * omega * t * (1.0 + 3.0 * driven_a2(eps) / 16.0) / 3.0;
         assert!((lost / (m * xi * (1.0 - 1e-3)) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_hybrid_with_both_modes_reaches_mds_driven_state() {
+        // A driven gas at η = 0.1 clusters: its dense spots run time-driven, the rest
+        // event-driven. The same gas and kicks in MD: T, pressure and a₂ within noise.
+        let s = DrivenSettings {
+            restitution: 0.8,
+            eta: 0.1,
+            count: 1000,
+            stiffness: 1e4,
+            strength: 2.0,
+            rate: 400.0,
+            relax: 10.0,
+            measure: 60.0,
+            seed: 3,
+        };
+        let hybrid = driven_state(&s, EngineKind::Hybrid).unwrap();
+        let md = driven_state(&s, EngineKind::Md).unwrap();
+        let fraction = hybrid.time_driven_fraction.unwrap();
+        eprintln!(
+            "hybrid T {:e} ± {:e}, p {} ± {}, a2 {} ± {}, TD fraction {fraction}, {} s",
+            hybrid.temperature,
+            hybrid.temperature_error,
+            hybrid.pressure,
+            hybrid.pressure_error,
+            hybrid.a2,
+            hybrid.a2_error,
+            hybrid.wall_seconds
+        );
+        eprintln!(
+            "MD     T {:e} ± {:e}, p {} ± {}, a2 {} ± {}, {} s",
+            md.temperature,
+            md.temperature_error,
+            md.pressure,
+            md.pressure_error,
+            md.a2,
+            md.a2_error,
+            md.wall_seconds
+        );
+        assert!(
+            (0.1..0.9).contains(&fraction),
+            "both modes: TD fraction {fraction}"
+        );
+        for ((off, bar), what) in apart(&hybrid, &md).into_iter().zip(["T", "p", "a2"]) {
+            assert!(
+                off < bar,
+                "{what}: hybrid and MD {off:e} apart (3σ = {bar:e})"
+            );
+        }
     }
 }

@@ -125,6 +125,14 @@
 //! and each species against a wall, [`emdstar_contact::sticking_restitution`]; linear
 //! law only), chosen by the user, never substituted.
 //!
+//! # Thermostats
+//! A thermostat's tick ([`Hybrid::change_velocities`], `[driving]`) falls on a step
+//! boundary: the TD velocities are brought in step (MD's treatment of a tick), the ED
+//! particles to the tick (pending E^v first, as the event engine's), the change sees
+//! every velocity in config order, and the ED particles are predicted again. A driven
+//! run with every particle in one mode is MD, or the eMD* engine on cell crossings, to
+//! the bit (tests/engine/driven.rs).
+//!
 //! # Outlet
 //! [`HybridOptions::outlet`] is a plane behind which particles leave the system
 //! ([`Mode::Removed`], checked at rebuilds and mode checks): the discharge of a hopper.

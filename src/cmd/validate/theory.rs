@@ -5,7 +5,7 @@ use super::{StageOutput, ValidateArgs, bar};
 use anyhow::{Result, anyhow};
 use emdstar_engines::EngineKind;
 use emdstar_harness::Check;
-use emdstar_harness::driven::{DrivenSettings, driven_a2, driven_state};
+use emdstar_harness::driven::{DrivenSettings, apart, driven_a2, driven_state};
 use emdstar_harness::shear::{ShearSettings, plot_viscosity, sheared_viscosity};
 use emdstar_harness::theory::{
     CoolingSettings, EosSettings, cooling_state_a2, hard_sphere_eos, plot_a2, plot_eos,
@@ -48,6 +48,14 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         measure: if args.full { 200.0 } else { 60.0 },
         ..driven.clone()
     };
+    // Denser: clusters reach the hybrid's φ_TD, so both of its modes run.
+    let mixed = DrivenSettings {
+        eta: 0.1,
+        count: if args.full { 4000 } else { 1000 },
+        stiffness: 1e4,
+        measure: if args.full { 200.0 } else { 60.0 },
+        ..driven.clone()
+    };
     let plate = OrbitSettings::default();
     let shear = ShearSettings {
         phi: 0.15,
@@ -61,7 +69,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             vec![args.seed, args.seed + 1]
         },
     };
-    let b = bar("theory", eos.etas.len() as u64 + 6);
+    let b = bar("theory", eos.etas.len() as u64 + 7);
     b.set_message(format!(
         "eMD: hard spheres at η = 0.1–0.4 (N = {}), a cooling state (N = {})",
         eos.count, cooling.count
@@ -74,6 +82,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     let md = driven_state(&pair, EngineKind::Md)?;
     b.inc(1);
     let star = driven_state(&pair, EngineKind::EmdStar)?;
+    b.inc(1);
+    let mixed_md = driven_state(&mixed, EngineKind::Md)?;
+    let mixed_hybrid = driven_state(&mixed, EngineKind::Hybrid)?;
     b.inc(1);
     let orbits = [EngineKind::Emd, EngineKind::EmdStar, EngineKind::Md]
         .map(|kind| orbit(&plate, kind).map_err(|e| anyhow!(e)));
@@ -92,21 +103,16 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     let pair_png = args.out.join("theory_driven_emdstar_md.png");
     emdstar_harness::driven::plot(&[&md, &star], pair.theory_temperature(), &pair_png)
         .map_err(|e| anyhow!(e))?;
-    // Two independent means: their difference's standard error.
-    let apart = |a: f64, ea: f64, b: f64, eb: f64| ((a - b).abs(), 3.0 * ea.hypot(eb));
-    let (t_off, t_bar) = apart(
-        star.temperature,
-        star.temperature_error,
-        md.temperature,
-        md.temperature_error,
-    );
-    let (p_off, p_bar) = apart(
-        star.pressure,
-        star.pressure_error,
-        md.pressure,
-        md.pressure_error,
-    );
-    let (a_off, a_bar) = apart(star.a2, star.a2_error, md.a2, md.a2_error);
+    let mixed_png = args.out.join("theory_driven_hybrid_md.png");
+    emdstar_harness::driven::plot(
+        &[&mixed_md, &mixed_hybrid],
+        mixed.theory_temperature(),
+        &mixed_png,
+    )
+    .map_err(|e| anyhow!(e))?;
+    let [(t_off, t_bar), (p_off, p_bar), (a_off, a_bar)] = apart(&star, &md);
+    let hybrid_apart = apart(&mixed_hybrid, &mixed_md);
+    let time_driven = mixed_hybrid.time_driven_fraction.unwrap_or(f64::NAN);
     let speed = (md.wall_seconds / md.time) / (star.wall_seconds / star.time);
     let shear_png = args.out.join("theory_shear_viscosity.png");
     plot_viscosity(&shear, &sheared, &shear_png).map_err(|e| anyhow!(e))?;
@@ -207,6 +213,31 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             0.05,
         ),
     );
+    for ((id, what), (off, bar)) in [("8l", "T"), ("8m", "p"), ("8n", "a₂")]
+        .into_iter()
+        .zip(hybrid_apart)
+    {
+        checks.push(Check::at_most(
+            id,
+            format!(
+                "driven state at η = {} (N = {}, same kicks), the hybrid ({:.0} % of its particle-steps time-driven) against MD: |Δ{what}| within 3 standard errors",
+                mixed.eta,
+                mixed.count,
+                100.0 * time_driven
+            ),
+            off,
+            bar,
+        ));
+    }
+    checks.push(Check::at_most(
+        "8o",
+        format!(
+            "driven state at η = {}: the hybrid runs both modes (time-driven fraction of its particle-steps {time_driven:.3}, within 0.1–0.9)",
+            mixed.eta
+        ),
+        (time_driven - 0.5).abs(),
+        0.4,
+    ));
     let mut markdown = vec![
         "## 8. Gases against kinetic theory".to_string(),
         String::new(),
@@ -248,17 +279,29 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             "eos": points, "eos_settings": eos, "cooling": hcs, "cooling_settings": cooling,
             "driven": hard, "driven_settings": driven, "driven_theory_temperature": driven.theory_temperature(),
             "driven_md": md, "driven_emdstar": star, "driven_pair_settings": pair,
+            "driven_mixed_md": mixed_md, "driven_mixed_hybrid": mixed_hybrid, "driven_mixed_settings": mixed,
             "emdstar_speed_over_md": speed,
             "vibrated_plate": [plate_emd, plate_star, plate_md], "vibrated_plate_settings": plate,
             "shear": sheared, "shear_settings": shear,
         }),
-        figures: vec![eos_png, a2_png, driven_png, pair_png, plate_png, shear_png],
-        info: vec![format!(
-            "driven dilute steady state (η = {}, N = {}): eMD* {speed:.2}× as fast as MD ({:.2} s against {:.2} s of wall time per simulated second)",
-            pair.eta,
-            pair.count,
-            star.wall_seconds / star.time,
-            md.wall_seconds / md.time
-        )],
+        figures: vec![
+            eos_png, a2_png, driven_png, pair_png, mixed_png, plate_png, shear_png,
+        ],
+        info: vec![
+            format!(
+                "driven dilute steady state (η = {}, N = {}): eMD* {speed:.2}× as fast as MD ({:.2} s against {:.2} s of wall time per simulated second)",
+                pair.eta,
+                pair.count,
+                star.wall_seconds / star.time,
+                md.wall_seconds / md.time
+            ),
+            format!(
+                "driven steady state at η = {} (N = {}): the hybrid {:.2} s, MD {:.2} s of wall time per simulated second",
+                mixed.eta,
+                mixed.count,
+                mixed_hybrid.wall_seconds / mixed_hybrid.time,
+                mixed_md.wall_seconds / mixed_md.time
+            ),
+        ],
     })
 }

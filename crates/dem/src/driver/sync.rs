@@ -58,13 +58,15 @@ impl Verlet {
         Ok(())
     }
 
-    /// The velocities (in step) were changed from outside: the largest speed, which
-    /// bounds the drift between list rebuilds, follows them.
-    pub fn speeds_changed(&mut self, p: &Particles) {
+    /// The members' velocities (in step) were changed from outside: their largest
+    /// speed, which bounds the drift between list rebuilds, follows them.
+    pub fn speeds_changed<M: Members>(&mut self, p: &Particles, members: M) {
         self.v_max = p
             .velocity
             .iter()
-            .map(|v| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            .enumerate()
+            .filter(|&(i, _)| members.contains(i))
+            .map(|(_, v)| v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
             .fold(0.0, max_nan)
             .sqrt();
     }

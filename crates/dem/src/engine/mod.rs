@@ -159,7 +159,7 @@ impl Md {
         for k in 0..n {
             p.velocity[k] = v[p.id[k] as usize];
         }
-        self.verlet.speeds_changed(p);
+        self.verlet.speeds_changed(p, All);
         Ok(())
     }
 

@@ -17,6 +17,20 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
     /// again. Predictions of broad phases that bound speeds (epochs, neighbour lists)
     /// are not renewed: run such changes on cell crossings.
     pub fn change_velocities(&mut self, change: &mut VelocityChange<'_>) {
+        self.bring_to_now(|_| true);
+        let mut v = self.in_original_order(|i| self.state.slot[i].kin.vel);
+        let m = self.in_original_order(|i| self.state.mass[i]);
+        change(&mut v, &m);
+        let id = self.state.id.clone();
+        self.set_velocities_now(|_| true, |i| v[id[i] as usize]);
+    }
+
+    /// The first half of a change of velocities from outside, for the particles
+    /// `member` accepts (slot numbers; a membership's members, or all): their pending
+    /// E^v events run now ([MP13] Sec. VI B 5 (b)), then each is moved to now, its
+    /// motion up to now in the kinetic sums. Their velocities now are then their
+    /// [`EventEngine::motion_at`] now.
+    pub fn bring_to_now(&mut self, member: impl Fn(usize) -> bool) {
         let n = self.len();
         let now = self.state.time;
         let mut host = EngineHost {
@@ -24,23 +38,31 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
             broad: &mut self.broad,
             hooks: &mut NoHooks,
         };
-        for i in 0..n {
+        for i in (0..n).filter(|&i| member(i)) {
             if host.state.slot[i].ev.pending_time.is_finite() {
                 collision::finish_transient(&mut host, i);
             }
         }
-        for i in 0..n {
+        for i in (0..n).filter(|&i| member(i)) {
             self.state.advance(i, now);
         }
-        let mut v = self.in_original_order(|i| self.state.slot[i].kin.vel);
-        let m = self.in_original_order(|i| self.state.mass[i]);
-        change(&mut v, &m);
-        for i in 0..n {
+    }
+
+    /// The second half (after [`EventEngine::bring_to_now`] of the same particles):
+    /// each particle `member` accepts takes the velocity `v(slot)` now, its predictions
+    /// become stale, and each is predicted again, in increasing slot number.
+    pub fn set_velocities_now(
+        &mut self,
+        member: impl Fn(usize) -> bool,
+        v: impl Fn(usize) -> [f64; 3],
+    ) {
+        let n = self.len();
+        for i in (0..n).filter(|&i| member(i)) {
             let slot = &mut self.state.slot[i];
-            slot.kin.vel = v[self.state.id[i] as usize];
+            slot.kin.vel = v(i);
             slot.ev.counter = slot.ev.counter.wrapping_add(1);
         }
-        for i in 0..n {
+        for i in (0..n).filter(|&i| member(i)) {
             self.broad.predict(&mut self.state, i);
         }
     }

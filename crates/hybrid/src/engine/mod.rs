@@ -3,8 +3,10 @@
 //! (the event core of emdstar-edmd over the ED particles) and the guard between them;
 //! here the step loop, in the other files the mode switches (modes.rs), the list
 //! rebuilds and mode checks (upkeep.rs), what the events report back (events.rs), the
-//! guard (guard.rs) and what the engine shows (readout.rs, simulation.rs, snapshot.rs).
+//! guard (guard.rs), velocities changed from outside (drive.rs) and what the engine
+//! shows (readout.rs, simulation.rs, snapshot.rs).
 
+mod drive;
 mod events;
 mod guard;
 mod modes;

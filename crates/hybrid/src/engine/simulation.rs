@@ -50,13 +50,11 @@ impl Simulation for Hybrid {
         Hybrid::mark_stress(self);
     }
 
-    /// Not run: the time-driven part's pending kicks and the event core's predictions
-    /// would both have to follow.
     fn change_velocities(
         &mut self,
-        _change: &mut VelocityChange<'_>,
+        change: &mut VelocityChange<'_>,
     ) -> Result<(), SimulationError> {
-        Err("the hybrid engine does not run [driving]: use --engine md, emd or emdstar".into())
+        Ok(Hybrid::change_velocities(self, change)?)
     }
 
     fn particles(&self) -> Particles {

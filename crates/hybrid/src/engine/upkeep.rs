@@ -116,7 +116,7 @@ impl Hybrid {
     }
 
     /// The largest speed of an ED particle now, pending E^v velocities included.
-    fn ed_speeds(&self) -> f64 {
+    pub(super) fn ed_speeds(&self) -> f64 {
         let t = self.time();
         let mut v_max: f64 = 0.0;
         for i in 0..self.modes.len() {

@@ -5,7 +5,9 @@
 //! frictional), with the same counts of collisions, exceptions and exact frictional
 //! solves.
 
-use crate::common::{emdstar_reference, gas_under_gravity, hybrid_with, md, steps_to, system};
+use crate::common::{
+    dense_hertz_gas, emdstar_reference, gas_under_gravity, hybrid_with, md, steps_to, system,
+};
 use emdstar_edmd::Stats;
 use emdstar_hybrid::{EventRule, HybridOptions, Mode};
 use emdstar_system::{Particles, System};
@@ -87,25 +89,7 @@ fn event_driven_against_emdstar(sys: &System, t_end: f64) -> Stats {
 
 #[test]
 fn every_particle_time_driven_is_md_to_the_bit() {
-    // A dense damped Hertz gas: TD by its volume fraction.
-    let hertz = system(
-        r#"
-t_end = 0.1
-[material]
-model = "hertz"
-young = 1e9
-poisson = 0.4
-dissipation = 1e-4
-density = 1140.0
-[gas]
-count = 64
-radius = 0.1
-arrangement = "random"
-packing_fraction = 0.3
-rms_speed = 1.0
-seed = 5
-"#,
-    );
+    let hertz = dense_hertz_gas();
     let end = time_driven_against_md(&hertz, 0.1, true, EventRule::EmdStar);
     assert!(
         end.kinetic_energy() < 0.95 * hertz.particles.kinetic_energy(),

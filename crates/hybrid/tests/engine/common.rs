@@ -45,22 +45,26 @@ pub fn hybrid_with(system: &System, opts: HybridOptions, t_end: f64) -> Hybrid {
     Hybrid::new(system.clone(), opts, Box::new(ExactMor), t_end).unwrap()
 }
 
-/// The eMD* engine (exact MoR, on cell crossings) run to `t_end`: the final state
-/// (spins included) and its counters.
-pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
+/// The eMD* engine (exact MoR) on cell crossings, as the hybrid's event core runs.
+pub fn emdstar_engine(system: &System) -> Engine {
     let physics = Physics::EmdStar {
         interactions: system.interactions().clone(),
         mor: Box::new(ExactMor),
         interference: Interference::HitOnly,
     };
-    // The hybrid's event core runs on cell crossings.
-    let mut e: Engine = Engine::with_broad_phase(
+    Engine::with_broad_phase(
         &system.particles,
         &system.domain,
         physics,
         BroadPhaseKind::Crossings,
     )
-    .unwrap();
+    .unwrap()
+}
+
+/// The eMD* engine (exact MoR, on cell crossings) run to `t_end`: the final state
+/// (spins included) and its counters.
+pub fn emdstar_reference(system: &System, t_end: f64) -> (Particles, Stats) {
+    let mut e = emdstar_engine(system);
     e.run_until(t_end).unwrap();
     let mut state = system.particles.clone();
     e.write_state(&mut state);
@@ -86,6 +90,28 @@ pub fn max_difference(a: &Particles, b: &Particles, system: &System) -> (f64, f6
         dv = dv.max(Vec3::from(w).norm());
     }
     (dx, dv)
+}
+
+/// A dense damped Hertz gas (η = 0.3): time-driven by its volume fraction.
+pub fn dense_hertz_gas() -> System {
+    system(
+        r#"
+t_end = 0.1
+[material]
+model = "hertz"
+young = 1e9
+poisson = 0.4
+dissipation = 1e-4
+density = 1140.0
+[gas]
+count = 64
+radius = 0.1
+arrangement = "random"
+packing_fraction = 0.3
+rms_speed = 1.0
+seed = 5
+"#,
+    )
 }
 
 /// An elastic gas under gravity between a floor and a lid (periodic sideways; with
