@@ -8,8 +8,9 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 /// The configs these tests cover; a new example must be added here (and tested).
-const EXAMPLES: [&str; 11] = [
+const EXAMPLES: [&str; 12] = [
     "cooling_hertz_gas.toml",
+    "driven_bed.toml",
     "driven_dense_gas.toml",
     "driven_gas.toml",
     "frictional_gas_walls.toml",
@@ -344,6 +345,57 @@ fn driven_gas_reaches_the_same_steady_state_in_md_and_emdstar() {
     assert!(
         header.ends_with("collision_rate[1/s] sonine_a2"),
         "{header}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// The mean height of the particles at the end of a run, from the log's last potential
+/// energy Σ m g z (gravity along −z) and the total mass.
+fn final_mean_height(log: &Path, total_mass: f64, g: f64) -> f64 {
+    let text = std::fs::read_to_string(log).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split_whitespace().collect();
+    let column = header
+        .iter()
+        .position(|h| *h == "potential_energy[J]")
+        .expect("a potential energy column")
+        - 1; // the header starts with "#"
+    let last = text.lines().last().unwrap();
+    let pe: f64 = last
+        .split_whitespace()
+        .nth(column)
+        .unwrap()
+        .parse()
+        .unwrap();
+    pe / (total_mass * g)
+}
+
+#[test]
+fn the_driven_bed_falls_and_stays_agitated_on_md_and_the_hybrid() {
+    // 1000 glass beads (r = 5 mm) start spread over 0.4 m (mean height 0.196 m); free
+    // fall from there takes about 0.2 s. White noise must not hold the centre of mass up:
+    // a tick takes off only its own kicks' mean. A close-packed bed over 0.2 × 0.2 m
+    // would have its mean height near 11 mm; the noise keeps it looser.
+    let (dir, config) = short_copy("driven_bed.toml", 0.6);
+    let mass = 1000.0 * 2500.0 * 4.0 / 3.0 * std::f64::consts::PI * 0.005f64.powi(3);
+    let mut heights = Vec::new();
+    for engine in ["md", "hybrid"] {
+        let summary = run(&dir, &config, engine);
+        let z = final_mean_height(&dir.join("driven_bed.log"), mass, 9.81);
+        assert!(
+            (0.011..0.03).contains(&z),
+            "{engine}: mean height {z} m, {summary}"
+        );
+        assert!(
+            num(&summary, "granular_temperature_final") > 0.0,
+            "{summary}"
+        );
+        heights.push(z);
+    }
+    assert!(
+        relative(heights[1], heights[0]) < 0.05,
+        "mean heights md {} and hybrid {} m",
+        heights[0],
+        heights[1]
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
