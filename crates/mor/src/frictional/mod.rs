@@ -309,6 +309,7 @@ fn contact(
     opts: &SolverOptions,
 ) -> Contact {
     let normal = Normal::of(law);
+    let peak = normal.peak(m_eff, approach);
     Contact {
         geometry,
         hertz: normal.hertz,
@@ -324,8 +325,8 @@ fn contact(
         b,
         spins_apart: false,
         speed: norm(velocity),
-        overlap: normal.peak(m_eff, approach),
-        time: normal.peak(m_eff, approach) / approach,
+        overlap: peak,
+        time: peak / approach,
         length,
         rtol: opts.rtol,
         accuracy: opts.atol,
