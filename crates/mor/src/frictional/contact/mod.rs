@@ -19,7 +19,8 @@
 //! wall is the same equations with 1/|r| = 0 (the frame stays; the slots of q hold the
 //! displacement along the wall instead). At the end, the frame turns the state back:
 //! r = (l − ξ) e₀, and the spins follow from Ω and P, Q = ∫ ξ n × F_t dt = (ΔΩ + aP)/b,
-//! I_i Δω_i = −R_i P + Q/2.
+//! I_i Δω_i = −R_i P + Q/2: for identical spheres P drops out (Δω_i = ΔΩ/2R), and at a
+//! wall ω = Ω/R, so P is carried only for spheres that differ.
 //!
 //! # The end of a sliding contact
 //! Sliding, the force keeps to the cap µF_n along the spring, whose direction lags the
