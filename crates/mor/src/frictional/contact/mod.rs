@@ -62,7 +62,7 @@ const SAME: usize = P;
 /// stays below the rest's at 10.
 const TAIL_SHARE: f64 = 10.0;
 /// The first trial step, in units of the time scale.
-const FIRST_STEP: f64 = 0.2;
+const FIRST_STEP: f64 = 0.05;
 /// The safety factor of the step-size control.
 const SAFETY: f64 = 0.8;
 /// The head ends where the spring on the cap is this many times its absolute tolerance.
