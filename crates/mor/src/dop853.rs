@@ -27,6 +27,10 @@ pub(crate) trait System<const N: usize> {
 
     /// Called as each trial step begins (before its stages are evaluated).
     fn trial_started(&self) {}
+
+    /// Whether the Runge–Kutta sums are fused multiply-adds (one rounding per term:
+    /// the same bits wherever the CPU has FMA or not, fast only where it has).
+    const FUSED: bool = false;
 }
 
 /// Per-step error control: a step is accepted when the weighted error norm is ≤ 1, with
@@ -193,7 +197,8 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
     pub fn dense(&mut self) -> Result<Dense<N>, StepFailure> {
         let (t0, h, y0) = (self.t0, self.h0, self.y0);
         for i in 13..16 {
-            let yi = combine(&y0, h, &self.k, A[i]);
+            // Plain sums: the dense output is built outside the step's (vectorised) code.
+            let yi = combine(&y0, h, &self.k, A[i], false);
             self.k[i] = self
                 .eval(t0 + C[i] * h, &yi)
                 .ok_or(StepFailure::OutsideDomain { t: t0 + C[i] * h })?;
@@ -209,7 +214,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             cont[3][n] = dy - h * k[12][n] - bspl;
         }
         for (i, row) in D.iter().enumerate() {
-            let s = weighted(k, row);
+            let s = weighted(k, row, false);
             for n in 0..N {
                 cont[4 + i][n] = h * s[n];
             }
@@ -249,18 +254,26 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         // Unrolled, so that each row of the tableau is a compile-time constant.
         macro_rules! stages {
             ($($i:literal)*) => {$(
-                let yi = combine(&y, h, &self.k, A[$i]);
+                let yi = combine(&y, h, &self.k, A[$i], S::FUSED);
                 self.k[$i] = self.eval(t + C[$i] * h, &yi)?;
             )*};
         }
         stages!(1 2 3 4 5 6 7 8 9 10 11);
-        let b = weighted(&self.k, A[12]);
-        let y1: [f64; N] = std::array::from_fn(|n| y[n] + h * b[n]);
+        let b = weighted(&self.k, A[12], S::FUSED);
+        let mut y1 = b;
+        for n in 0..N {
+            y1[n] = if S::FUSED {
+                h.mul_add(b[n], y[n])
+            } else {
+                y[n] + h * b[n]
+            };
+        }
         if y1.iter().any(|v| !v.is_finite()) {
             return Some((y1, f64::INFINITY));
         }
         let (m0, m1) = (self.sys.magnitude(&y), self.sys.magnitude(&y1));
-        let (bhh, e5) = (weighted(&self.k, &BHH), weighted(&self.k, &E5));
+        let bhh = weighted(&self.k, &BHH, S::FUSED);
+        let e5 = weighted(&self.k, &E5, S::FUSED);
         let (mut err5, mut err3) = (0.0, 0.0);
         let (mut e5s, mut e3s) = ([0.0; N], [0.0; N]);
         for n in 0..N {
@@ -297,13 +310,17 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
 }
 
 /// Σ_j a_j k_j for every component, summed in the order of the row (components side by
-/// side, so that they vectorise).
+/// side, so that they vectorise); by fused multiply-adds if `fused`.
 #[inline(always)]
-fn weighted<const N: usize>(k: &[[f64; N]; 16], row: &[(usize, f64)]) -> [f64; N] {
+fn weighted<const N: usize>(k: &[[f64; N]; 16], row: &[(usize, f64)], fused: bool) -> [f64; N] {
     let mut sum = [0.0; N];
     for &(j, a) in row {
         for n in 0..N {
-            sum[n] += a * k[j][n];
+            sum[n] = if fused {
+                a.mul_add(k[j][n], sum[n])
+            } else {
+                sum[n] + a * k[j][n]
+            };
         }
     }
     sum
@@ -316,9 +333,17 @@ fn combine<const N: usize>(
     h: f64,
     k: &[[f64; N]; 16],
     row: &[(usize, f64)],
+    fused: bool,
 ) -> [f64; N] {
-    let sum = weighted(k, row);
-    std::array::from_fn(|n| y[n] + h * sum[n])
+    let mut out = weighted(k, row, fused);
+    for n in 0..N {
+        out[n] = if fused {
+            h.mul_add(out[n], y[n])
+        } else {
+            y[n] + h * out[n]
+        };
+    }
+    out
 }
 
 /// The 7th-order continuous extension of one step (Hairer's `contd8`).

@@ -87,7 +87,7 @@ pub fn solve_contact(
         scale(bodies[1].radius, bodies[1].spin),
     );
     let frame = Frame::new(separation, velocity);
-    let c = contact(
+    let mut c = contact(
         law,
         spring,
         Geometry::Pair { l },
@@ -98,6 +98,8 @@ pub fn solve_contact(
         l,
         opts,
     );
+    c.spins_apart = spring.friction != 0.0
+        && (bodies[0].radius != bodies[1].radius || bodies[0].mass != bodies[1].mass);
     let (y, switches, stats) =
         c.integrate(start(&frame, velocity, spin_sum, [1.0, 0.0, 0.0, 0.0]))?;
     let turned = frame.turned(&y);
@@ -106,7 +108,8 @@ pub fn solve_contact(
     let spins = if spring.friction == 0.0 {
         [bodies[0].spin, bodies[1].spin]
     } else {
-        // Q = ∫ ξ n × F_t dt from ΔΩ = −aP + bQ; I_i Δω_i = −R_i P + Q/2.
+        // Q = ∫ ξ n × F_t dt from ΔΩ = −aP + bQ; I_i Δω_i = −R_i P + Q/2 (P drops out
+        // for identical spheres, Δω_i = ΔΩ/2R, and is not carried: zero).
         let d_omega = sub(turned.world(slot(&y, contact::OMEGA)), spin_sum);
         let q = scale(1.0 / b, add(d_omega, scale(a, p)));
         [0, 1].map(|i| {
@@ -306,6 +309,7 @@ fn contact(
     opts: &SolverOptions,
 ) -> Contact {
     let normal = Normal::of(law);
+    let peak = normal.peak(m_eff, approach);
     Contact {
         geometry,
         hertz: normal.hertz,
@@ -319,9 +323,10 @@ fn contact(
         inv_k_t: 1.0 / spring.stiffness,
         a,
         b,
+        spins_apart: false,
         speed: norm(velocity),
-        overlap: normal.peak(m_eff, approach),
-        time: normal.peak(m_eff, approach) / approach,
+        overlap: peak,
+        time: peak / approach,
         length,
         rtol: opts.rtol,
         accuracy: opts.atol,

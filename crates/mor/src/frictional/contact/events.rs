@@ -1,18 +1,18 @@
 //! Where a stretch of the contact ends: a stick–slip switch or the end of the contact,
 //! located on the dense output of the step in which the stages saw it.
 
-use super::{Eval, Found, Mode, N, Stretch};
+use super::{Eval, Found, Mode, Stretch};
 use crate::SolveError;
 use crate::dop853::{Dense, Dop853};
 use crate::frictional::{failure, first_crossing};
 
-impl Stretch<'_> {
+impl<const M: usize> Stretch<'_, M> {
     /// The first event inside the last accepted step: the end of the contact or a switch
     /// (also one there and back within the step, seen at a stage).
     pub(super) fn event_in_step(
         &self,
-        solver: &mut Dop853<'_, Self, N>,
-    ) -> Result<Option<Found>, SolveError> {
+        solver: &mut Dop853<'_, Self, M>,
+    ) -> Result<Option<Found<M>>, SolveError> {
         // The stages' minima include the step's end (evaluated last, for the next step).
         let (c, mode) = (self.contact, self.mode.get());
         let ends = self.low_end.get() <= 0.0;
@@ -21,7 +21,7 @@ impl Stretch<'_> {
         if !ends && !switches {
             return Ok(None);
         }
-        let e_b = c.eval::<true>(solver.y(), mode);
+        let e_b = c.eval::<false, M>(solver.y(), mode);
         let dense = solver.dense().map_err(failure)?;
         // The dense output's stages are evaluated last now: the step's end is e_b.
         self.last.set((e_b.f_n, e_b.growth));
@@ -56,13 +56,13 @@ impl Stretch<'_> {
     /// ([`first_crossing`] on its dense output).
     fn root(
         &self,
-        dense: &Dense<N>,
-        &(x_a, y_a, x_b, ref e_b): &(f64, [f64; N], f64, Eval),
-        g: impl Fn(&Eval) -> f64,
+        dense: &Dense<M>,
+        &(x_a, y_a, x_b, ref e_b): &(f64, [f64; M], f64, Eval<M>),
+        g: impl Fn(&Eval<M>) -> f64,
     ) -> Option<f64> {
         let (c, mode) = (self.contact, self.mode.get());
-        let value = |x: f64| g(&c.eval::<true>(&dense.eval(x), mode));
-        let g_a = g(&c.eval::<true>(&y_a, mode));
+        let value = |x: f64| g(&c.eval::<false, M>(&dense.eval(x), mode));
+        let g_a = g(&c.eval::<false, M>(&y_a, mode));
         first_crossing(value, (x_a, g_a), (x_b, g(e_b)))
     }
 }

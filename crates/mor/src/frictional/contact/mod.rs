@@ -19,7 +19,8 @@
 //! wall is the same equations with 1/|r| = 0 (the frame stays; the slots of q hold the
 //! displacement along the wall instead). At the end, the frame turns the state back:
 //! r = (l − ξ) e₀, and the spins follow from Ω and P, Q = ∫ ξ n × F_t dt = (ΔΩ + aP)/b,
-//! I_i Δω_i = −R_i P + Q/2.
+//! I_i Δω_i = −R_i P + Q/2: for identical spheres P drops out (Δω_i = ΔΩ/2R), and at a
+//! wall ω = Ω/R, so P is carried only for spheres that differ.
 //!
 //! # The end of a sliding contact
 //! Sliding, the force keeps to the cap µF_n along the spring, whose direction lags the
@@ -40,19 +41,26 @@ use std::cell::Cell;
 mod events;
 mod tail;
 
-/// State: v (frame), Ω (frame), P (frame), the spring (e₁, e₂), ξ or √ξ, t, and the
-/// attitude q (pair) or the displacement along the wall (wall).
+/// State: v (frame), Ω (frame), the spring (e₁, e₂), ξ or √ξ, t, the attitude q (pair)
+/// or the displacement along the wall (wall, two slots), and P (frame). Only what is
+/// needed is integrated ([`Contact::carried`]): the first [`WALL`] components at a wall,
+/// [`SAME`] for a pair of identical spheres (whose spins change alike, by ΔΩ/2R: P drops
+/// out) or without friction, all [`N`] else.
 pub(super) const N: usize = 17;
 pub(super) const V: usize = 0;
 pub(super) const OMEGA: usize = 3;
-pub(super) const P: usize = 6;
-const SPRING: usize = 9;
-pub(super) const S: usize = 11;
-pub(super) const T: usize = 12;
-pub(super) const Q: usize = 13;
+const SPRING: usize = 6;
+pub(super) const S: usize = 8;
+pub(super) const T: usize = 9;
+pub(super) const Q: usize = 10;
+pub(super) const P: usize = 14;
+const WALL: usize = Q + 2;
+const SAME: usize = P;
 
-/// Part of the accuracy the end of a sliding contact may spend.
-const TAIL_SHARE: f64 = 1.0;
+/// Part of the accuracy the end of a sliding contact may spend: its bound (the impulse
+/// left times the difference of the directions) is far above the error it makes, which
+/// stays below the rest's at 10.
+const TAIL_SHARE: f64 = 10.0;
 /// The first trial step, in units of the time scale.
 const FIRST_STEP: f64 = 0.05;
 /// The safety factor of the step-size control.
@@ -105,6 +113,9 @@ pub(super) struct Contact {
     /// Σ R_i²/I_i and Σ R_i/(2I_i): Ω̇ = −(a − bξ) n × F_t.
     pub a: f64,
     pub b: f64,
+    /// Whether the two spins must be told apart (P carried): a pair of spheres that differ
+    /// in radius or mass, with friction.
+    pub spins_apart: bool,
     /// Scales: speed, the estimated peak overlap, the contact time, the contact distance.
     pub speed: f64,
     pub overlap: f64,
@@ -119,8 +130,8 @@ pub(super) struct Contact {
 
 /// The right-hand side at one state, with the switch function and, when probed, what
 /// the events and the tail need.
-struct Eval {
-    dy: [f64; N],
+struct Eval<const M: usize> {
+    dy: [f64; M],
     /// F_n, unclipped (w for elastic Hertz): the end is its crossing from above.
     end: f64,
     rate: f64,
@@ -137,16 +148,16 @@ struct Eval {
 }
 
 /// What ends a stretch.
-enum Found {
-    End([f64; N]),
-    Switch(f64, [f64; N]),
-    Tail(f64, [f64; N]),
+enum Found<const M: usize> {
+    End([f64; M]),
+    Switch(f64, [f64; M]),
+    Tail(f64, [f64; M]),
     /// The head's spring is long enough to follow.
-    Resolved(f64, [f64; N]),
+    Resolved(f64, [f64; M]),
 }
 
 /// One smooth stretch of the contact.
-struct Stretch<'a> {
+struct Stretch<'a, const M: usize> {
     contact: &'a Contact,
     mode: Cell<Mode>,
     /// The least switch function and the least end function (where ξ falls) met at the
@@ -160,10 +171,10 @@ struct Stretch<'a> {
     last: Cell<(f64, f64)>,
 }
 
-impl System<N> for Stretch<'_> {
+impl<const M: usize> System<M> for Stretch<'_, M> {
     #[inline(always)]
-    fn rhs(&self, _x: f64, y: &[f64; N]) -> Option<[f64; N]> {
-        let e = self.contact.eval::<false>(y, self.mode.get());
+    fn rhs(&self, _x: f64, y: &[f64; M]) -> Option<[f64; M]> {
+        let e = self.contact.eval::<false, M>(y, self.mode.get());
         self.low.set(self.low.get().min(e.mode));
         if e.rate < 0.0 {
             self.low_end.set(self.low_end.get().min(e.end));
@@ -176,23 +187,28 @@ impl System<N> for Stretch<'_> {
         self.low.set(f64::INFINITY);
         self.low_end.set(f64::INFINITY);
     }
+
+    /// The steps run in [`Contact::integrate_avx2`], with FMA.
+    const FUSED: bool = true;
 }
 
 impl Contact {
     /// Integrates from the touch state `y0` to the end of the contact: the state there,
-    /// the stick–slip switches and the work done. With AVX2 where the CPU has it (the
-    /// same operations in the same order: the same result to the bit).
+    /// the stick–slip switches and the work done. With AVX2 and FMA where the CPU has
+    /// them (the same operations in the same order, the Runge–Kutta sums fused
+    /// multiply-adds either way: the same result to the bit).
     pub fn integrate(&self, y0: [f64; N]) -> Result<([f64; N], usize, SolveStats), SolveError> {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2.
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the CPU has AVX2 and FMA.
             return unsafe { self.integrate_avx2(y0) };
         }
         self.integrate_portable(y0)
     }
 
     #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "avx2,fma")]
     unsafe fn integrate_avx2(
         &self,
         y0: [f64; N],
@@ -200,16 +216,46 @@ impl Contact {
         self.integrate_portable(y0)
     }
 
+    /// The integration over the components carried ([`Self::carried`]); the others stay
+    /// zero.
     #[inline(always)]
     fn integrate_portable(
         &self,
         y0: [f64; N],
     ) -> Result<([f64; N], usize, SolveStats), SolveError> {
+        fn widen<const M: usize>(
+            (y, switches, stats): ([f64; M], usize, SolveStats),
+        ) -> ([f64; N], usize, SolveStats) {
+            let mut out = [0.0; N];
+            out[..M].copy_from_slice(&y);
+            (out, switches, stats)
+        }
+        match self.carried() {
+            WALL => self.integrate_carried::<WALL>(narrow(&y0)).map(widen),
+            SAME => self.integrate_carried::<SAME>(narrow(&y0)).map(widen),
+            _ => self.integrate_carried::<N>(y0),
+        }
+    }
+
+    /// How many components of the state are integrated.
+    fn carried(&self) -> usize {
+        match self.geometry {
+            Geometry::Wall => WALL,
+            Geometry::Pair { .. } if self.spins_apart => N,
+            Geometry::Pair { .. } => SAME,
+        }
+    }
+
+    #[inline(always)]
+    fn integrate_carried<const M: usize>(
+        &self,
+        y0: [f64; M],
+    ) -> Result<([f64; M], usize, SolveStats), SolveError> {
         let tail_impulse =
             TAIL_SHARE * self.accuracy.min(self.rtol) * self.slip_mass() * self.speed;
         // The spring's direction is resolved once its length on the cap is this many
         // times its absolute tolerance.
-        let resolved = RESOLVED * self.tolerances().atol[SPRING] * self.k_t;
+        let resolved = RESOLVED * self.tolerances::<M>().atol[SPRING] * self.k_t;
         let mut y = y0;
         let mut switches = 0;
         let mode = if self.mu == 0.0 {
@@ -219,7 +265,7 @@ impl Contact {
             // (the pull is negative: damped Hertz, F_n ~ √t), the contact sticks at once.
             y = self.onto_cap(&y);
             let (_, _, f_n) = self.normal(y[S], -y[V]);
-            if self.eval::<true>(&y, Mode::Slide).mode < 0.0 {
+            if self.eval::<true, M>(&y, Mode::Slide).mode < 0.0 {
                 switches += 1;
                 Mode::Stick
             } else if self.mu * f_n < resolved {
@@ -269,7 +315,7 @@ impl Contact {
                     // The spring onto the cap along the head's direction.
                     let y = solver.y();
                     let (_, _, f_n) = self.normal(y[S], -y[V]);
-                    let e = self.eval::<true>(y, Mode::Head);
+                    let e = self.eval::<true, M>(y, Mode::Head);
                     let mut y = *y;
                     let slip = [y[V + 1] - y[OMEGA + 2], y[V + 2] + y[OMEGA + 1]];
                     for k in 0..2 {
@@ -333,8 +379,8 @@ impl Contact {
     }
 
     /// F_n and dF_n/dx at `y`, sliding.
-    fn load(&self, y: &[f64; N]) -> (f64, f64) {
-        let e = self.eval::<false>(y, Mode::Slide);
+    fn load<const M: usize>(&self, y: &[f64; M]) -> (f64, f64) {
+        let e = self.eval::<false, M>(y, Mode::Slide);
         (e.f_n, e.growth)
     }
 
@@ -352,7 +398,7 @@ impl Contact {
         }
     }
 
-    fn tolerances(&self) -> Tolerances<N> {
+    fn tolerances<const M: usize>(&self) -> Tolerances<M> {
         let a = self.accuracy;
         let mut atol = [0.0; N];
         // The force whose action over the contact moves the slip by |v|.
@@ -380,7 +426,7 @@ impl Contact {
         }
         Tolerances {
             rtol: self.rtol,
-            atol,
+            atol: narrow(&atol),
             atol_monitored: 0.0,
         }
     }
@@ -416,10 +462,9 @@ impl Contact {
     }
 
     #[inline(always)]
-    fn eval<const PROBE: bool>(&self, y: &[f64; N], mode: Mode) -> Eval {
+    fn eval<const PROBE: bool, const M: usize>(&self, y: &[f64; M], mode: Mode) -> Eval<M> {
         let [v0, v1, v2] = [y[V], y[V + 1], y[V + 2]];
         let [o0, o1, o2] = [y[OMEGA], y[OMEGA + 1], y[OMEGA + 2]];
-        let [p0, p1, p2] = [y[P], y[P + 1], y[P + 2]];
         let rate = -v0;
         let (xi, jac, f_n) = self.normal(y[S], rate);
         let inv_r = self.inverse_distance(xi);
@@ -443,11 +488,6 @@ impl Contact {
             (v2 * o2 + v1 * o1) * inv_r,
             -v1 * o0 * inv_r,
             -v2 * o0 * inv_r,
-        ];
-        let free_p = [
-            (v2 * p2 + v1 * p1) * inv_r,
-            -v1 * p0 * inv_r,
-            -v2 * p0 * inv_r,
         ];
         let (direction, f_t) = match mode {
             Mode::Stick => ([0.0; 2], trial),
@@ -473,24 +513,35 @@ impl Contact {
             free_o[1] - arm * f_t[1],
             free_o[2] + arm * f_t[0],
         ];
-        let dp = [free_p[0], free_p[1] - f_t[1], free_p[2] + f_t[0]];
-        let mut dy = [0.0; N];
+        let mut dy = [0.0; M];
         for k in 0..3 {
             dy[V + k] = jac * dv[k];
             dy[OMEGA + k] = jac * d_omega[k];
-            dy[P + k] = jac * dp[k];
+        }
+        if let Some(p) = y.get(P..P + 3) {
+            // Ṗ = n × F_t − ω_f × P.
+            let dp = [
+                (v2 * p[2] + v1 * p[1]) * inv_r,
+                -v1 * p[0] * inv_r - f_t[1],
+                -v2 * p[0] * inv_r + f_t[0],
+            ];
+            for k in 0..3 {
+                dy[P + k] = jac * dp[k];
+            }
         }
         dy[S] = if self.hertz { 0.5 * rate } else { rate };
         dy[T] = jac;
         match self.geometry {
             Geometry::Pair { .. } => {
                 // q̇ = q ⊗ (0, w⃗)/2 with w⃗ = (0, w₁, w₂): (−q⃗·w⃗, q_a w⃗ + q⃗ × w⃗)/2.
-                let [qa, qb, qc, qd] = [y[Q], y[Q + 1], y[Q + 2], y[Q + 3]];
-                let h = 0.5 * jac;
-                dy[Q] = -h * (qc * w1 + qd * w2);
-                dy[Q + 1] = h * (qc * w2 - qd * w1);
-                dy[Q + 2] = h * (qa * w1 - qb * w2);
-                dy[Q + 3] = h * (qa * w2 + qb * w1);
+                if let (Some(&[qa, qb, qc, qd]), Some(dq)) = (y.get(Q..Q + 4), dy.get_mut(Q..Q + 4))
+                {
+                    let h = 0.5 * jac;
+                    dq[0] = -h * (qc * w1 + qd * w2);
+                    dq[1] = h * (qc * w2 - qd * w1);
+                    dq[2] = h * (qa * w1 - qb * w2);
+                    dq[3] = h * (qa * w2 + qb * w1);
+                }
             }
             Geometry::Wall => {
                 dy[Q] = jac * v1;
@@ -545,7 +596,7 @@ impl Contact {
     }
 
     /// Whether the contact slides from its first instant ([`Normal::slides_from_touch`]).
-    fn starts_sliding(&self, y: &[f64; N]) -> bool {
+    fn starts_sliding<const M: usize>(&self, y: &[f64; M]) -> bool {
         let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
         if slip <= 1e-14 * self.speed {
             return false;
@@ -556,7 +607,7 @@ impl Contact {
 
     /// The state with the spring set onto the cap, −k_t ξ_t − γ_t v_t = µF_n f̂ (as MD
     /// resets it), at the start of a sliding stretch.
-    fn onto_cap(&self, y: &[f64; N]) -> [f64; N] {
+    fn onto_cap<const M: usize>(&self, y: &[f64; M]) -> [f64; M] {
         let slip = [y[V + 1] - y[OMEGA + 2], y[V + 2] + y[OMEGA + 1]];
         let trial = [
             -self.k_t * y[SPRING] - self.gamma_t * slip[0],
@@ -571,6 +622,12 @@ impl Contact {
         }
         out
     }
+}
+
+/// The first M components of `y`.
+#[inline(always)]
+fn narrow<const M: usize>(y: &[f64; N]) -> [f64; M] {
+    std::array::from_fn(|k| y[k])
 }
 
 /// The direction of the tangential force at the cap: that of the trial force

@@ -1,7 +1,7 @@
 //! The end of a sliding contact: when the rest of it may be the tail, and the direction
 //! the force keeps there (see the module documentation of [`super`]).
 
-use super::{Contact, Mode, N, OMEGA, S, V};
+use super::{Contact, Mode, OMEGA, S, V};
 
 impl Contact {
     /// The direction the sliding force keeps where the spring's turning is fast: against
@@ -52,9 +52,9 @@ impl Contact {
     /// direction and the tail's, below `impulse`, the accuracy's share in N·s), and the
     /// estimated time left to the end, F_n/|Ḟ_n| in units of the independent variable (∞
     /// while F_n grows).
-    pub(super) fn slide_check(
+    pub(super) fn slide_check<const M: usize>(
         &self,
-        y: &[f64; N],
+        y: &[f64; M],
         impulse: f64,
         (f_n, growth): (f64, f64),
     ) -> (bool, f64) {
@@ -69,7 +69,7 @@ impl Contact {
         if left > 1e6 * impulse {
             return (false, end_in);
         }
-        let e = self.eval::<true>(y, Mode::Slide);
+        let e = self.eval::<true, M>(y, Mode::Slide);
         let off = [
             e.direction[0] - e.tail_direction[0],
             e.direction[1] - e.tail_direction[1],

@@ -1,15 +1,17 @@
-//! The AVX2 build of the fast solver against its portable build.
+//! The AVX2 and FMA build of the fast solver against its portable build.
 
 use super::super::{Frame, contact, start};
 use super::*;
 use emdstar_contact::PairLaw;
 
-/// The AVX2 build of the integrator takes the same steps to the same bits as the
-/// portable one (no fused multiply-adds: the same operations in the same order).
+/// The AVX2 and FMA build of the integrator takes the same steps to the same bits as the
+/// portable one (the same operations in the same order; the Runge–Kutta sums are fused
+/// multiply-adds in both, by the CPU or in software).
 #[test]
 fn the_avx2_path_is_the_portable_one_to_the_bit() {
-    if !std::arch::is_x86_feature_detected!("avx2") {
-        eprintln!("no AVX2 here: nothing to compare");
+    if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma"))
+    {
+        eprintln!("no AVX2 and FMA here: nothing to compare");
         return;
     }
     let opts = super::super::CONTACT_OPTIONS;
@@ -48,7 +50,7 @@ fn the_avx2_path_is_the_portable_one_to_the_bit() {
         );
         let y0 = start(&Frame::new(r, v), v, [0.3, -0.2, 0.5], [1.0, 0.0, 0.0, 0.0]);
         let portable = c.integrate_portable(y0).unwrap();
-        // SAFETY: the CPU has AVX2 (checked above).
+        // SAFETY: the CPU has AVX2 and FMA (checked above).
         let avx2 = unsafe { c.integrate_avx2(y0) }.unwrap();
         assert_eq!(portable.0.map(f64::to_bits), avx2.0.map(f64::to_bits));
         assert_eq!(portable.1, avx2.1);
