@@ -36,7 +36,7 @@ pub struct ShearPairSettings {
     pub block: f64,
     /// Samples of T and a₂ per block.
     pub samples: usize,
-    /// One gas per seed (run in parallel); their blocks are pooled.
+    /// One gas per seed (run in parallel); the errors are those of the seeds' means.
     pub seeds: Vec<u64>,
 }
 
@@ -60,9 +60,10 @@ impl ShearPairSettings {
     }
 }
 
-/// One engine's steady state: means over the blocks of every seed, with the standard
-/// errors of the block means (blocks a few times longer than the temperature's
-/// relaxation, 1/((1 − ε²)ν), taken as independent).
+/// One engine's steady state: means over the seeds, with the standard errors of the
+/// seeds' means (independent runs; in a box of 500 spheres the temperature wanders
+/// over several seconds, so successive blocks of one run are not independent and their
+/// scatter would understate the error by about half).
 #[derive(Debug, Clone, Serialize)]
 pub struct ShearPairRun {
     pub engine: String,
@@ -133,7 +134,10 @@ pub fn sheared_state(s: &ShearPairSettings, kind: EngineKind) -> Result<ShearPai
         .map(|&seed| run_seed(s, kind, seed))
         .collect::<Result<_>>()?;
     let blocks: Vec<[f64; 7]> = runs.iter().flat_map(|r| r.blocks.clone()).collect();
-    let column = |k: usize| mean_and_error(&blocks.iter().map(|b| b[k]).collect::<Vec<_>>());
+    let seed_mean =
+        |r: &SeedRun, k: usize| r.blocks.iter().map(|b| b[k]).sum::<f64>() / r.blocks.len() as f64;
+    let column =
+        |k: usize| mean_and_error(&runs.iter().map(|r| seed_mean(r, k)).collect::<Vec<_>>());
     let ((temperature, temperature_error), (a2, a2_error)) = (column(0), column(1));
     let tensor = [column(2), column(3), column(4), column(5)];
     let seeds = runs.len() as f64;

@@ -70,10 +70,10 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         rate: 1.0,
         start_kt: 3.0,
         relax: 2.0,
-        blocks: if args.full { 20 } else { 8 },
-        block: 2.5,
+        blocks: if args.full { 10 } else { 3 },
+        block: 3.0,
         samples: 10,
-        seeds: vec![args.seed, args.seed + 1],
+        seeds: (0..6).map(|k| args.seed + k).collect(),
     };
     let b = bar("theory", eos.etas.len() as u64 + 7);
     b.set_message(format!(
