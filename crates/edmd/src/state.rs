@@ -358,7 +358,9 @@ impl<Q: EventQueue> State<Q> {
             0.0
         };
         if up != 0.0 {
-            x[1] = (x[1] - up * ly).clamp(lo, (lo + ly).next_down());
+            // Inside [lo, lo + L_y) whatever the round-off of the shift.
+            let top = lo + ly - f64::EPSILON * (lo + ly).abs().max(ly);
+            x[1] = (x[1] - up * ly).clamp(lo, top);
             x[0] -= up * le.offset(self.time);
             let dv = up * le.image_speed();
             self.slot[i].kin.vel[0] -= dv;

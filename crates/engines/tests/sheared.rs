@@ -126,12 +126,13 @@ fn an_oblique_inelastic_emdstar_collision_across_the_sliding_face_is_the_one_ins
         "{:?}",
         star.velocity
     );
-    let shift = [[0.0, 3.0, 0.0], [-2.0, -3.0, 0.0]];
-    for i in 0..2 {
+    // (position shift, x-velocity shift) from inside the box to across the face.
+    let shift = [([0.0, 3.0, 0.0], 0.0), ([-2.0, -3.0, 0.0], -2.0)];
+    for (i, (dx, dvx)) in shift.iter().enumerate() {
         let (x, v) = (star.position[i], star.velocity[i]);
         let (xi, vi) = (star_inside.position[i], star_inside.velocity[i]);
-        let want_x: [f64; 3] = std::array::from_fn(|k| xi[k] + shift[i][k]);
-        let want_v = [vi[0] + if i == 1 { -2.0 } else { 0.0 }, vi[1], vi[2]];
+        let want_x: [f64; 3] = std::array::from_fn(|k| xi[k] + dx[k]);
+        let want_v = [vi[0] + dvx, vi[1], vi[2]];
         for k in 0..3 {
             assert!(
                 (x[k] - want_x[k]).abs() < 1e-9 && (v[k] - want_v[k]).abs() < 1e-9,
