@@ -155,17 +155,23 @@ fn mean_error(x: &[f64]) -> (f64, f64) {
     (m, (var / n).sqrt())
 }
 
+/// 500 unit spheres at φ = 0.15 with restitution 0.9, from a random start of
+/// `rms_speed` (m/s, peculiar) drawn with `seed`, sheared at `rate` (1/s).
+fn sheared_gas(rms_speed: f64, seed: u64, rate: f64) -> String {
+    format!(
+        "t_end = 100.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
+         rms_speed = {rms_speed:?}\nseed = {seed}\n[box]\nsize = [12.04, 12.04, 12.04]\n\
+         shear_rate = {rate:?}\n",
+        material(0.9)
+    )
+}
+
 #[test]
 fn md_and_emd_shear_the_same_gas_with_the_same_stress() {
     // 500 unit spheres at φ = 0.15, kT₀ = 1 J, restitution 0.9 (MD's linear dashpot,
     // eMD's kick), γ̇ = 0.2/s; P_xy ≈ −0.03 Pa. Each engine's P_xy and kT from 12
     // blocks of 1.5 s after 2 s.
-    let text = format!(
-        "t_end = 20.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
-         rms_speed = 1.7320508\nseed = 5\n[box]\nsize = [12.04, 12.04, 12.04]\n\
-         shear_rate = 0.2\n",
-        material(0.9)
-    );
+    let text = sheared_gas(1.7320508, 5, 0.2);
     let run = |kind| {
         let blocks = steady_blocks(&text, kind, 2.0, 12, 1.5);
         let column = |k: usize| mean_error(&blocks.iter().map(|b| b[k]).collect::<Vec<_>>());
@@ -223,24 +229,25 @@ fn steady_blocks(
 fn md_and_emdstar_reach_the_same_steady_sheared_state() {
     // 500 unit spheres at φ = 0.15, restitution 0.9 (MD's linear dashpot and eMD*'s
     // matrix of restitution of the same contact, 7 ms long), γ̇ = 1/s: the steady
-    // state (kT ≈ 3 J, where it starts) after 2 s, then 10 blocks of 2.5 s (some 10
-    // collisions per particle each, a few times the temperature's relaxation time
-    // 1/((1 − ε²)ν)). kT, the pressure tensor and a₂ agree within three standard errors
-    // of the difference, the errors of the block means: the temperature of 500 spheres
-    // wanders over several seconds, so these understate the error (by about half, from
-    // the scatter of independent runs) and the bar is stricter than it reads.
-    let text = format!(
-        "t_end = 30.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
-         rms_speed = 3.0\nseed = 11\n[box]\nsize = [12.04, 12.04, 12.04]\n\
-         shear_rate = 1.0\n",
-        material(0.9)
-    );
-    let md = steady_blocks(&text, EngineKind::Md, 2.0, 10, 2.5);
-    let star = steady_blocks(&text, EngineKind::EmdStar, 2.0, 10, 2.5);
+    // state (kT ≈ 3 J, where it starts) after 2 s, then 9 s (some 40 collisions per
+    // particle), six seeds. kT, the pressure tensor and a₂ agree within three standard
+    // errors of the difference, the errors of the six runs' means: the temperature of
+    // 500 spheres wanders over several seconds, so blocks of one run would understate
+    // them (by about half).
     let names = ["kT", "a2", "P_xx", "P_yy", "P_zz", "P_xy"];
+    let run = |kind| {
+        let means: Vec<[f64; 6]> = (21..27)
+            .map(|seed| {
+                let blocks = steady_blocks(&sheared_gas(3.0, seed, 1.0), kind, 2.0, 3, 3.0);
+                std::array::from_fn(|k| blocks.iter().map(|b| b[k]).sum::<f64>() / 3.0)
+            })
+            .collect();
+        let column = |k: usize| mean_error(&means.iter().map(|m| m[k]).collect::<Vec<_>>());
+        std::array::from_fn::<_, 6, _>(column)
+    };
+    let (md, star) = (run(EngineKind::Md), run(EngineKind::EmdStar));
     for (k, name) in names.iter().enumerate() {
-        let column = |runs: &[[f64; 6]]| mean_error(&runs.iter().map(|b| b[k]).collect::<Vec<_>>());
-        let ((m, me), (s, se)) = (column(&md), column(&star));
+        let ((m, me), (s, se)) = (md[k], star[k]);
         eprintln!("{name}: MD {m} ± {me}, eMD* {s} ± {se}");
         assert!(
             (m - s).abs() < 3.0 * me.hypot(se),
@@ -248,8 +255,7 @@ fn md_and_emdstar_reach_the_same_steady_sheared_state() {
         );
     }
     // The shear stress opposes the flow, well beyond the noise.
-    let pxy = mean_error(&star.iter().map(|b| b[5]).collect::<Vec<_>>());
-    assert!(pxy.0 < -10.0 * pxy.1, "{pxy:?}");
+    assert!(star[5].0 < -10.0 * star[5].1, "{:?}", star[5]);
 }
 
 /// Σ ½ m c² with c = v − γ̇ (y − L_y/2) e_x (the box from 0).
