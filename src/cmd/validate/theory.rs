@@ -232,7 +232,7 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         ),
     );
     checks.push(Check::at_most(
-        "8l",
+        "8p",
         format!(
             "sheared inelastic gas (ε = {}, φ = {}, γ̇ = {} /s, N = {}), eMD* against MD: largest |Δ| in standard errors over kT, P_xx, P_yy, P_zz, P_xy, a₂ ({worst_name}; kT {:.3} against {:.3} J, P_xy {:.4} against {:.4} Pa)",
             shear_pair.restitution,
