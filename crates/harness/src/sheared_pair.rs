@@ -205,7 +205,7 @@ pub fn plot(
 ) -> std::result::Result<(), String> {
     let mut temperature = Panel::new(
         format!(
-            "Sheared inelastic gas (ε = {}, φ = {}, γ̇ = {} /s, N = {}): kT",
+            "Sheared inelastic gas (ε = {}, φ = {}, shear rate {} /s, N = {}): kT",
             s.restitution, s.phi, s.rate, s.count
         ),
         Axis::linear("t [s]"),
