@@ -105,8 +105,9 @@ fn a_run_resumed_from_half_way_ends_bitwise_as_one_run() {
 }
 
 /// Lees–Edwards boundaries keep no state of their own (the offset is γ̇ L_y t; MD's list
-/// carries its images' shifts): a sheared eMD or MD run resumed half-way writes the
-/// files of the one run, byte for byte.
+/// carries its images' shifts; eMD*'s pending E^v velocities are kept in the frame of
+/// the particle's box): a sheared eMD*, eMD or MD run resumed half-way writes the files
+/// of the one run, byte for byte, and so does a run on one thread.
 #[test]
 fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
     let dir = scratch("sheared");
@@ -115,7 +116,7 @@ fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
     let text = text.replace("t_end = 2.0 ", "t_end = 0.2 ");
     assert!(text.contains("t_end = 0.2 "));
     std::fs::write(dir.join("sheared.toml"), text).unwrap();
-    for engine in ["emd", "md"] {
+    for engine in ["emdstar", "emd", "md"] {
         let run = |extra: &[&str]| {
             let mut args = vec!["run", "sheared.toml", "--engine", engine, "--quiet"];
             args.extend_from_slice(extra);
@@ -124,6 +125,12 @@ fn a_sheared_run_resumed_from_half_way_writes_the_files_of_one_run() {
         run(&["--trajectory", "one.xyz", "--log", "one.log"]);
         for t_half in ["0.1", "0.123"] {
             assert_split_run_writes_one_run(&dir, run, engine, t_half);
+        }
+        let files = ["--trajectory", "serial.xyz", "--log", "serial.log"];
+        run(&[&files[..], &["--threads", "1"]].concat());
+        for (a, b) in [("serial.xyz", "one.xyz"), ("serial.log", "one.log")] {
+            let same = std::fs::read(dir.join(a)).unwrap() == std::fs::read(dir.join(b)).unwrap();
+            assert!(same, "{engine}: {a} on one thread differs from {b}");
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();

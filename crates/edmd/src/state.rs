@@ -7,7 +7,9 @@ use crate::collision::{LastContact, NONE, RotationProbe};
 use crate::queue::EventQueue;
 use crate::stats::Stats;
 use emdstar_contact::vec3::{dot, sub};
-use emdstar_system::{Domain, SimBox, StressMark, Sym3, add_kinetic, add_scaled, sym_outer};
+use emdstar_system::{
+    Domain, LeesEdwards, SimBox, StressMark, Sym3, add_kinetic, add_scaled, sym_outer,
+};
 use serde::{Deserialize, Serialize};
 
 /// A particle's kinematics (the line neighbour scans read) and own events in one
@@ -338,6 +340,41 @@ impl<Q: EventQueue> State<Q> {
         self.domain.lees_edwards()
     }
 
+    /// Puts slot `i` (synced) at `x`, near its position, in a sheared box: through the
+    /// sliding face it becomes its image (x by ∓Δ(t); v_x and a pending E^v velocity by
+    /// ∓γ̇ L_y, Lees & Edwards 1972); x and z wrap as usual. Returns the stored position.
+    pub(crate) fn place_sheared(
+        &mut self,
+        le: &LeesEdwards,
+        i: usize,
+        mut x: [f64; 3],
+    ) -> [f64; 3] {
+        let (lo, ly) = (le.lo[1], le.size[1]);
+        let up = if x[1] >= lo + ly {
+            1.0
+        } else if x[1] < lo {
+            -1.0
+        } else {
+            0.0
+        };
+        if up != 0.0 {
+            // Inside [lo, lo + L_y) whatever the round-off of the shift.
+            let top = lo + ly - f64::EPSILON * (lo + ly).abs().max(ly);
+            x[1] = (x[1] - up * ly).clamp(lo, top);
+            x[0] -= up * le.offset(self.time);
+            let dv = up * le.image_speed();
+            self.slot[i].kin.vel[0] -= dv;
+            if self.slot[i].ev.pending_time.is_finite() {
+                self.pending_vel[i][0] -= dv;
+            }
+            self.image[i][1] += up as i32;
+        }
+        let x = self.wrap_slot(i, x);
+        self.slot[i].kin.pos = x;
+        self.slot[i].kin.stamp = self.time;
+        x
+    }
+
     /// The minimum-image separation (valid for |d_k| < 1.5·size_k, which positions
     /// kept inside the box guarantee).
     #[inline]
@@ -415,7 +452,10 @@ impl<Q: EventQueue> State<Q> {
         xk: [f64; 3],
         contact: f64,
     ) -> bool {
-        probe.blocks(slot, k, r, xk, contact, |d| self.min_image(d))
+        match self.lees_edwards() {
+            Some(le) => probe.blocks(slot, k, r, xk, contact, |d| le.image(d, self.time).0),
+            None => probe.blocks(slot, k, r, xk, contact, |d| self.min_image(d)),
+        }
     }
 
     /// Marks the running probe blocked.

@@ -25,19 +25,17 @@ fn shear_engine(config: &Config, options: &mut EngineOptions) -> Result<()> {
         )
     };
     match (options.engine, options.edmd.broad_phase) {
-        (EngineKind::Hybrid, _) => {
-            refuse("the hybrid engine does not run Lees–Edwards boundaries; use --engine md or emd")
-        }
-        (EngineKind::EmdStar, _) => refuse(
-            "eMD* does not run Lees–Edwards boundaries (its transients would straddle the \
-             sliding face); use --engine emd or md",
+        (EngineKind::Hybrid, _) => refuse(
+            "the hybrid engine does not run Lees–Edwards boundaries; use --engine md, emd \
+                 or emdstar",
         ),
-        (EngineKind::Emd, BroadPhaseChoice::Auto) => {
+        (EngineKind::Emd | EngineKind::EmdStar, BroadPhaseChoice::Auto) => {
             options.edmd.broad_phase = BroadPhaseChoice::Crossings;
             Ok(())
         }
-        (EngineKind::Emd, BroadPhaseChoice::Crossings) | (EngineKind::Md, _) => Ok(()),
-        (EngineKind::Emd, other) => refuse(&format!(
+        (EngineKind::Emd | EngineKind::EmdStar, BroadPhaseChoice::Crossings)
+        | (EngineKind::Md, _) => Ok(()),
+        (EngineKind::Emd | EngineKind::EmdStar, other) => refuse(&format!(
             "Lees–Edwards boundaries run on the crossings broad phase only, not on \
              {other:?}; use --broad-phase crossings or auto"
         )),

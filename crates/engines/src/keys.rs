@@ -40,7 +40,7 @@ const KEYS: &[Key] = &[
     },
     Key {
         name: "box.shear_rate",
-        engines: &[Md, Emd],
+        engines: &[Md, Emd, EmdStar],
         set: |c, _| {
             c.sim_box
                 .as_ref()

@@ -1,9 +1,10 @@
-//! Lees–Edwards shear on MD and eMD: a free sphere through the sliding face against the
-//! analytic image in both engines; an oblique inelastic collision across the face in
-//! MD against eMD's kick (the dashpot acts on the image's relative velocity); and MD
-//! against eMD on the same sheared inelastic gas (a stiff linear contact, so that MD's
-//! spheres are nearly hard): the shear stress P_xy and the temperature agree within
-//! the noise.
+//! Lees–Edwards shear on MD, eMD and eMD*: a free sphere through the sliding face
+//! against the analytic image; an oblique inelastic collision across the face in MD
+//! against eMD's kick (the dashpot acts on the image's relative velocity), and on eMD*
+//! against the same collision inside the box; MD against eMD on the same sheared
+//! inelastic gas (a stiff linear contact, so that MD's spheres are nearly hard): the
+//! shear stress P_xy and the temperature agree within the noise; and MD against eMD*
+//! in the steady state of a sheared inelastic gas: kT, the pressure tensor and a₂.
 
 use emdstar_engines::observe::{reading, since};
 use emdstar_engines::{AnyEngine, EngineKind, EngineOptions};
@@ -88,6 +89,64 @@ fn an_oblique_inelastic_collision_across_the_sliding_face_is_md_as_emd() {
     }
 }
 
+#[test]
+fn an_oblique_inelastic_emdstar_collision_across_the_sliding_face_is_the_one_inside_the_box() {
+    // The collision above, on eMD*: across the face (A near the top, B near the bottom,
+    // its image above meeting A), and the same pair inside the box, 3 m lower, with B
+    // at its image's place and velocity at t = 0: (2.3, 3.5), (0, −0.5). The contact
+    // is resolved in the pair's frame, so both give the same outcome; across the face
+    // B's real position and velocity are its image's less the slide, Δ(1 s) = 2 m
+    // along x and L_y = 6 m along y, and γ̇ L_y = 2 m/s along x. MD, across the face,
+    // agrees to its step's accuracy.
+    let pair = |a: [f64; 3], b: [f64; 3], vb: [f64; 3]| {
+        format!(
+            "t_end = 1.0\n{}[[particles]]\nradius = 0.5\nposition = {a:?}\n\
+             velocity = [0.0, 0.5, 0.0]\n[[particles]]\nradius = 0.5\nposition = {b:?}\n\
+             velocity = {vb:?}\n[box]\nsize = [6.0, 6.0, 6.0]\n\
+             shear_rate = 0.3333333333333333\n",
+            material(0.5)
+        )
+    };
+    let across = pair([2.0, 5.3, 3.0], [2.3, 0.5, 3.0], [-2.0, -0.5, 0.0]);
+    let inside = pair([2.0, 2.3, 3.0], [2.3, 3.5, 3.0], [0.0, -0.5, 0.0]);
+    let run = |text: &str, kind| {
+        let mut e = engine(text, kind);
+        let sim = e.sim_mut();
+        sim.advance_to(1.0).unwrap();
+        sim.particles()
+    };
+    let (star, star_inside) = (
+        run(&across, EngineKind::EmdStar),
+        run(&inside, EngineKind::EmdStar),
+    );
+    let md = run(&across, EngineKind::Md);
+    // They did collide: A's velocity changed.
+    assert!(
+        (star.velocity[0][1] - 0.5).abs() > 0.3,
+        "{:?}",
+        star.velocity
+    );
+    // (position shift, x-velocity shift) from inside the box to across the face.
+    let shift = [([0.0, 3.0, 0.0], 0.0), ([-2.0, -3.0, 0.0], -2.0)];
+    for (i, (dx, dvx)) in shift.iter().enumerate() {
+        let (x, v) = (star.position[i], star.velocity[i]);
+        let (xi, vi) = (star_inside.position[i], star_inside.velocity[i]);
+        let want_x: [f64; 3] = std::array::from_fn(|k| xi[k] + dx[k]);
+        let want_v = [vi[0] + dvx, vi[1], vi[2]];
+        for k in 0..3 {
+            assert!(
+                (x[k] - want_x[k]).abs() < 1e-9 && (v[k] - want_v[k]).abs() < 1e-9,
+                "particle {i}: across {x:?} {v:?}, inside {want_x:?} {want_v:?}"
+            );
+            assert!(
+                (md.velocity[i][k] - v[k]).abs() < 5e-3,
+                "particle {i}: MD {:?}, eMD* {v:?}",
+                md.velocity[i]
+            );
+        }
+    }
+}
+
 /// Mean and standard error of `x`.
 fn mean_error(x: &[f64]) -> (f64, f64) {
     let n = x.len() as f64;
@@ -96,28 +155,27 @@ fn mean_error(x: &[f64]) -> (f64, f64) {
     (m, (var / n).sqrt())
 }
 
+/// 500 unit spheres at φ = 0.15 with restitution 0.9, from a random start of
+/// `rms_speed` (m/s, peculiar) drawn with `seed`, sheared at `rate` (1/s).
+fn sheared_gas(rms_speed: f64, seed: u64, rate: f64) -> String {
+    format!(
+        "t_end = 100.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
+         rms_speed = {rms_speed:?}\nseed = {seed}\n[box]\nsize = [12.04, 12.04, 12.04]\n\
+         shear_rate = {rate:?}\n",
+        material(0.9)
+    )
+}
+
 #[test]
 fn md_and_emd_shear_the_same_gas_with_the_same_stress() {
     // 500 unit spheres at φ = 0.15, kT₀ = 1 J, restitution 0.9 (MD's linear dashpot,
-    // eMD's kick), γ̇ = 0.2/s; P_xy ≈ −0.03 Pa. Each engine's P_xy from 12 blocks of
-    // 1.5 s after 2 s.
-    let text = format!(
-        "t_end = 20.0\n{}[gas]\ncount = 500\nradius = 0.5\narrangement = \"random\"\n\
-         rms_speed = 1.7320508\nseed = 5\n[box]\nsize = [12.04, 12.04, 12.04]\n\
-         shear_rate = 0.2\n",
-        material(0.9)
-    );
+    // eMD's kick), γ̇ = 0.2/s; P_xy ≈ −0.03 Pa. Each engine's P_xy and kT from 12
+    // blocks of 1.5 s after 2 s.
+    let text = sheared_gas(1.7320508, 5, 0.2);
     let run = |kind| {
-        let mut e = engine(&text, kind);
-        let sim = e.sim_mut();
-        sim.advance_to(2.0).unwrap();
-        let mut pxy = Vec::new();
-        for k in 1..=12 {
-            let from = reading(sim);
-            sim.advance_to(2.0 + 1.5 * k as f64).unwrap();
-            pxy.push(since(sim, Some(&from)).tensor[3]);
-        }
-        (mean_error(&pxy), sim.thermo().granular_temperature)
+        let blocks = steady_blocks(&text, kind, 2.0, 12, 1.5);
+        let column = |k: usize| mean_error(&blocks.iter().map(|b| b[k]).collect::<Vec<_>>());
+        (column(5), column(0).0)
     };
     let ((md, md_err), t_md) = run(EngineKind::Md);
     let ((emd, emd_err), t_emd) = run(EngineKind::Emd);
@@ -131,12 +189,73 @@ fn md_and_emd_shear_the_same_gas_with_the_same_stress() {
         "P_xy: MD {md} ± {md_err}, eMD {emd} ± {emd_err}"
     );
     // Both settle where shear heating balances the dissipation, about 0.2 J (from
-    // 1 J); T of 500 spheres fluctuates by some 4 %.
+    // 1 J); T of 500 spheres fluctuates by some 4 % per block.
     assert!(t_md < 0.5 && t_emd < 0.5, "{t_md} {t_emd}");
     assert!(
         (t_md / t_emd - 1.0).abs() < 0.08,
         "T: MD {t_md}, eMD {t_emd}"
     );
+}
+
+/// The steady sheared state of `kind` on the gas `text` after `relax` s: per block of
+/// `block` s, (kT and a₂ averaged over 5 instants, P_xx, P_yy, P_zz, P_xy over the block).
+fn steady_blocks(
+    text: &str,
+    kind: EngineKind,
+    relax: f64,
+    blocks: usize,
+    block: f64,
+) -> Vec<[f64; 6]> {
+    let mut e = engine(text, kind);
+    let sim = e.sim_mut();
+    sim.advance_to(relax).unwrap();
+    let mut out = Vec::new();
+    for b in 0..blocks {
+        let from = reading(sim);
+        let (mut kt, mut a2) = (0.0, 0.0);
+        for k in 1..=5 {
+            sim.advance_to(relax + block * (b as f64 + k as f64 / 5.0))
+                .unwrap();
+            kt += sim.thermo().granular_temperature / 5.0;
+            a2 += since(sim, None).sonine_a2 / 5.0;
+        }
+        let p = since(sim, Some(&from)).tensor;
+        out.push([kt, a2, p[0], p[1], p[2], p[3]]);
+    }
+    out
+}
+
+#[test]
+fn md_and_emdstar_reach_the_same_steady_sheared_state() {
+    // 500 unit spheres at φ = 0.15, restitution 0.9 (MD's linear dashpot and eMD*'s
+    // matrix of restitution of the same contact, 7 ms long), γ̇ = 1/s: the steady
+    // state (kT ≈ 3 J, where it starts) after 2 s, then 9 s (some 40 collisions per
+    // particle), six seeds. kT, the pressure tensor and a₂ agree within three standard
+    // errors of the difference, the errors of the six runs' means: the temperature of
+    // 500 spheres wanders over several seconds, so blocks of one run would understate
+    // them (by about half).
+    let names = ["kT", "a2", "P_xx", "P_yy", "P_zz", "P_xy"];
+    let run = |kind| {
+        let means: Vec<[f64; 6]> = (21..27)
+            .map(|seed| {
+                let blocks = steady_blocks(&sheared_gas(3.0, seed, 1.0), kind, 2.0, 3, 3.0);
+                std::array::from_fn(|k| blocks.iter().map(|b| b[k]).sum::<f64>() / 3.0)
+            })
+            .collect();
+        let column = |k: usize| mean_error(&means.iter().map(|m| m[k]).collect::<Vec<_>>());
+        std::array::from_fn::<_, 6, _>(column)
+    };
+    let (md, star) = (run(EngineKind::Md), run(EngineKind::EmdStar));
+    for (k, name) in names.iter().enumerate() {
+        let ((m, me), (s, se)) = (md[k], star[k]);
+        eprintln!("{name}: MD {m} ± {me}, eMD* {s} ± {se}");
+        assert!(
+            (m - s).abs() < 3.0 * me.hypot(se),
+            "{name}: MD {m} ± {me}, eMD* {s} ± {se}"
+        );
+    }
+    // The shear stress opposes the flow, well beyond the noise.
+    assert!(star[5].0 < -10.0 * star[5].1, "{:?}", star[5]);
 }
 
 /// Σ ½ m c² with c = v − γ̇ (y − L_y/2) e_x (the box from 0).

@@ -19,6 +19,8 @@
 //! - [`theory`]: elastic hard spheres against Carnahan–Starling, the cooling state's
 //!   a₂ against van Noije & Ernst, through the engines' observables;
 //! - [`vibrated`]: a ball on a vibrated plate against the period-1 orbit;
+//! - [`shear`], [`sheared_pair`]: sheared hard spheres against Enskog's viscosity,
+//!   eMD* against MD in a sheared inelastic gas;
 //! - [`check`]: a numbered check with its bar and verdict;
 //! - [`engines`]: building systems and driving the three engines on them.
 
@@ -36,6 +38,7 @@ pub mod pair_summary;
 pub mod pairs;
 pub use emdstar_plot as plot;
 pub mod shear;
+pub mod sheared_pair;
 pub mod speed;
 pub mod stats;
 pub mod theory;

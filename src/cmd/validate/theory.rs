@@ -7,6 +7,7 @@ use emdstar_engines::EngineKind;
 use emdstar_harness::Check;
 use emdstar_harness::driven::{DrivenSettings, apart, driven_a2, driven_state};
 use emdstar_harness::shear::{ShearSettings, plot_viscosity, sheared_viscosity};
+use emdstar_harness::sheared_pair::{ShearPairSettings, largest_deviation, sheared_state};
 use emdstar_harness::theory::{
     CoolingSettings, EosSettings, cooling_state_a2, hard_sphere_eos, plot_a2, plot_eos,
 };
@@ -69,6 +70,19 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             vec![args.seed, args.seed + 1]
         },
     };
+    let shear_pair = ShearPairSettings {
+        restitution: 0.9,
+        stiffness: 1e5,
+        phi: 0.15,
+        count: if args.full { 2000 } else { 500 },
+        rate: 1.0,
+        start_kt: 3.0,
+        relax: 2.0,
+        blocks: if args.full { 10 } else { 3 },
+        block: 3.0,
+        samples: 10,
+        seeds: (0..6).map(|k| args.seed + k).collect(),
+    };
     let b = bar("theory", eos.etas.len() as u64 + 7);
     b.set_message(format!(
         "eMD: hard spheres at η = 0.1–0.4 (N = {}), a cooling state (N = {})",
@@ -93,6 +107,13 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     b.inc(1);
     let sheared = sheared_viscosity(&shear)?;
     b.inc(1);
+    let (shear_md, shear_star) = rayon::join(
+        || sheared_state(&shear_pair, EngineKind::Md),
+        || sheared_state(&shear_pair, EngineKind::EmdStar),
+    );
+    let (shear_md, shear_star) = (shear_md?, shear_star?);
+    let (worst_name, worst_z) = largest_deviation(&shear_star, &shear_md);
+    b.inc(1);
     b.finish();
     let plate_png = args.out.join("theory_vibrated_plate.png");
     emdstar_harness::vibrated::plot(&[&plate_emd, &plate_star, &plate_md], &plate, &plate_png)
@@ -116,6 +137,9 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
     let speed = (md.wall_seconds / md.time) / (star.wall_seconds / star.time);
     let shear_png = args.out.join("theory_shear_viscosity.png");
     plot_viscosity(&shear, &sheared, &shear_png).map_err(|e| anyhow!(e))?;
+    let shear_pair_png = args.out.join("theory_sheared_emdstar_md.png");
+    emdstar_harness::sheared_pair::plot(&shear_pair, &[&shear_md, &shear_star], &shear_pair_png)
+        .map_err(|e| anyhow!(e))?;
     let eos_png = args.out.join("theory_carnahan_starling.png");
     plot_eos(&points, &eos_png).map_err(|e| anyhow!(e))?;
     let a2_png = args.out.join("theory_cooling_a2.png");
@@ -238,6 +262,22 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
         (time_driven - 0.5).abs(),
         0.4,
     ));
+    checks.push(Check::at_most(
+        "8p",
+        format!(
+            "sheared inelastic gas (ε = {}, φ = {}, γ̇ = {} /s, N = {}), eMD* against MD: largest |Δ| in standard errors over kT, P_xx, P_yy, P_zz, P_xy, a₂ ({worst_name}; kT {:.3} against {:.3} J, P_xy {:.4} against {:.4} Pa)",
+            shear_pair.restitution,
+            shear_pair.phi,
+            shear_pair.rate,
+            shear_pair.count,
+            shear_star.temperature,
+            shear_md.temperature,
+            shear_star.tensor[3],
+            shear_md.tensor[3]
+        ),
+        worst_z,
+        3.0,
+    ));
     let mut markdown = vec![
         "## 8. Gases against kinetic theory".to_string(),
         String::new(),
@@ -283,9 +323,17 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
             "emdstar_speed_over_md": speed,
             "vibrated_plate": [plate_emd, plate_star, plate_md], "vibrated_plate_settings": plate,
             "shear": sheared, "shear_settings": shear,
+            "shear_md": shear_md, "shear_emdstar": shear_star, "shear_pair_settings": shear_pair,
         }),
         figures: vec![
-            eos_png, a2_png, driven_png, pair_png, mixed_png, plate_png, shear_png,
+            eos_png,
+            a2_png,
+            driven_png,
+            pair_png,
+            mixed_png,
+            plate_png,
+            shear_png,
+            shear_pair_png,
         ],
         info: vec![
             format!(
@@ -301,6 +349,14 @@ pub fn run(args: &ValidateArgs) -> Result<StageOutput> {
                 mixed.count,
                 mixed_hybrid.wall_seconds / mixed_hybrid.time,
                 mixed_md.wall_seconds / mixed_md.time
+            ),
+            format!(
+                "sheared steady state (φ = {}, N = {}): eMD* {:.1}× as fast as MD ({:.2} s against {:.2} s of wall time per seed, run side by side)",
+                shear_pair.phi,
+                shear_pair.count,
+                shear_md.wall_seconds / shear_star.wall_seconds,
+                shear_star.wall_seconds,
+                shear_md.wall_seconds
             ),
         ],
     })

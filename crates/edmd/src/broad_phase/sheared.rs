@@ -16,7 +16,8 @@ use emdstar_system::LeesEdwards;
 impl Crossings {
     /// The earliest collision of `i` (advanced to now) before `best` with the particles
     /// of the border rows across the sheared face at the y offsets `dys` and z offsets
-    /// `dzs` (each −1, 0 or 1) from its cell `c`: (time, partner or NONE, now).
+    /// `dzs` (each −1, 0 or 1) from its cell `c`: (time, partner or NONE, now), and
+    /// whether a particle met blocks the rotation of a running exception-(a) probe.
     pub(super) fn earliest_across<Q: EventQueue>(
         &self,
         s: &State<Q>,
@@ -25,7 +26,7 @@ impl Crossings {
         c: [u32; 3],
         (dys, dzs): (&[i64], &[i64]),
         mut best: f64,
-    ) -> (f64, u32, bool) {
+    ) -> ((f64, u32, bool), bool) {
         let now = s.time;
         let (delta, speed) = (le.offset(now), le.image_speed());
         let [lx, ly, lz] = le.size;
@@ -33,6 +34,8 @@ impl Crossings {
         let ri = s.slot[i].kin.radius;
         let dims = self.grid.shape.dims;
         let (mut best_j, mut best_now) = (NONE, false);
+        let probe = s.probe_slot(i);
+        let mut blocked = false;
         for &dy in dys {
             let (y, up) = self.grid.around[1][c[1] as usize][(dy + 1) as usize];
             if y == NONE || up == 0 {
@@ -59,6 +62,11 @@ impl Crossings {
                             ];
                             let v = [vi[0] - vj[0] - up * speed, vi[1] - vj[1], vi[2] - vj[2]];
                             let sigma = ri + s.slot[ju].kin.radius;
+                            if let Some((probe, slot)) = &probe {
+                                // The nearest image along x of the row's image.
+                                let r = [r[0] - lx * (r[0] / lx).round(), r[1], r[2]];
+                                blocked |= s.blocks_rotation(probe, *slot, ju, r, pj, sigma);
+                            }
                             let dt = crate::detect::sphere_x_images(r, v, sigma, lx);
                             if now + dt < best {
                                 best = now + dt;
@@ -71,7 +79,7 @@ impl Crossings {
                 }
             }
         }
-        (best, best_j, best_now)
+        ((best, best_j, best_now), blocked)
     }
 
     /// [`BroadPhase::predict_pairs`] in a sheared box: the cells that do not wrap in y
@@ -85,11 +93,15 @@ impl Crossings {
         let c = self.grid.coords[i];
         let set = self.grid.neighbourhood(c);
         let same_rows = set.iter().filter(|(_, shift)| shift[1] == 0.0);
-        let (found, _) = self.earliest_in(s, i, same_rows, s.slot[i].ev.coll_time);
+        let (found, blocked_here) = self.earliest_in(s, i, same_rows, s.slot[i].ev.coll_time);
         s.keep_earliest(i, found);
         let all = [-1, 0, 1];
-        let found = self.earliest_across(s, le, i, c, (&all, &all), s.slot[i].ev.coll_time);
+        let (found, blocked_across) =
+            self.earliest_across(s, le, i, c, (&all, &all), s.slot[i].ev.coll_time);
         s.keep_earliest(i, found);
+        if blocked_here || blocked_across {
+            s.block_probe();
+        }
     }
 
     /// The new layer of `i` after entering cell `c` along `axis` in direction `dir`
@@ -115,7 +127,7 @@ impl Crossings {
             _ => None,
         };
         if let Some(offsets) = across {
-            let found = self.earliest_across(s, le, i, c, offsets, s.slot[i].ev.coll_time);
+            let (found, _) = self.earliest_across(s, le, i, c, offsets, s.slot[i].ev.coll_time);
             s.keep_earliest(i, found);
         }
     }
@@ -123,7 +135,8 @@ impl Crossings {
     /// `i` (advanced to now) leaves through the sheared y face in direction `dir`: it
     /// re-enters at the opposite face as its image, x shifted by ∓Δ(t) and v_x by
     /// ∓γ̇ L_y (Lees & Edwards 1972), is filed in its new cell (another column) and
-    /// predicted anew. Its partners' predictions stand: the trajectory is the same.
+    /// predicted anew (a pending E^v velocity is shifted with it). Its partners'
+    /// predictions stand: the trajectory is the same.
     pub(super) fn cross_sheared_face<Q: EventQueue>(
         &mut self,
         s: &mut State<Q>,
@@ -136,6 +149,11 @@ impl Crossings {
         kin.pos[1] += shift;
         kin.pos[0] -= up * le.offset(s.time);
         kin.vel[0] -= up * le.image_speed();
+        // A pending eMD* E^v velocity is the image's too (the relative motion of the
+        // pair, one of which may now be across the face, is unchanged).
+        if s.slot[i].ev.pending_time.is_finite() {
+            s.pending_vel[i][0] -= up * le.image_speed();
+        }
         s.image[i][1] += dir as i32;
         // x back into the box (y stays on the face it entered through, as the cell
         // coordinate says, whatever the round-off).

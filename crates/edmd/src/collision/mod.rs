@@ -242,7 +242,8 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     }
     // Across a Lees–Edwards face j's image moves at v_j + image_vx·e_x: the rules act
     // on the image, and j takes the image's change of velocity.
-    let (r, image_vx) = h.image(sub(h.position(i), h.position(j)));
+    let d = sub(h.position(i), h.position(j));
+    let (r, image_vx) = h.image(d);
     let vj_image = shifted(h.velocity(j), image_vx);
     let v = sub(h.velocity(i), vj_image);
     let contact = h.radius(i) + h.radius(j);
@@ -280,21 +281,24 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     // eMD*: the E^v impulses, at the separation E^φ places the pair at (kept until E^v:
     // the pair moves with its centre of mass), counted once the E^φ stands.
     let mut later = [0.0; 6];
+    // The velocities the pair leaves this event with, in i's frame (j's image).
+    let mut after;
     match decision {
-        Decision::Kick(mut kick) => {
+        Decision::Kick(kick) => {
             if emdstar {
                 // No E^φ placed the pair: it leaves from outside contact.
                 note_contact(h, i, j, 0.0);
             }
-            kick.velocity[1] = shifted(kick.velocity[1], -image_vx);
-            apply_kick(h, &[i, j], &kick);
+            after = kick.velocity;
+            apply_kick(h, &[i, j], &in_own_frames(kick, image_vx));
         }
         Decision::Transient(t) if walls_block(h, &[i, j], &t.placed, None) => {
             h.stats().exception_rotation += 1;
             note_contact(h, i, j, 0.0);
-            apply_kick(h, &[i, j], &t.fallback);
+            after = t.fallback.velocity;
+            apply_kick(h, &[i, j], &in_own_frames(t.fallback, image_vx));
         }
-        Decision::Transient(t) => {
+        Decision::Transient(mut t) => {
             *h.probe() = Some(RotationProbe {
                 parties: [i as u32, j as u32],
                 before: [h.save(i), h.save(j)],
@@ -304,7 +308,17 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
             fallback = Some(t.fallback);
             note_contact(h, i, j, t.overlap_left);
             later = virial::velocity_events(&t, [parties[0].mass, parties[1].mass]);
-            begin_transients(h, &[i, j], &t, [j as u32, i as u32]);
+            after = [t.moving; 2];
+            let mut frames = [0.0; 2];
+            if image_vx != 0.0 {
+                // Across a Lees–Edwards face the rule placed i's image next to j (shifted
+                // by −(d − r)) and gave velocities in i's frame: i goes back by d − r, and
+                // j's velocities, now and at E^v, lose the image's x-velocity. The pair
+                // still moves rigidly: j's image moves with the centre of mass.
+                t.placed[0] = std::array::from_fn(|k| t.placed[0][k] + (d[k] - r[k]));
+                frames[1] = -image_vx;
+            }
+            begin_transients(h, &[i, j], &t, [j as u32, i as u32], frames);
         }
     }
     h.changed(i);
@@ -322,17 +336,24 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
         }
         note_contact(h, i, j, 0.0);
         if let Some(kick) = fallback {
-            apply_kick(h, &[i, j], &kick);
+            after = kick.velocity;
+            apply_kick(h, &[i, j], &in_own_frames(kick, image_vx));
         }
         later = [0.0; 6];
         h.predict(i);
         h.predict(j);
     }
-    let after = [h.velocity(i), shifted(h.velocity(j), image_vx)];
     let w = &mut h.stats().collisional_virial;
     virial::add_pair_impulse(w, r, &parties, after);
     add_scaled(w, later, 1.0);
     Ok(true)
+}
+
+/// A pair's kick from i's frame (j's image moving at v_j + `image_vx`·e_x) into each
+/// particle's own: j takes its image's change of velocity.
+fn in_own_frames(mut kick: Kick, image_vx: f64) -> Kick {
+    kick.velocity[1] = shifted(kick.velocity[1], -image_vx);
+    kick
 }
 
 /// Notes that `i` and `j` collided last with each other, left at `overlap`.
@@ -368,19 +389,28 @@ fn stamp<H: Host>(h: &mut H, who: &[usize], now: f64) {
 /// contact leaves them (`t.placed`, relative to `origin`), moving with the transient
 /// velocity (and, with friction, given their new spins), their E^v scheduled at t + τ
 /// with the post-collision velocities plus gravity's share over τ (see
-/// [`transient_gravity`]); `partners[k]` shares the transient of `who[k]`.
-fn begin_transients<H: Host>(h: &mut H, who: &[usize], t: &Transient, partners: [u32; 2]) {
+/// [`transient_gravity`]); `partners[k]` shares the transient of `who[k]`, and
+/// `frames[k]` is added to the x-velocities of `who[k]` (a pair across a Lees–Edwards
+/// face, 0 otherwise). The velocities are set before the placement, which takes a
+/// party through the sliding face with them.
+fn begin_transients<H: Host>(
+    h: &mut H,
+    who: &[usize],
+    t: &Transient,
+    partners: [u32; 2],
+    frames: [f64; 2],
+) {
     let end = h.now() + t.duration;
     for (slot, &p) in who.iter().enumerate() {
         let g = transient_gravity(h.gravity(), h.walls(), h.particles(), partners[slot]);
-        h.place(p, t.placed[slot]);
-        h.set_velocity(p, t.moving);
+        h.set_velocity(p, shifted(t.moving, frames[slot]));
         if let Some(spins) = t.spin {
             h.set_spin(p, spins[slot]);
         }
-        let post = t.after[slot];
+        let post = shifted(t.after[slot], frames[slot]);
         let after = std::array::from_fn(|k| post[k] + g[k] * t.duration);
         h.begin_transient(p, end, after, partners[slot]);
+        h.place(p, t.placed[slot]);
     }
 }
 
@@ -488,7 +518,7 @@ pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize)
                     ..t
                 };
                 let partner = (h.particles() + w) as u32;
-                begin_transients(h, &[i], &t, [partner; 2]);
+                begin_transients(h, &[i], &t, [partner; 2], [0.0; 2]);
             }
         }
     }

@@ -175,13 +175,6 @@ impl<Q: EventQueue> Prepared<Q> {
         };
         check_particles(particles, &domain, &physics)?;
         let rules = Rules::new(physics, domain.walls.len())?;
-        if domain.shear_rate != 0.0 && rules.is_emdstar() {
-            return invalid(
-                "eMD* does not run Lees–Edwards boundaries (box.shear_rate): use eMD or hard \
-                 spheres"
-                    .into(),
-            );
-        }
         let max_contact = 2.0 * particles.radius.iter().copied().fold(0.0, f64::max);
         // An impossible packing fraction first: it would also show as an overlap.
         let region = region_of(particles, domain.sim_box, max_contact)?;

@@ -153,6 +153,15 @@ impl<B: BroadPhase, Q: EventQueue, H: EventHooks> Host for EngineHost<'_, B, Q, 
     /// Puts particle `p` at position `x` now (wrapped, re-filed).
     #[inline]
     fn place(&mut self, p: usize, x: [f64; 3]) {
+        if let Some(le) = self.state.lees_edwards() {
+            let d = le
+                .image(sub(x, self.state.slot[p].kin.pos), self.state.time)
+                .0;
+            self.hooks.jumped(p, norm(d));
+            let x = self.state.place_sheared(&le, p, x);
+            self.broad.placed(p, x);
+            return;
+        }
         let d = self.state.min_image(sub(x, self.state.slot[p].kin.pos));
         self.hooks.jumped(p, norm(d));
         // `x` may come from a partner across a periodic face (in its image): the
