@@ -68,7 +68,7 @@ pub enum MdError {
     BadDt(f64),
     #[error(
         "box.shear_rate = {0}: the hybrid engine does not run Lees–Edwards boundaries; use \
-         --engine md or emd"
+         --engine md, emd or emdstar"
     )]
     Sheared(f64),
     #[error("skin = {0} must be a finite number ≥ 0")]
