@@ -144,6 +144,15 @@ fn each_bad_value_names_its_key_once_with_its_line_on_every_engine() {
             "finite",
         ),
         (
+            sheared(
+                "",
+                "shear_rate = 2.0\n[driving]\nkind = \"andersen\"\ntemperature = 1e-3\nrate = 10.0\n",
+            ),
+            "driving.kind",
+            "kind = \"andersen\"",
+            "shear flow",
+        ),
+        (
             sheared("", "periodic = [true, false, true]\nshear_rate = 2.0\n"),
             "box.shear_rate",
             "shear_rate = 2.0",

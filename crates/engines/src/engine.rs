@@ -6,7 +6,7 @@ use crate::setup::{event_engine, interference, md_options, mor_source};
 use anyhow::{Result, bail};
 use emdstar_dem::{ContactEnd, Md};
 use emdstar_hybrid::{Hybrid, HybridOptions};
-use emdstar_system::{Config, Simulation, System};
+use emdstar_system::{Config, Drive, DriveKind, Simulation, System};
 
 /// MD, an event engine (eMD or eMD*) or the hybrid.
 pub enum AnyEngine {
@@ -62,6 +62,22 @@ impl AnyEngine {
             })?;
         }
         let driving = config.driving.as_ref().map(|d| d.drive()).transpose()?;
+        if let Some(Drive {
+            kind: DriveKind::Andersen { .. },
+            ..
+        }) = driving
+            && system.domain.shear_rate != 0.0
+        {
+            bail!(
+                "config: {}",
+                config.keys.locate(
+                    "driving.kind: an Andersen thermostat draws velocities about rest, not \
+                     about the shear flow of box.shear_rate (it would stop the flow at every \
+                     tick); use kind = \"white_noise\" (its kicks keep the flow) or drop the \
+                     shear rate"
+                )
+            );
+        }
         let mut options = options.clone();
         if driving.is_some() {
             match (options.engine, options.edmd.broad_phase) {
