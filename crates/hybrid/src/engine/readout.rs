@@ -55,7 +55,8 @@ impl Hybrid {
         self.ed.mark_stress(self.time(), sums);
     }
 
-    /// The particles now, in config order (see [`Hybrid::particles_now`]).
+    /// The particles now, in config order: time-driven ones with their pending half
+    /// kick, event-driven ones with pending eMD* velocities applied.
     pub fn particles(&self) -> Particles {
         let mut p = self.particles_now();
         let mut order = vec![0u32; p.len()];
