@@ -255,8 +255,9 @@ fn data_range(panel: &Panel, axis: &Axis, pick: impl Fn((f64, f64)) -> f64) -> (
     (lo - pad, hi + pad)
 }
 
-/// Tick label: 10^v on a log axis.
-fn tick(log: bool, v: f64) -> String {
+/// Tick label: 10^v on a log axis; on a linear one, as many digits as tell apart ticks
+/// about a tenth of `span` (the axis's extent) apart.
+fn tick(log: bool, v: f64, span: f64) -> String {
     if log {
         let r = v.round();
         if (v - r).abs() < 1e-6 {
@@ -266,12 +267,24 @@ fn tick(log: bool, v: f64) -> String {
         }
     } else {
         let a = v.abs();
-        if a < 1e-12 {
+        let step = if span > 0.0 && span.is_finite() {
+            span / 10.0
+        } else {
+            a.max(1.0)
+        };
+        if a <= 1e-9 * step {
             "0".to_string()
         } else if !(1e-3..1e4).contains(&a) {
-            format!("{v:.1e}")
+            let digits = (a / step).log10().ceil().clamp(1.0, 8.0) as usize;
+            format!("{v:.digits$e}", digits = digits.saturating_sub(1).max(1))
         } else {
-            format!("{}", (v * 1e4).round() / 1e4)
+            let decimals = (-step.log10()).ceil().clamp(0.0, 12.0) as usize;
+            let text = format!("{v:.decimals$}");
+            if text.contains('.') {
+                text.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                text
+            }
         }
     }
 }
@@ -288,8 +301,9 @@ fn draw_panel(area: &DrawingArea<BitMapBackend, Shift>, panel: &Panel) -> Result
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(err)?;
     let (xl, yl) = (panel.x.log, panel.y.log);
-    let xf = move |v: &f64| tick(xl, *v);
-    let yf = move |v: &f64| tick(yl, *v);
+    let (xs, ys) = (x1 - x0, y1 - y0);
+    let xf = move |v: &f64| tick(xl, *v, xs);
+    let yf = move |v: &f64| tick(yl, *v, ys);
     chart
         .configure_mesh()
         .light_line_style(RGBColor(235, 235, 235))
@@ -398,6 +412,29 @@ fn draw_panel(area: &DrawingArea<BitMapBackend, Shift>, panel: &Panel) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn linear_tick_labels_tell_close_ticks_apart() {
+        // Ticks 1e-5 apart about 1.4e-3 (a temperature axis), and about 2e-5 (below the
+        // plain range), each label distinct and read back within half a step.
+        for (lo, step) in [(1.40e-3, 1e-5), (2.0e-5, 1e-7), (48.5, 0.05), (0.0, 0.5)] {
+            let labels: Vec<String> = (0..10)
+                .map(|k| tick(false, lo + k as f64 * step, 10.0 * step))
+                .collect();
+            for (k, l) in labels.iter().enumerate() {
+                let v: f64 = l.parse().unwrap();
+                assert!(
+                    (v - (lo + k as f64 * step)).abs() < 0.5 * step,
+                    "{labels:?}"
+                );
+            }
+            let mut unique = labels.clone();
+            unique.dedup();
+            assert_eq!(unique.len(), labels.len(), "{labels:?}");
+        }
+        assert_eq!(tick(false, 0.0, 1.0), "0");
+        assert_eq!(tick(false, 2.0, 10.0), "2");
+    }
 
     #[test]
     fn viridis_runs_from_purple_to_yellow_and_greys_out_nan() {
