@@ -103,14 +103,14 @@ pub fn report(name: &str, ends: &[FrictionalEnd]) {
     );
 }
 
-/// The worst distance of `ends` from the reference at 1e-12 over `points` (positions in
+/// The distance of each of `ends` from the reference at 1e-12 over `points` (positions in
 /// units of l, velocities and spins·R in units of |v|).
-pub fn worst_error(
+pub fn errors(
     law: &PairLaw,
     spring: &HistorySpring,
     points: &[Impact],
     ends: &[FrictionalEnd],
-) -> f64 {
+) -> Vec<f64> {
     let tight = SolverOptions {
         rtol: 1e-12,
         atol: 1e-12,
@@ -128,5 +128,5 @@ pub fn worst_error(
                 .max(d(a.spins[0], b.spins[0]) * RADIUS / speed)
                 .max(d(a.spins[1], b.spins[1]) * RADIUS / speed)
         })
-        .fold(0.0, f64::max)
+        .collect()
 }
