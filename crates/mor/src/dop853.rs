@@ -25,7 +25,9 @@ pub(crate) trait System<const N: usize> {
         None
     }
 
-    /// Called as each trial step begins (before its stages are evaluated).
+    /// Called as each trial step begins, before its stages: f is then evaluated at stages
+    /// 1 to 11 in order (at t + c_i h, [`NODES`]) and, where the step is accepted, at its
+    /// end (stage 12).
     fn trial_started(&self) {}
 
     /// Whether the Runge–Kutta sums are fused multiply-adds (one rounding per term:
@@ -200,8 +202,10 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             // Plain sums: the dense output is built outside the step's (vectorised) code.
             let yi = combine(&y0, h, &self.k, A[i], false);
             self.k[i] = self
-                .eval(t0 + C[i] * h, &yi)
-                .ok_or(StepFailure::OutsideDomain { t: t0 + C[i] * h })?;
+                .eval(t0 + NODES[i] * h, &yi)
+                .ok_or(StepFailure::OutsideDomain {
+                    t: t0 + NODES[i] * h,
+                })?;
         }
         let k = &self.k;
         let mut cont = [[0.0; N]; 8];
@@ -255,7 +259,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         macro_rules! stages {
             ($($i:literal)*) => {$(
                 let yi = combine(&y, h, &self.k, A[$i], S::FUSED);
-                self.k[$i] = self.eval(t + C[$i] * h, &yi)?;
+                self.k[$i] = self.eval(t + NODES[$i] * h, &yi)?;
             )*};
         }
         stages!(1 2 3 4 5 6 7 8 9 10 11);
@@ -358,6 +362,13 @@ impl<const N: usize> Dense<N> {
     /// The interpolated state at time t (meant for t in [t0, t0 + h]).
     #[inline]
     pub fn eval(&self, t: f64) -> [f64; N] {
+        self.eval_leading(t)
+    }
+
+    /// The first K components of [`Self::eval`] (K ≤ N): an event function that needs
+    /// only those interpolates only them.
+    #[inline]
+    pub fn eval_leading<const K: usize>(&self, t: f64) -> [f64; K] {
         let s = (t - self.t0) / self.h;
         let s1 = 1.0 - s;
         let c = &self.cont;
@@ -370,16 +381,26 @@ impl<const N: usize> Dense<N> {
 
 /// Root of f in [a, b] with f(a) > 0 ≥ f(b), by the Illinois variant of regula falsi;
 /// used to locate events on a step's [`Dense`] output.
-pub(crate) fn illinois(
+pub(crate) fn illinois(f: impl Fn(f64) -> f64, a: (f64, f64), b: (f64, f64)) -> f64 {
+    illinois_within(f, a, b, 0.0)
+}
+
+/// As [`illinois`], but done at the first iterate c where |f(c)| ≤ `enough` (or where
+/// the iteration has converged to round-off).
+pub(crate) fn illinois_within(
     f: impl Fn(f64) -> f64,
     (mut a, mut fa): (f64, f64),
     (mut b, mut fb): (f64, f64),
+    enough: f64,
 ) -> f64 {
     let mut side = 0i8;
     let mut c = b;
     for _ in 0..200 {
-        if fb == 0.0 {
+        if fb == 0.0 || (side == 1 && fb.abs() <= enough) {
             return b;
+        }
+        if side == -1 && fa.abs() <= enough {
+            return a;
         }
         let mut next = (a * fb - b * fa) / (fb - fa);
         if !(next > a && next < b) {
@@ -412,7 +433,7 @@ pub(crate) fn illinois(
 
 /// Stage nodes c_i.
 #[rustfmt::skip]
-const C: [f64; 16] = [
+pub(crate) const NODES: [f64; 16] = [
     0.0, 0.526001519587677318785587544488e-01, 0.789002279381515978178381316732e-01,
     0.118350341907227396726757197510, 0.281649658092772603273242802490,
     0.333333333333333333333333333333, 0.25, 0.307692307692307692307692307692,
@@ -650,7 +671,7 @@ mod tests {
     fn tableau_rows_sum_to_their_nodes() {
         for (i, row) in A.iter().enumerate() {
             let s: f64 = row.iter().map(|&(_, a)| a).sum();
-            assert!((s - C[i]).abs() < 1e-14, "row {i}: {s} vs {}", C[i]);
+            assert!((s - NODES[i]).abs() < 1e-14, "row {i}: {s} vs {}", NODES[i]);
         }
         let bhh: f64 = BHH.iter().map(|&(_, b)| b).sum();
         assert!((bhh - 1.0).abs() < 1e-14);

@@ -160,12 +160,11 @@ enum Found<const M: usize> {
 struct Stretch<'a, const M: usize> {
     contact: &'a Contact,
     mode: Cell<Mode>,
-    /// The least switch function and the least end function (where ξ falls) met at the
-    /// stages of the current trial step: a switch there and back within a step, or an
-    /// end that a long step passes (damped Hertz: F_n = ρw(w² + (3/2)Aξ̇) is positive
-    /// again once w < 0), shows here, not at the step's ends.
-    low: Cell<f64>,
-    low_end: Cell<f64>,
+    /// The switch function and the end function (where ξ falls) at the stages of the
+    /// current trial step: a switch there and back within a step, or an end that a long
+    /// step passes (damped Hertz: F_n = ρw(w² + (3/2)Aξ̇) is positive again once w < 0),
+    /// is found from them, not from the step's ends alone.
+    samples: events::Samples,
     /// F_n and dF_n/dx at the last evaluation: at the end of an accepted step, those of
     /// its end (the first stage of the next, evaluated last).
     last: Cell<(f64, f64)>,
@@ -175,17 +174,14 @@ impl<const M: usize> System<M> for Stretch<'_, M> {
     #[inline(always)]
     fn rhs(&self, _x: f64, y: &[f64; M]) -> Option<[f64; M]> {
         let e = self.contact.eval::<false, M>(y, self.mode.get());
-        self.low.set(self.low.get().min(e.mode));
-        if e.rate < 0.0 {
-            self.low_end.set(self.low_end.get().min(e.end));
-        }
+        let end = if e.rate < 0.0 { e.end } else { f64::INFINITY };
+        self.samples.record(e.mode, end);
         self.last.set((e.f_n, e.growth));
         Some(e.dy)
     }
 
     fn trial_started(&self) {
-        self.low.set(f64::INFINITY);
-        self.low_end.set(f64::INFINITY);
+        self.samples.trial_started();
     }
 
     /// The steps run in [`Contact::integrate_avx2`], with FMA.
@@ -279,8 +275,7 @@ impl Contact {
         let stretch = Stretch {
             contact: self,
             mode: Cell::new(mode),
-            low: Cell::new(f64::INFINITY),
-            low_end: Cell::new(f64::INFINITY),
+            samples: events::Samples::new(),
             last: Cell::new((0.0, 0.0)),
         };
         let mut step = FIRST_STEP * self.first_step();
