@@ -16,7 +16,7 @@
 
 use super::{Contact, Eval, Found, Mode, S, Stretch, WALL};
 use crate::SolveError;
-use crate::dop853::{Dense, Dop853, NODES, illinois_within};
+use crate::dop853::{Dense, Dop853, NODES, anderson_bjorck};
 use crate::frictional::{failure, first_crossing};
 use std::cell::Cell;
 
@@ -173,8 +173,9 @@ fn first_flagged(nodes: &[(f64, f64); 9], from: usize) -> (f64, Option<usize>) {
 /// The first crossing from above of g in [l, r] (g(l) > 0) where the lowest function of
 /// curvature at most `k` through its ends reaches zero: the gap is split at that
 /// function's lowest point until g is at or below zero at a split (the crossing then
-/// located by the Illinois method to |g| ≤ `enough`), or the bound stays above
+/// located by the Anderson–Björck method to |g| ≤ `enough`), or the bound stays above
 /// −`enough` on every part (`None`).
+#[inline(always)]
 fn first_dip(
     g: impl Fn(f64) -> f64,
     (l, g_l): (f64, f64),
@@ -190,7 +191,7 @@ fn first_dip(
         n -= 1;
         let (l, g_l, r, g_r) = parts[n];
         if g_r <= 0.0 {
-            return Some(illinois_within(&g, (l, g_l), (r, g_r), enough));
+            return Some(anderson_bjorck(&g, (l, g_l), (r, g_r), enough));
         }
         let w = r - l;
         let (low, at) = lowest(g_l, g_r, w, k);
@@ -278,13 +279,13 @@ impl<const M: usize> Probe<'_, M> {
         self.contact.eval::<false, WALL>(&y, self.mode)
     }
 
-    #[inline(never)]
+    #[inline(always)]
     fn switch_at(&self, x: f64) -> f64 {
         self.at(x).mode
     }
 
     /// Only a fall of ξ ends the contact (F_n is zero at touch too).
-    #[inline(never)]
+    #[inline(always)]
     fn end_at(&self, x: f64) -> f64 {
         let e = self.at(x);
         if e.rate < 0.0 {
@@ -302,6 +303,7 @@ impl<const M: usize> Probe<'_, M> {
 
     /// The end: bracketed by the first stage at which F_n ≤ 0 while ξ falls and the one
     /// before it, or else found by [`first_crossing`] over the step.
+    #[inline(always)]
     fn end(&self, samples: &Samples, x_a: f64, x_b: f64) -> Option<f64> {
         let x_of = |i: usize| x_a + NODES[i] * (x_b - x_a);
         let first = END_STAGES
@@ -325,7 +327,7 @@ impl<const M: usize> Probe<'_, M> {
         let r = x_of(i);
         let g_r = sure(samples.end[i].get(), size, || value(r));
         if g_l > 0.0 && g_r <= 0.0 {
-            return Some(illinois_within(value, (l, g_l), (r, g_r), enough));
+            return Some(anderson_bjorck(value, (l, g_l), (r, g_r), enough));
         }
         first_crossing(value, (x_a, value(x_a)), (x_b, value(x_b)))
     }
@@ -334,6 +336,7 @@ impl<const M: usize> Probe<'_, M> {
     /// bound `k` (units of the step), or else by [`first_crossing`] over the step where g
     /// is not above zero at a gap's start (a stretch that starts at zero and does not
     /// rise at once).
+    #[inline(always)]
     fn switch(
         &self,
         nodes: &[(f64, f64); 9],
@@ -375,8 +378,8 @@ impl<const M: usize> Probe<'_, M> {
 }
 
 /// g at a node: its sample where that lies far enough from zero for its sign to be sure
-/// (a stage's g errs by about 10⁻⁵ of g's size over the step), else probed. The Illinois
-/// method needs the signs at a bracket's ends; their values only steer it.
+/// (a stage's g errs by about 10⁻⁵ of g's size over the step), else probed. Regula falsi
+/// needs the signs at a bracket's ends; their values only steer it.
 fn sure(sample: f64, size: f64, probe: impl FnOnce() -> f64) -> f64 {
     if sample.is_finite() && sample.abs() > SURE * size {
         sample
