@@ -689,6 +689,21 @@ mod tests {
     }
 
     #[test]
+    fn regula_falsi_finds_the_root_to_the_accuracy_asked() {
+        // cos on [0, 3]: the root π/2, to round-off or to |cos| ≤ 10⁻⁶.
+        let at = |x: f64| (x, x.cos());
+        let both = [
+            illinois(f64::cos, at(0.0), at(3.0)),
+            anderson_bjorck(f64::cos, at(0.0), at(3.0), 0.0),
+        ];
+        for x in both {
+            assert!((x - std::f64::consts::FRAC_PI_2).abs() <= 4e-16, "{x}");
+        }
+        let x = anderson_bjorck(f64::cos, at(0.0), at(3.0), 1e-6);
+        assert!(x.cos().abs() <= 1e-6 && (x - std::f64::consts::FRAC_PI_2).abs() <= 2e-6);
+    }
+
+    #[test]
     fn tableau_rows_sum_to_their_nodes() {
         for (i, row) in A.iter().enumerate() {
             let s: f64 = row.iter().map(|&(_, a)| a).sum();

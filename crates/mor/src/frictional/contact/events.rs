@@ -387,3 +387,6 @@ fn sure(sample: f64, size: f64, probe: impl FnOnce() -> f64) -> f64 {
         probe()
     }
 }
+
+#[cfg(test)]
+mod tests;
