@@ -38,9 +38,8 @@ const END_STAGES: [usize; 11] = [1, 2, 3, 6, 4, 7, 5, 9, 8, 10, 12];
 /// nodes (those average the curvature over two gaps).
 const CURVATURE_SAFETY: f64 = 2.0;
 
-/// A crossing is located to where |g| is this part of the tolerance times g's size over
-/// the step: sliding, the spring is set onto the cap there, a change of |g|/k_t (the
-/// other events change the state by the square of the place's error).
+/// A crossing is located to where |g| is this part of the tolerance (or of its square
+/// root, [`Probe::enough`]) times g's size over the step.
 const ROOT_SHARE: f64 = 1e-1;
 
 /// A stage's g is taken for g on the dense output where it is this part of g's size over
@@ -295,10 +294,20 @@ impl<const M: usize> Probe<'_, M> {
         }
     }
 
-    /// |g| at which a crossing is located well enough, for g of size `size`.
+    /// |g| at which a switch is located well enough, for g of size `size`: where the
+    /// state is set onto the cap there (a switch to sliding), a change of |g|/k_t, that
+    /// part of the tolerance; a switch to sticking changes the state by the square of
+    /// the place's error (the force is continuous there), and the square root of that
+    /// part will do. (The end's place moves the end state along its way, by the error.)
     fn enough(&self, size: f64) -> f64 {
         let c = self.contact;
-        ROOT_SHARE * c.rtol.min(c.accuracy) * size
+        let tolerance = c.rtol.min(c.accuracy);
+        let share = if self.mode == Mode::Stick {
+            tolerance
+        } else {
+            tolerance.sqrt()
+        };
+        ROOT_SHARE * share * size
     }
 
     /// The end: bracketed by the first stage at which F_n ≤ 0 while ξ falls and the one
@@ -314,7 +323,7 @@ impl<const M: usize> Probe<'_, M> {
             .map(|&i| samples.end[i].get().abs())
             .filter(|g| g.is_finite())
             .fold(0.0, f64::max);
-        let enough = self.enough(size);
+        let enough = ROOT_SHARE * self.contact.rtol.min(self.contact.accuracy) * size;
         let value = |x| self.end_at(x);
         let (l, g_l) = if first == 0 {
             (x_a, value(x_a))
