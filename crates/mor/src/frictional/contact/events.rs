@@ -369,7 +369,7 @@ impl<const M: usize> Probe<'_, M> {
             }
             let (l, r) = (x_a + s_l * h, x_a + s_r * h);
             let g_l = sure(g_l, size, || g(l));
-            if !(g_l > 0.0) {
+            if g_l.is_nan() || g_l <= 0.0 {
                 let g_a = if nodes[0].1.is_nan() {
                     g(x_a)
                 } else {
