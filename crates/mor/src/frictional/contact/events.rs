@@ -92,29 +92,36 @@ impl Samples {
         self.next.set(i + 1);
     }
 
-    /// The nodes of the switch function in [0, 1] (the start's value NaN at a stretch's
-    /// start).
+    /// The switch function at the [`SWITCH_NODES`] (NaN at the start of a stretch).
     #[inline(always)]
-    fn switch_nodes(&self, start: Option<f64>) -> [(f64, f64); 9] {
-        let mut nodes = [(0.0, start.unwrap_or(f64::NAN)); 9];
-        for (node, &i) in nodes[1..].iter_mut().zip(&SWITCH_STAGES) {
-            *node = (NODES[i], self.switch[i].get());
+    fn switch_values(&self, start: Option<f64>) -> [f64; 9] {
+        let mut values = [start.unwrap_or(f64::NAN); 9];
+        for (value, &i) in values[1..].iter_mut().zip(&SWITCH_STAGES) {
+            *value = self.switch[i].get();
         }
-        nodes
+        values
     }
 }
 
-/// The second divided difference over nodes k, k + 1, k + 2 of the switch nodes (the
-/// step's start and [`SWITCH_STAGES`]) as weights of their values.
-const DIVIDED: [[f64; 3]; 7] = divided_differences();
+/// The nodes of the switch function in [0, 1]: the step's start and [`SWITCH_STAGES`].
+const SWITCH_NODES: [f64; 9] = switch_nodes();
 
-const fn divided_differences() -> [[f64; 3]; 7] {
+const fn switch_nodes() -> [f64; 9] {
     let mut s = [0.0; 9];
     let mut k = 0;
     while k < 8 {
         s[k + 1] = NODES[SWITCH_STAGES[k]];
         k += 1;
     }
+    s
+}
+
+/// The second divided difference over the switch nodes k, k + 1, k + 2 as weights of
+/// the values there.
+const DIVIDED: [[f64; 3]; 7] = divided_differences();
+
+const fn divided_differences() -> [[f64; 3]; 7] {
+    let s = SWITCH_NODES;
     let mut out = [[0.0; 3]; 7];
     let mut k = 0;
     while k < 7 {
@@ -142,31 +149,34 @@ fn lowest(g_l: f64, g_r: f64, w: f64, k: f64) -> (f64, f64) {
 /// (its left node) where g may reach zero, or `None` if none; the gaps from node `from`
 /// on (1 at a stretch's start, whose value is not known).
 #[inline(always)]
-fn first_flagged(nodes: &[(f64, f64); 9], from: usize) -> (f64, Option<usize>) {
-    let (mut k, mut least) = (0.0, nodes[8].1);
+fn first_flagged(g: &[f64; 9], from: usize) -> (f64, Option<usize>) {
+    let (mut k, mut least) = (0.0, g[8]);
     for j in from..7 {
         let w = DIVIDED[j];
-        let dd = (w[0] * nodes[j].1 + w[1] * nodes[j + 1].1 + w[2] * nodes[j + 2].1).abs();
+        let dd = (w[0] * g[j] + w[1] * g[j + 1] + w[2] * g[j + 2]).abs();
         if dd > k {
             k = dd;
         }
-        if nodes[j].1 < least {
-            least = nodes[j].1;
+        if g[j] < least {
+            least = g[j];
         }
     }
-    if nodes[7].1 < least {
-        least = nodes[7].1;
+    if g[7] < least {
+        least = g[7];
     }
     let k = CURVATURE_SAFETY * k;
     // Clear at once where no gap (the widest, between stages 5 and 9) can reach zero.
     if least > 0.125 * k * WIDEST * WIDEST {
         return (k, None);
     }
-    let flagged = (from..8).find(|&j| {
-        let ((s_l, g_l), (s_r, g_r)) = (nodes[j], nodes[j + 1]);
-        !(g_l > 0.0 && lowest(g_l, g_r, s_r - s_l, k).0 > 0.0)
-    });
-    (k, flagged)
+    (k, (from..8).find(|&j| gap_flagged(g, j, k)))
+}
+
+/// Whether g may reach zero between switch nodes j and j + 1 with curvature at most `k`.
+#[inline(always)]
+fn gap_flagged(g: &[f64; 9], j: usize, k: f64) -> bool {
+    let w = SWITCH_NODES[j + 1] - SWITCH_NODES[j];
+    !(g[j] > 0.0 && lowest(g[j], g[j + 1], w, k).0 > 0.0)
 }
 
 /// The first crossing from above of g in [l, r] (g(l) > 0) where the lowest function of
@@ -217,14 +227,14 @@ impl<const M: usize> Stretch<'_, M> {
         let (c, mode, samples) = (self.contact, self.mode.get(), &self.samples);
         let free = matches!(mode, Mode::Tail | Mode::Head);
         let start = samples.start.take();
-        let nodes = samples.switch_nodes(start);
+        let values = samples.switch_values(start);
         let (k, flagged) = if free {
             (0.0, None)
         } else {
-            first_flagged(&nodes, usize::from(start.is_none()))
+            first_flagged(&values, usize::from(start.is_none()))
         };
         let ends = END_STAGES.iter().any(|&i| samples.end[i].get() <= 0.0);
-        let g_b = nodes[8].1;
+        let g_b = values[8];
         if !ends && flagged.is_none() {
             samples.start.set((!free).then_some(g_b));
             return Ok(None);
@@ -245,7 +255,7 @@ impl<const M: usize> Stretch<'_, M> {
             None
         };
         let x_switch = match flagged {
-            Some(first) => probe.switch(&nodes, first, k, (x_a, x_b)),
+            Some(first) => probe.switch(&values, first, k, (x_a, x_b)),
             None => None,
         };
         let found = match (x_end, x_switch) {
@@ -348,36 +358,35 @@ impl<const M: usize> Probe<'_, M> {
     #[inline(always)]
     fn switch(
         &self,
-        nodes: &[(f64, f64); 9],
+        values: &[f64; 9],
         first: usize,
         k: f64,
         (x_a, x_b): (f64, f64),
     ) -> Option<f64> {
         let h = x_b - x_a;
-        let size = nodes
+        let size = values
             .iter()
-            .map(|n| n.1.abs())
+            .map(|g| g.abs())
             .filter(|g| !g.is_nan())
             .fold(0.0, f64::max);
         let enough = self.enough(size);
         let k_x = k / (h * h);
         let g = |x| self.switch_at(x);
         for j in first..8 {
-            let ((s_l, g_l), (s_r, g_r)) = (nodes[j], nodes[j + 1]);
-            if g_l > 0.0 && lowest(g_l, g_r, s_r - s_l, k).0 > 0.0 {
+            if !gap_flagged(values, j, k) {
                 continue;
             }
-            let (l, r) = (x_a + s_l * h, x_a + s_r * h);
-            let g_l = sure(g_l, size, || g(l));
+            let (l, r) = (x_a + SWITCH_NODES[j] * h, x_a + SWITCH_NODES[j + 1] * h);
+            let g_l = sure(values[j], size, || g(l));
             if g_l.is_nan() || g_l <= 0.0 {
-                let g_a = if nodes[0].1.is_nan() {
+                let g_a = if values[0].is_nan() {
                     g(x_a)
                 } else {
-                    nodes[0].1
+                    values[0]
                 };
-                return first_crossing(g, (x_a, g_a), (x_b, nodes[8].1));
+                return first_crossing(g, (x_a, g_a), (x_b, values[8]));
             }
-            let g_r = sure(g_r, size, || g(r));
+            let g_r = sure(values[j + 1], size, || g(r));
             if let Some(x) = first_dip(g, (l, g_l), (r, g_r), k_x, enough) {
                 return Some(x);
             }

@@ -3,13 +3,18 @@
 
 use super::*;
 
-/// The switch nodes of g on a step of unit length (the start known, or not).
-fn nodes_of(g: impl Fn(f64) -> f64, start_known: bool) -> [(f64, f64); 9] {
-    let mut nodes = [(0.0, if start_known { g(0.0) } else { f64::NAN }); 9];
-    for (node, &i) in nodes[1..].iter_mut().zip(&SWITCH_STAGES) {
-        *node = (NODES[i], g(NODES[i]));
+/// g at the switch nodes of a step of unit length (the start known, or not).
+fn values_of(g: impl Fn(f64) -> f64, start_known: bool) -> [f64; 9] {
+    let mut values = SWITCH_NODES.map(&g);
+    if !start_known {
+        values[0] = f64::NAN;
     }
-    nodes
+    values
+}
+
+/// Switch node j with its value.
+fn node(values: &[f64; 9], j: usize) -> (f64, f64) {
+    (SWITCH_NODES[j], values[j])
 }
 
 #[test]
@@ -51,16 +56,17 @@ fn a_dip_below_zero_between_two_stages_is_found_and_located() {
     // the nodes 1/3 and 0.6.
     let g = |s: f64| (s - 0.46) * (s - 0.46) - 1e-3;
     for start_known in [true, false] {
-        let nodes = nodes_of(g, start_known);
-        assert!(nodes[1..].iter().all(|n| n.1 > 0.0));
-        let (k, first) = first_flagged(&nodes, usize::from(!start_known));
+        let values = values_of(g, start_known);
+        assert!(values[1..].iter().all(|&v| v > 0.0));
+        let (k, first) = first_flagged(&values, usize::from(!start_known));
         let first = first.expect("the gap of the dip is flagged");
         assert!(
-            nodes[first].0 <= 0.43 && nodes[first + 1].0 >= 0.46,
+            SWITCH_NODES[first] <= 0.43 && SWITCH_NODES[first + 1] >= 0.46,
             "gap {first}"
         );
         let enough = 1e-12;
-        let x = (first..8).find_map(|j| first_dip(g, nodes[j], nodes[j + 1], k, enough));
+        let x = (first..8)
+            .find_map(|j| first_dip(g, node(&values, j), node(&values, j + 1), k, enough));
         let x = x.expect("the dip is found");
         let exact = 0.46 - 1e-3f64.sqrt();
         // |g'| ≈ 0.063 at the root.
@@ -72,18 +78,20 @@ fn a_dip_below_zero_between_two_stages_is_found_and_located() {
 fn a_function_that_stays_above_zero_has_no_crossing() {
     // Near zero but above it: the gap may be flagged, but its search finds nothing.
     let near = |s: f64| (s - 0.46) * (s - 0.46) + 1e-3;
-    let nodes = nodes_of(near, true);
-    let (k, first) = first_flagged(&nodes, 0);
+    let values = values_of(near, true);
+    let (k, first) = first_flagged(&values, 0);
     if let Some(first) = first {
-        assert!((first..8).all(|j| first_dip(near, nodes[j], nodes[j + 1], k, 1e-12).is_none()));
+        assert!((first..8).all(|j| {
+            first_dip(near, node(&values, j), node(&values, j + 1), k, 1e-12).is_none()
+        }));
     }
     // Far from zero: nothing is flagged.
     let far = |s: f64| (s - 0.46) * (s - 0.46) + 0.1;
-    assert_eq!(first_flagged(&nodes_of(far, true), 0).1, None);
+    assert_eq!(first_flagged(&values_of(far, true), 0).1, None);
     // A crossing at a node is flagged at the gap before it.
-    let falling = |s: f64| 0.5 - s;
-    let (_, first) = first_flagged(&nodes_of(falling, true), 0);
-    let nodes = nodes_of(falling, true);
-    let first = first.expect("the crossing is flagged");
-    assert!(nodes[first].1 > 0.0 && nodes[first + 1].1 <= 0.0);
+    let values = values_of(|s: f64| 0.5 - s, true);
+    let first = first_flagged(&values, 0)
+        .1
+        .expect("the crossing is flagged");
+    assert!(values[first] > 0.0 && values[first + 1] <= 0.0);
 }
