@@ -179,6 +179,30 @@ fn without_friction_the_spins_are_untouched_and_the_contact_is_the_references() 
 }
 
 #[test]
+fn a_central_impact_without_spin_is_solved_with_and_without_friction() {
+    // No slip at all: the tail of a frictionless contact has no direction to take.
+    let mut rng = ChaCha8Rng::seed_from_u64(45);
+    for k in 0..4 {
+        let mut c = case(&mut rng, k);
+        c.v = scale(-norm(c.v) / norm(c.r), c.r);
+        for body in &mut c.bodies {
+            body.spin = [0.0; 3];
+        }
+        for friction in [0.0, 0.3] {
+            c.spring.friction = friction;
+            let end =
+                solve_contact(&c.law, &c.spring, &c.bodies, c.r, c.v, &CONTACT_OPTIONS).unwrap();
+            assert!(
+                distance(&c, &end, &reference(&c)) < 1e-8,
+                "impact {k}, µ = {friction}"
+            );
+            // Nothing turns the pair: the spheres leave along the line of centres.
+            assert!(norm(cross(end.velocity, c.r)) <= 1e-12 * norm(c.v) * norm(c.r));
+        }
+    }
+}
+
+#[test]
 fn bad_springs_and_non_touching_bodies_are_errors() {
     let mut rng = ChaCha8Rng::seed_from_u64(44);
     let c = case(&mut rng, 0);

@@ -126,6 +126,9 @@ pub(super) struct Contact {
     pub rtol: f64,
     pub accuracy: f64,
     pub max_steps: usize,
+    /// The difference of the sliding force's direction from the tail's at the last
+    /// check of this sliding stretch (∞ before one).
+    pub last_off: Cell<f64>,
 }
 
 /// The right-hand side at one state, with the switch function and, when probed, what
@@ -342,6 +345,7 @@ impl Contact {
                     return Ok((y_end, switches, stats));
                 }
                 Found::Switch(x_s, y_s) => {
+                    self.last_off.set(f64::INFINITY);
                     switches += 1;
                     if switches > MAX_SWITCHES {
                         return Err(SolveError::TooManySteps(self.max_steps));

@@ -43,8 +43,12 @@ impl Contact {
         let size = g2.sqrt();
         let lag = self.k_t * cap / (size * (size + self.mu * f_n_rate).max(0.5 * size));
         let d = [q[0] + lag * perp[0], q[1] + lag * perp[1]];
-        let inv_d = 1.0 / (d[0] * d[0] + d[1] * d[1]).sqrt();
-        [d[0] * inv_d, d[1] * inv_d]
+        let size = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        // No slip, no friction (µ = 0 on a central impact): no direction.
+        if size == 0.0 {
+            return [0.0; 2];
+        }
+        [d[0] / size, d[1] / size]
     }
 
     /// Whether the rest of a sliding contact from `y` on may be the tail (the impulse
@@ -59,6 +63,7 @@ impl Contact {
         (f_n, growth): (f64, f64),
     ) -> (bool, f64) {
         if !(f_n > 0.0 && growth < 0.0) {
+            self.last_off.set(f64::INFINITY);
             return (false, f64::INFINITY);
         }
         let end_in = f_n / -growth;
@@ -67,6 +72,7 @@ impl Contact {
         let left = 2.0 * self.mu * f_n * left_time;
         // Far from the end no direction is close enough to hand over.
         if left > 1e6 * impulse {
+            self.last_off.set(f64::INFINITY);
             return (false, end_in);
         }
         let e = self.eval::<true, M>(y, Mode::Slide);
@@ -74,7 +80,10 @@ impl Contact {
             e.direction[0] - e.tail_direction[0],
             e.direction[1] - e.tail_direction[1],
         ];
-        let bound = (2.0 * (off[0] * off[0] + off[1] * off[1]).sqrt()).min(2.0);
+        // The force may cross the tail's direction by chance (where the lag is no
+        // attractor, α < 2): the difference must be small at two checks in a row.
+        let off = (off[0] * off[0] + off[1] * off[1]).sqrt();
+        let bound = (2.0 * off.max(self.last_off.replace(off))).min(2.0);
         // The slip must keep its way to the end (the tail cannot stick again): the
         // impulse left changes it by at most left/m_t.
         let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
