@@ -174,7 +174,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
                 rejected_before = true;
                 continue;
             };
-            let fac = err.sqrt().sqrt().sqrt() / self.safety;
+            let fac = err.powf(0.125) / self.safety;
             if err <= 1.0 {
                 let Some(f1) = self.eval(self.t + h, &y1) else {
                     self.reject(DOMAIN_SHRINK * h);
