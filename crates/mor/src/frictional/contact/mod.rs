@@ -31,7 +31,8 @@
 //! spring would keep (against k_t v_t + γ_t v̇_t, less its lag to first order) for the
 //! rest of it: the error is at most the impulse left, ≤ 2µF_n·F_n/|Ḟ_n|, times the
 //! difference of the two directions at the hand-over, which the hand-over keeps below
-//! a part of the accuracy.
+//! a part of the accuracy, read at the last two checks (where α = k_t|v_t|/(µ|Ḟ_n|) <
+//! 2 the lagged direction is no attractor, and the force may cross it by chance).
 
 use super::{HistorySpring, MAX_SWITCHES, Normal, failure};
 use crate::dop853::{Dop853, System, Tolerances};
