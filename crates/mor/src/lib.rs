@@ -15,6 +15,7 @@
 mod dop853;
 pub mod frictional;
 pub mod inverse;
+mod roots;
 pub mod rule;
 mod solver;
 

@@ -35,7 +35,8 @@
 //! tolerance on ξ refers to min(|ξ|, |l̃−ξ|), resolving r̃ also where the spheres nearly
 //! pass through each other (small l̃).
 
-use crate::dop853::{Dop853, StepFailure, System, Tolerances, illinois};
+use crate::dop853::{Dop853, StepFailure, System, Tolerances};
+use crate::roots::illinois;
 use emdstar_contact::{Model, Mor, ScaledParams};
 use std::fmt;
 

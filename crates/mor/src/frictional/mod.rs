@@ -40,7 +40,8 @@ mod reference;
 
 pub use reference::solve_frictional;
 
-use crate::dop853::{StepFailure, illinois};
+use crate::dop853::StepFailure;
+use crate::roots::illinois;
 use crate::{SolveError, SolveStats, SolverOptions};
 use contact::{Contact, Geometry, check_spring};
 pub use emdstar_contact::HistorySpring;

@@ -16,8 +16,9 @@
 
 use super::{Contact, Eval, Found, Mode, S, Stretch, WALL};
 use crate::SolveError;
-use crate::dop853::{Dense, Dop853, NODES, anderson_bjorck};
+use crate::dop853::{Dense, Dop853, NODES};
 use crate::frictional::{failure, first_crossing};
+use crate::roots::anderson_bjorck;
 use std::cell::Cell;
 
 /// The stages of a step recorded: 0 to 11 and the step's end, 12.
