@@ -333,7 +333,6 @@ fn contact(
         rtol: opts.rtol,
         accuracy: opts.atol,
         max_steps: opts.max_steps,
-        last_off: std::cell::Cell::new(f64::INFINITY),
     }
 }
 

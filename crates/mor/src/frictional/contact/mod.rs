@@ -129,9 +129,6 @@ pub(super) struct Contact {
     pub rtol: f64,
     pub accuracy: f64,
     pub max_steps: usize,
-    /// The difference of the sliding force's direction from the tail's at the last
-    /// check of this sliding stretch (∞ before one).
-    pub last_off: Cell<f64>,
 }
 
 /// What ends a stretch.
@@ -155,6 +152,9 @@ struct Stretch<'a, const M: usize> {
     /// F_n and dF_n/dx at the last evaluation: at the end of an accepted step, those of
     /// its end (the first stage of the next, evaluated last).
     last: Cell<(f64, f64)>,
+    /// The difference of the sliding force's direction from the tail's at the last check
+    /// of this sliding stretch (∞ before one).
+    last_off: Cell<f64>,
 }
 
 impl<const M: usize> System<M> for Stretch<'_, M> {
@@ -264,11 +264,14 @@ impl Contact {
             mode: Cell::new(mode),
             samples: events::Samples::new(),
             last: Cell::new((0.0, 0.0)),
+            last_off: Cell::new(f64::INFINITY),
         };
         let mut step = FIRST_STEP * self.first_step();
         match mode {
             Mode::Slide => {
-                let end_in = self.slide_check(&y, tail_impulse, self.load(&y)).1;
+                let end_in = self
+                    .slide_check(&y, tail_impulse, self.load(&y), &stretch.last_off)
+                    .1;
                 step = step.min(END_REACH * end_in);
             }
             // One step, to where the cap µF_n reaches `resolved`: F_n = k v_n t (linear)
@@ -307,8 +310,12 @@ impl Contact {
                     Found::Resolved(solver.t(), y)
                 }
                 None if mode == Mode::Slide => {
-                    let (ready, end_in) =
-                        self.slide_check(solver.y(), tail_impulse, stretch.last.get());
+                    let (ready, end_in) = self.slide_check(
+                        solver.y(),
+                        tail_impulse,
+                        stretch.last.get(),
+                        &stretch.last_off,
+                    );
                     if ready {
                         Found::Tail(solver.t(), *solver.y())
                     } else {
@@ -329,7 +336,7 @@ impl Contact {
                     return Ok((y_end, switches, stats));
                 }
                 Found::Switch(x_s, y_s) => {
-                    self.last_off.set(f64::INFINITY);
+                    stretch.last_off.set(f64::INFINITY);
                     switches += 1;
                     if switches > MAX_SWITCHES {
                         return Err(SolveError::TooManySteps(self.max_steps));
@@ -349,7 +356,8 @@ impl Contact {
                 if mode != Mode::Head {
                     y = self.onto_cap(&y);
                 }
-                let (ready, end_in) = self.slide_check(&y, tail_impulse, self.load(&y));
+                let (ready, end_in) =
+                    self.slide_check(&y, tail_impulse, self.load(&y), &stretch.last_off);
                 if ready {
                     next = Mode::Tail;
                 } else {

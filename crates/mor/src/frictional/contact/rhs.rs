@@ -15,11 +15,10 @@ pub(super) struct Eval<const M: usize> {
     /// Sticking: µF_n − |f|; sliding: the pull c·dt/dx. Crosses zero from above at a
     /// switch.
     pub(super) mode: f64,
-    /// F_n; sliding, dF_n/dx (x: the independent variable); probed, sliding, dF_n/dt,
-    /// the force's direction and the tail's.
+    /// F_n; sliding, dF_n/dx (x: the independent variable); probed, sliding, the
+    /// force's direction and the tail's.
     pub(super) f_n: f64,
     pub(super) growth: f64,
-    pub(super) f_n_rate: f64,
     pub(super) direction: [f64; 2],
     pub(super) tail_direction: [f64; 2],
 }
@@ -157,7 +156,6 @@ impl Contact {
             mode: 0.0,
             f_n,
             growth: 0.0,
-            f_n_rate: 0.0,
             direction,
             tail_direction: [0.0; 2],
         };
@@ -184,7 +182,6 @@ impl Contact {
                 e.mode = pull;
                 e.growth = growth;
                 if PROBE {
-                    e.f_n_rate = growth / jac;
                     e.tail_direction = self.tail_direction((y[S], rate), f_n, slip, free_v, free_o);
                 }
             }

@@ -2,6 +2,7 @@
 //! the force keeps there (see the module documentation of [`super`]).
 
 use super::{Contact, Mode, OMEGA, S, V};
+use std::cell::Cell;
 
 impl Contact {
     /// The direction the sliding force keeps where the spring's turning is fast: against
@@ -53,17 +54,18 @@ impl Contact {
 
     /// Whether the rest of a sliding contact from `y` on may be the tail (the impulse
     /// left, at most 2µF_n·F_n/|Ḟ_n| while F_n falls, times the difference of the force's
-    /// direction and the tail's, below `impulse`, the accuracy's share in N·s), and the
-    /// estimated time left to the end, F_n/|Ḟ_n| in units of the independent variable (∞
-    /// while F_n grows).
+    /// direction and the tail's, at this check and the last of the stretch, `last_off`,
+    /// below `impulse`, the accuracy's share in N·s), and the estimated time left to the
+    /// end, F_n/|Ḟ_n| in units of the independent variable (∞ while F_n grows).
     pub(super) fn slide_check<const M: usize>(
         &self,
         y: &[f64; M],
         impulse: f64,
         (f_n, growth): (f64, f64),
+        last_off: &Cell<f64>,
     ) -> (bool, f64) {
         if !(f_n > 0.0 && growth < 0.0) {
-            self.last_off.set(f64::INFINITY);
+            last_off.set(f64::INFINITY);
             return (false, f64::INFINITY);
         }
         let end_in = f_n / -growth;
@@ -72,7 +74,7 @@ impl Contact {
         let left = 2.0 * self.mu * f_n * left_time;
         // Far from the end no direction is close enough to hand over.
         if left > 1e6 * impulse {
-            self.last_off.set(f64::INFINITY);
+            last_off.set(f64::INFINITY);
             return (false, end_in);
         }
         let e = self.eval::<true, M>(y, Mode::Slide);
@@ -83,7 +85,7 @@ impl Contact {
         // The force may cross the tail's direction by chance (where the lag is no
         // attractor, α < 2): the difference must be small at two checks in a row.
         let off = (off[0] * off[0] + off[1] * off[1]).sqrt();
-        let bound = (2.0 * off.max(self.last_off.replace(off))).min(2.0);
+        let bound = (2.0 * off.max(last_off.replace(off))).min(2.0);
         // The slip must keep its way to the end (the tail cannot stick again): the
         // impulse left changes it by at most left/m_t.
         let slip = (y[V + 1] - y[OMEGA + 2]).hypot(y[V + 2] + y[OMEGA + 1]);
