@@ -164,6 +164,12 @@ pub struct State<Q: EventQueue> {
     /// (none between events).
     #[serde(skip)]
     pub(crate) probe: Option<RotationProbe<Saved>>,
+    /// Whether frictional collisions are solved ahead, and the particles scheduled
+    /// since the engine last handed their predictions on (see `collision::SolveAhead`).
+    #[serde(skip)]
+    pub(crate) anticipating: bool,
+    #[serde(skip)]
+    pub(crate) scheduled: Vec<u32>,
 }
 
 impl<Q: EventQueue> State<Q> {
@@ -502,6 +508,9 @@ impl<Q: EventQueue> State<Q> {
             .min(self.next_crossing(i).0)
             .min(self.slot[i].ev.pending_time);
         self.queue.set(i, t);
+        if self.anticipating {
+            self.scheduled.push(i as u32);
+        }
     }
 
     /// The earliest wall collision of `i` (advanced to now), if before its prediction.
@@ -565,6 +574,7 @@ impl<Q: EventQueue> State<Q> {
         for c in &mut self.last_contact {
             c.partner = renumber(c.partner);
         }
+        self.scheduled.clear();
     }
 
     /// Refiles every particle's earliest event in the queue (after a renumbering).

@@ -2,8 +2,8 @@
 //! momentum and never gains energy, a perfectly rough elastic one keeps its energy
 //! while spins take their share; smooth limits leave spins alone; a rough sphere leaves
 //! a wall as a superball does; eMD applies the force law's restitution; checkpoints
-//! restore the spins bitwise, and frictional eMD*'s counters too; eMD* refuses Walton's
-//! rule (it solves the history spring).
+//! restore the spins bitwise, and frictional eMD*'s counters too, as do contacts solved
+//! ahead on a second thread; eMD* refuses Walton's rule (it solves the history spring).
 
 mod common;
 
@@ -392,6 +392,32 @@ fn a_restored_frictional_emdstar_gas_continues_bitwise_with_its_counters() {
     assert_eq!(straight.particles(), resumed.particles());
     assert_eq!(straight.stats(), resumed.stats());
     assert!(straight.stats().frictional_solves > first.stats().frictional_solves);
+}
+
+/// A frictional eMD* gas run on one thread and with its contacts solved ahead on a
+/// second ends with the same particles and counters, to the bit, and the second run
+/// took solves from the worker.
+#[test]
+fn contacts_solved_ahead_leave_a_frictional_emdstar_run_bitwise_the_same() {
+    let (p, d) = fcc(3, 0.3, 1.0, 1.0, 1.0, 5);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut e = frictional_emdstar(&p, &d, history(0.4, 2e4 / 7.0));
+            e.advance_to(4.0).unwrap();
+            let taken = e.rules().solves_ahead().map(|a| a.counts().0);
+            (e.particles(), *e.stats(), taken)
+        })
+    };
+    let (alone, ahead) = (run(1), run(2));
+    assert_eq!(alone.2, None, "one thread: no worker");
+    assert!(alone.1.frictional_solves > 100, "{:?}", alone.1);
+    assert_eq!(alone.0, ahead.0);
+    assert_eq!(alone.1, ahead.1);
+    assert!(ahead.2.is_some_and(|taken| taken > 0), "{:?}", ahead.2);
 }
 
 /// A spinning sphere thrown at a wall by eMD* with the exact frictional contact: the wall

@@ -5,7 +5,7 @@
 //! e_z = L̂ and e_y = e_z × e_x; relative coordinates are shared out by mass, particle 1
 //! getting +m₂/M and particle 2 getting −m₁/M.
 
-use crate::frictional::{Spinning, solve_contact, solve_wall_contact};
+use crate::frictional::{FrictionalEnd, Spinning, solve_contact, solve_wall_contact};
 use crate::{Mor, SolveError, SolverOptions, solve};
 use emdstar_contact::vec3::{from_na, to_na};
 use emdstar_contact::{ContactError, HistorySpring, Impact, PairLaw, PairProperties, Vec3, scale};
@@ -150,6 +150,53 @@ pub fn exact_collision(
     Ok((resolve(bodies, pair.l, &mor, scaled.time), mor))
 }
 
+/// What the exact frictional contact of a pair depends on: the two spheres, the
+/// separation at touch (|r| = R₁ + R₂) and the relative velocity. [`PairContact::solve`]
+/// is a pure function of it (and of the law, the spring and the options): equal inputs,
+/// to the bit, give equal outcomes, whoever solves them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairContact {
+    pub spheres: [Spinning; 2],
+    pub separation: [f64; 3],
+    pub velocity: [f64; 3],
+}
+
+impl PairContact {
+    /// The contact of `bodies` with radii `radii` and spins `spins`, meeting now.
+    pub fn of(bodies: &[Body; 2], radii: [f64; 2], spins: [[f64; 3]; 2]) -> Self {
+        let [b1, b2] = bodies;
+        // The separation at touch, |r| = R₁ + R₂ (an impact is detected to round-off of it).
+        let r0 = b1.position - b2.position;
+        let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
+        Self {
+            spheres: [0, 1].map(|i| Spinning {
+                radius: radii[i],
+                mass: bodies[i].mass,
+                spin: spins[i],
+            }),
+            separation: from_na(&touch),
+            velocity: from_na(&(b1.velocity - b2.velocity)),
+        }
+    }
+
+    /// [`solve_contact`] of this contact.
+    pub fn solve(
+        &self,
+        law: &PairLaw,
+        friction: &HistorySpring,
+        opts: &SolverOptions,
+    ) -> Result<FrictionalEnd, SolveError> {
+        solve_contact(
+            law,
+            friction,
+            &self.spheres,
+            self.separation,
+            self.velocity,
+            opts,
+        )
+    }
+}
+
 /// The exact collision of two frictional spheres with radii `radii` and spins `spins`
 /// ([`solve_contact`], to the accuracy of `opts`: eMD* uses
 /// [`crate::frictional::CONTACT_OPTIONS`]) in eMD*'s events: the E^φ event places the spheres where the
@@ -163,24 +210,14 @@ pub fn frictional_collision(
     spins: [[f64; 3]; 2],
     opts: &SolverOptions,
 ) -> Result<(Outcome, [[f64; 3]; 2]), SolveError> {
+    let end = PairContact::of(bodies, radii, spins).solve(law, friction, opts)?;
+    Ok(frictional_outcome(bodies, &end))
+}
+
+/// eMD*'s events of the pair `bodies` (as met) from the end of their exact frictional
+/// contact `end` ([`frictional_collision`]).
+pub fn frictional_outcome(bodies: &[Body; 2], end: &FrictionalEnd) -> (Outcome, [[f64; 3]; 2]) {
     let [b1, b2] = bodies;
-    let spinning = [0, 1].map(|i| Spinning {
-        radius: radii[i],
-        mass: bodies[i].mass,
-        spin: spins[i],
-    });
-    // The separation at touch, |r| = R₁ + R₂ (an impact is detected to round-off of it).
-    let r0 = b1.position - b2.position;
-    let touch = r0 * ((radii[0] + radii[1]) / r0.norm());
-    let v0 = b1.velocity - b2.velocity;
-    let end = solve_contact(
-        law,
-        friction,
-        &spinning,
-        from_na(&touch),
-        from_na(&v0),
-        opts,
-    )?;
     let total = b1.mass + b2.mass;
     let cm_position = (b1.position * b1.mass + b2.position * b2.mass) / total;
     let cm_velocity = (b1.velocity * b1.mass + b2.velocity * b2.mass) / total;
@@ -200,7 +237,7 @@ pub fn frictional_collision(
         post_velocities,
         duration: end.duration,
     };
-    Ok((outcome, end.spins))
+    (outcome, end.spins)
 }
 
 /// The exact collision of a frictional sphere (`body`, radius `radius`, spin `spin`)

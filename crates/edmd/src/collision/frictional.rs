@@ -19,7 +19,18 @@ use emdstar_contact::vec3::{add_scaled, cross, dot, from_na, norm, scale, sub, t
 use emdstar_contact::{HistorySpring, PairLaw, SOLID_SPHERE_INERTIA};
 use emdstar_mor::SolveError;
 use emdstar_mor::frictional::CONTACT_OPTIONS;
-use emdstar_mor::rule::{frictional_collision, frictional_wall_collision};
+use emdstar_mor::rule::{PairContact, frictional_outcome, frictional_wall_collision};
+
+use super::ahead::SolveAhead;
+
+/// The exact contact of `parties` meeting now: what its solve depends on.
+pub(super) fn contact(parties: &[Party; 2]) -> PairContact {
+    PairContact::of(
+        &parties.map(|p| p.body()),
+        parties.map(|p| p.radius),
+        parties.map(|p| p.spin),
+    )
+}
 
 /// The E^φ of the pair `parties` meeting now (the exact contact of `law` with the
 /// history spring `spring`), with the exact impulse as exception (a)'s kick.
@@ -28,19 +39,18 @@ pub(super) fn pair(
     spring: &HistorySpring,
     parties: &[Party; 2],
     impact: &PairImpact,
+    ahead: Option<&SolveAhead>,
 ) -> Result<Transient> {
     let PairImpact { r, v, .. } = *impact;
     let radii = parties.map(|p| p.radius);
-    let spins = parties.map(|p| p.spin);
-    let (out, spins_after) = frictional_collision(
-        law,
-        spring,
-        &parties.map(|p| p.body()),
-        radii,
-        spins,
-        &CONTACT_OPTIONS,
-    )
+    let bodies = parties.map(|p| p.body());
+    let contact = contact(parties);
+    let end = match ahead {
+        Some(ahead) => ahead.solve(law, spring, &contact),
+        None => contact.solve(law, spring, &CONTACT_OPTIONS),
+    }
     .map_err(unsolved)?;
+    let (out, spins_after) = frictional_outcome(&bodies, &end);
     let placed = out.rotated_positions.map(|x| from_na(&x));
     let after = out.post_velocities.map(|x| from_na(&x));
     // eMD's fallback restitution: the normal speed after over the normal speed before.

@@ -8,12 +8,14 @@
 //! particle state, its transients and its predictions. The event engine of this crate
 //! and the hybrid engine's event-driven part are both hosts.
 
+mod ahead;
 mod frictional;
 mod probe;
 mod recontact;
 mod rule;
 mod virial;
 
+pub use ahead::{Predicted, SolveAhead};
 pub use probe::{NONE, RotationProbe, pushes_deeper};
 pub use recontact::{LastContact, recontact};
 pub use rule::{
@@ -191,15 +193,31 @@ fn settle_transients<H: Host>(h: &mut H, rules: &Rules, parties: &[usize]) -> bo
     clean
 }
 
-/// Particle `p` as a rule sees it, placed at `position`.
-fn party<H: Host>(h: &H, p: usize, position: [f64; 3]) -> Party {
+/// Particle `p` as a rule sees it, at `position` with `velocity`.
+fn party<H: Host>(h: &H, p: usize, position: [f64; 3], velocity: [f64; 3]) -> Party {
     Party {
         position,
-        velocity: h.velocity(p),
+        velocity,
         spin: h.spin(p),
         radius: h.radius(p),
         mass: h.mass(p),
     }
+}
+
+/// The parties of `i` and `j` meeting, as the rules see them, from their velocities
+/// `v`, j's position `xj`, and r = x_i − x_j and j's image velocity along x from
+/// [`Host::image`]: i unwrapped next to j, j's image moving at v_j + `image_vx`·e_x.
+pub fn meeting<H: Host>(
+    h: &H,
+    [i, j]: [usize; 2],
+    xj: [f64; 3],
+    v: [[f64; 3]; 2],
+    (r, image_vx): ([f64; 3], f64),
+) -> [Party; 2] {
+    [
+        party(h, i, std::array::from_fn(|k| xj[k] + r[k]), v[0]),
+        party(h, j, xj, shifted(v[1], image_vx)),
+    ]
 }
 
 /// `v` with `vx` added along x (untouched, to the bit, where `vx` is 0).
@@ -244,8 +262,15 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
     // on the image, and j takes the image's change of velocity.
     let d = sub(h.position(i), h.position(j));
     let (r, image_vx) = h.image(d);
-    let vj_image = shifted(h.velocity(j), image_vx);
-    let v = sub(h.velocity(i), vj_image);
+    // i unwrapped next to j, so that the pair is contiguous.
+    let parties = meeting(
+        h,
+        [i, j],
+        h.position(j),
+        [h.velocity(i), h.velocity(j)],
+        (r, image_vx),
+    );
+    let v = sub(parties[0].velocity, parties[1].velocity);
     let contact = h.radius(i) + h.radius(j);
     let distance = dot(r, r).sqrt();
     let emdstar = rules.is_emdstar();
@@ -259,15 +284,6 @@ pub fn pair_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, j: usize)
         None => h.stats().record_impact(distance, contact),
     }
     h.stats().pair_collisions += 1;
-    // i unwrapped next to j, so that the pair is contiguous.
-    let pj = h.position(j);
-    let parties = [
-        party(h, i, std::array::from_fn(|k| pj[k] + r[k])),
-        Party {
-            velocity: vj_image,
-            ..party(h, j, pj)
-        },
-    ];
     let impact = PairImpact { r, distance, v };
     let (si, sj) = (h.species(i), h.species(j));
     let now = h.now();
@@ -482,7 +498,7 @@ pub fn wall_collision<H: Host>(h: &mut H, rules: &mut Rules, i: usize, w: usize)
         h.predict(i);
         return Ok(());
     }
-    let mut me = party(h, i, sub(h.position(i), point));
+    let mut me = party(h, i, sub(h.position(i), point), h.velocity(i));
     if wall.vibration.is_some() {
         me.velocity = sub(me.velocity, u);
     }

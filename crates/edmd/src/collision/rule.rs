@@ -19,6 +19,7 @@
 //! energy and leaves spins alone; eMD*'s elastic rule keeps its transient, so that
 //! time advances by τ at each such collision as the contact's duration says.
 
+use super::ahead::{Predicted, SolveAhead};
 use super::frictional;
 use crate::error::{EngineError, Result};
 use crate::physics::{Interference, Physics};
@@ -134,6 +135,8 @@ pub struct PairImpact {
 /// restitutions and the counters.
 pub struct RuleContext<'a> {
     pub mor: Option<&'a mut Box<dyn MorSource>>,
+    /// Frictional contacts solved ahead (eMD* with friction on more than one thread).
+    pub ahead: Option<&'a SolveAhead>,
     pub hertz: &'a mut HertzRestitution,
     pub stats: &'a mut Stats,
 }
@@ -256,7 +259,7 @@ impl Rule {
             }
             Self::EmdStarFrictional { law, spring } => {
                 ctx.stats.frictional_solves += 1;
-                Decision::Transient(frictional::pair(law, spring, parties, impact)?)
+                Decision::Transient(frictional::pair(law, spring, parties, impact, ctx.ahead)?)
             }
         })
     }
@@ -390,6 +393,9 @@ pub struct Rules {
     interference: Option<Interference>,
     /// The TC model's t_c in s (module docs); `None`: off.
     tc: Option<f64>,
+    /// Frictional contacts solved ahead on a thread of their own: eMD* with friction
+    /// in a pool of more than one thread.
+    ahead: Option<SolveAhead>,
 }
 
 impl Rules {
@@ -434,10 +440,15 @@ impl Rules {
             }
         };
         let emdstar = mor.is_some();
-        let rules = interactions
+        let rules: Vec<Rule> = interactions
             .all()
             .map(|i| Rule::of(emdstar, i))
             .collect::<Result<_>>()?;
+        let ahead = (rayon::current_num_threads() > 1
+            && rules
+                .iter()
+                .any(|r| matches!(r, Rule::EmdStarFrictional { .. })))
+        .then(SolveAhead::default);
         let elastic = interactions
             .all()
             .map(|i| Rule::elastic_of(emdstar, i))
@@ -451,6 +462,7 @@ impl Rules {
             hertz: HertzRestitution::default(),
             interference,
             tc: None,
+            ahead,
         })
     }
 
@@ -528,6 +540,7 @@ impl Rules {
         };
         let ctx = RuleContext {
             mor: self.mor.as_mut(),
+            ahead: self.ahead.as_ref(),
             hertz: &mut self.hertz,
             stats,
         };
@@ -561,6 +574,27 @@ impl Rules {
             Rule::EmdStar { .. } => false,
             Rule::EmdStarFrictional { .. } => true,
         })
+    }
+
+    /// Whether predicted frictional collisions are solved ahead ([`Rules::solve_ahead`]).
+    pub fn solves_ahead(&self) -> Option<&SolveAhead> {
+        self.ahead.as_ref()
+    }
+
+    /// Hands the worker of [`SolveAhead`] the collision `predicted` of `parties`
+    /// (species `a` and `b`), if it is frictional (not under the TC model, which may
+    /// make it elastic).
+    pub fn solve_ahead(&mut self, predicted: Predicted, (a, b): (u32, u32), parties: &[Party; 2]) {
+        let Some(ahead) = self.ahead.as_mut() else {
+            return;
+        };
+        let k = match self.rules.len() {
+            1 => 0,
+            _ => self.interactions.pair_index(a, b),
+        };
+        if let (None, Rule::EmdStarFrictional { law, spring }) = (self.tc, &self.rules[k]) {
+            ahead.submit(predicted, law, spring, frictional::contact(parties));
+        }
     }
 
     /// The name of the MoR source ("table+exact", …; empty without eMD*).

@@ -238,7 +238,10 @@ impl<Q: EventQueue> Prepared<Q> {
             stress_mark: None,
             zero_streak: 0,
             probe: None,
+            anticipating: false,
+            scheduled: Vec::new(),
         };
+        state.anticipating = rules.solves_ahead().is_some() && state.domain.shear_rate == 0.0;
         for i in 0..n {
             let x = state.wrap_slot(i, state.slot[i].kin.pos);
             state.slot[i].kin.pos = x;

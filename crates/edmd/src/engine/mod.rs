@@ -3,6 +3,7 @@
 //! particle updates — each particle's state is stored at the time of its last event
 //! and moved on only when it is touched (Lubachevsky 1991; DynamO's delayed states).
 
+mod anticipate;
 pub(crate) mod build;
 mod drive;
 mod hooks;
@@ -104,6 +105,7 @@ impl<B: BroadPhase, Q: EventQueue> EventEngine<B, Q> {
 
     /// Processes the next event, with `hooks` (see [`EventHooks`]).
     pub fn step_with<H: EventHooks>(&mut self, hooks: &mut H) -> Result<Event> {
+        self.anticipate();
         let s = &mut self.state;
         let (i, t) = s.queue.peek();
         if !t.is_finite() {
