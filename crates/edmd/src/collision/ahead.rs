@@ -15,7 +15,7 @@ use emdstar_mor::SolveError;
 use emdstar_mor::frictional::{CONTACT_OPTIONS, FrictionalEnd};
 use emdstar_mor::rule::PairContact;
 use std::collections::{BTreeMap, HashMap};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 
@@ -28,6 +28,11 @@ type Key = [u64; 22];
 /// Beyond it (gases of more than some 10⁴ particles) a collision predicted far ahead
 /// is solved by the engine's thread.
 const DEPTH: usize = 16_384;
+
+/// Spins of the engine's thread between looks at a job the worker is on, and of the
+/// idle worker before it sleeps (about 0.1 ms).
+const SPIN: usize = 64;
+const IDLE_SPINS: usize = 20_000;
 
 fn key(law: &PairLaw, spring: &HistorySpring, c: &PairContact) -> Key {
     let (kind, a, b) = match *law {
@@ -70,6 +75,42 @@ fn key(law: &PairLaw, spring: &HistorySpring, c: &PairContact) -> Key {
 
 type Solved = Result<FrictionalEnd, SolveError>;
 
+/// A multiply–rotate hash of a few words (the keys are exact bits, and no key comes
+/// from outside the process): the standard library's SipHash costs more than the rest
+/// of a submission.
+#[derive(Default, Clone, Copy)]
+struct WordHasher(u64);
+
+impl std::hash::Hasher for WordHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        let mut words = bytes.chunks_exact(8);
+        for word in &mut words {
+            self.write_u64(u64::from_le_bytes(word.try_into().unwrap_or_default()));
+        }
+        for &byte in words.remainder() {
+            self.write_u64(u64::from(byte));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(u64::from(x));
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+type Map<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<WordHasher>>;
+
 enum Progress {
     Waiting,
     Running,
@@ -105,16 +146,16 @@ struct Job {
 /// The jobs, shared by the engine's thread and the worker.
 #[derive(Default)]
 struct Board {
-    jobs: HashMap<Key, Job>,
+    jobs: Map<Key, Job>,
     /// Every job by (time, submission), and the waiting ones: the worker takes the
     /// earliest of these.
     order: BTreeMap<(u64, u64), Key>,
     waiting: BTreeMap<(u64, u64), Key>,
     /// The job of each pair (by its two particles): a pair's collision is predicted
     /// once from each side, and only the earlier is executed.
-    pairs: HashMap<(u32, u32), Key>,
+    pairs: Map<(u32, u32), Key>,
     /// The jobs that name each particle as the partner of another's prediction.
-    named: HashMap<u32, Vec<Key>>,
+    named: Map<u32, Vec<Key>>,
     /// Each particle's collision counter, as last told ([`SolveAhead::note`]).
     counters: Vec<u32>,
     submitted: u64,
@@ -256,8 +297,12 @@ impl Board {
 
 struct Shared {
     board: Mutex<Board>,
-    /// Signalled when a job is submitted or finished, and to stop.
+    /// Wakes the worker when it sleeps (without work for a while) and a job comes, or
+    /// to stop.
     changed: Condvar,
+    asleep: AtomicBool,
+    /// How many jobs wait (the worker looks here without the lock while it spins).
+    waiting: AtomicUsize,
     /// Results taken from the worker, and solves the engine's thread did itself.
     taken: AtomicU64,
     inline: AtomicU64,
@@ -283,6 +328,8 @@ impl Default for SolveAhead {
             shared: Arc::new(Shared {
                 board: Mutex::default(),
                 changed: Condvar::new(),
+                asleep: AtomicBool::new(false),
+                waiting: AtomicUsize::new(0),
                 taken: AtomicU64::new(0),
                 inline: AtomicU64::new(0),
             }),
@@ -308,9 +355,17 @@ impl SolveAhead {
                 .spawn(move || work(&shared))
                 .ok();
         }
-        let inserted = self.shared.lock().insert(predicted, law, spring, contact);
-        if inserted {
-            self.shared.changed.notify_one();
+        let mut board = self.shared.lock();
+        if board.insert(predicted, law, spring, contact) {
+            self.shared
+                .waiting
+                .store(board.waiting.len(), Ordering::Release);
+            drop(board);
+            // A futex call only when the worker sleeps: one per submission would cost
+            // the engine's thread more than the rest of it.
+            if self.shared.asleep.load(Ordering::Acquire) {
+                self.shared.changed.notify_one();
+            }
         }
     }
 
@@ -361,11 +416,12 @@ impl SolveAhead {
                             board.finish(&other, solved);
                         }
                         None => {
-                            board = self
-                                .shared
-                                .changed
-                                .wait(board)
-                                .unwrap_or_else(|e| e.into_inner());
+                            // The worker is on it: it ends within a solve.
+                            drop(board);
+                            for _ in 0..SPIN {
+                                std::hint::spin_loop();
+                            }
+                            board = self.shared.lock();
                         }
                     },
                     Some(Progress::Waiting) => {
@@ -401,23 +457,38 @@ impl Drop for SolveAhead {
 
 /// The worker: the earliest waiting job, solved, until stopped.
 fn work(shared: &Shared) {
-    let mut board = shared.lock();
     loop {
+        let mut board = shared.lock();
         if board.stop {
             return;
         }
-        let Some((k, law, spring, c)) = board.claim() else {
-            board = shared
-                .changed
-                .wait(board)
-                .unwrap_or_else(|e| e.into_inner());
+        if let Some((k, law, spring, c)) = board.claim() {
+            shared.waiting.store(board.waiting.len(), Ordering::Release);
+            drop(board);
+            let solved = c.solve(&law, &spring, &CONTACT_OPTIONS);
+            shared.lock().finish(&k, solved);
             continue;
-        };
+        }
+        shared.waiting.store(0, Ordering::Release);
         drop(board);
-        let solved = c.solve(&law, &spring, &CONTACT_OPTIONS);
-        board = shared.lock();
-        board.finish(&k, solved);
-        shared.changed.notify_all();
+        // Without work: spin a while (the next submission is usually a few
+        // microseconds away, and waking a sleeping thread costs more), then sleep.
+        let mut spins = 0;
+        while shared.waiting.load(Ordering::Acquire) == 0 && spins < IDLE_SPINS {
+            std::hint::spin_loop();
+            spins += 1;
+        }
+        if spins == IDLE_SPINS {
+            let mut board = shared.lock();
+            shared.asleep.store(true, Ordering::Release);
+            while board.waiting.is_empty() && !board.stop {
+                board = shared
+                    .changed
+                    .wait(board)
+                    .unwrap_or_else(|e| e.into_inner());
+            }
+            shared.asleep.store(false, Ordering::Release);
+        }
     }
 }
 
