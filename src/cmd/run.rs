@@ -92,7 +92,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "FILE")]
     pub resume: Option<PathBuf>,
     /// Worker threads [default: all cores; at most 4 per core]; results do not depend
-    /// on it.
+    /// on it. MD splits its force loop over them; frictional eMD* solves the exact
+    /// contacts of predicted collisions ahead on a second thread.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// No progress bar.
