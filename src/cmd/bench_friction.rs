@@ -84,7 +84,9 @@ pub fn run(rounds: usize, time_scale: f64, bar: &ProgressBar, json_out: bool) ->
     };
     say(format!(
         "MD / eMD*, frictional Hertz gas (N = 2000, µ = 0.3, k_t = 1e5 N/m), best of {rounds} \
-         round(s) in turns, wall seconds over t_end × {time_scale}:"
+         round(s) in turns, wall seconds over t_end × {time_scale}; both on all {} cores (MD \
+         splits its force loop, frictional eMD* solves contacts ahead on a second thread):",
+        std::thread::available_parallelism().map_or(1, |n| n.get())
     ));
     for (k, &(eta, t_end)) in GASES.iter().enumerate() {
         let t_end = t_end * time_scale;
