@@ -415,6 +415,11 @@ impl SolveAhead {
                             board = self.shared.lock();
                             board.finish(&other, solved);
                         }
+                        None if self.worker.as_ref().is_some_and(|w| w.is_finished()) => {
+                            // The worker is gone (a panic): nobody else will solve it.
+                            board.remove(&k);
+                            break;
+                        }
                         None => {
                             // The worker is on it: it ends within a solve.
                             drop(board);
