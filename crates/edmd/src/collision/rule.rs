@@ -581,6 +581,12 @@ impl Rules {
         self.ahead.as_ref()
     }
 
+    /// Solves every frictional contact on the engine's thread (the hybrid's event core,
+    /// whose time-driven part keeps the other cores busy).
+    pub(crate) fn solve_on_one_thread(&mut self) {
+        self.ahead = None;
+    }
+
     /// Hands the worker of [`SolveAhead`] the collision `predicted` of `parties`
     /// (species `a` and `b`), if it is frictional (not under the TC model, which may
     /// make it elastic).

@@ -30,6 +30,9 @@ impl<Q: EventQueue> EventEngine<Crossings, Q> {
     ) -> Result<Self> {
         let mut p = Prepared::<Q>::new(particles, domain, physics, 0.0)?;
         p.state.resort_every = 0;
+        // The time-driven part of a hybrid keeps the cores busy: no contacts ahead.
+        p.rules.solve_on_one_thread();
+        p.state.anticipating = false;
         let n = p.state.len();
         let mut broad = Crossings::new(&p.state.region, p.cell_width, n);
         let mut state = p.state;
