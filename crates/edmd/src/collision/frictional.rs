@@ -44,7 +44,7 @@ pub(super) fn pair(
     let PairImpact { r, v, .. } = *impact;
     let radii = parties.map(|p| p.radius);
     let bodies = parties.map(|p| p.body());
-    let contact = contact(parties);
+    let contact = PairContact::of(&bodies, radii, parties.map(|p| p.spin));
     let end = match ahead {
         Some(ahead) => ahead.solve(law, spring, &contact),
         None => contact.solve(law, spring, &CONTACT_OPTIONS),

@@ -504,10 +504,7 @@ impl Rules {
         since: f64,
         stats: &'a mut Stats,
     ) -> (&'a Rule, RuleContext<'a>) {
-        let k = match self.rules.len() {
-            1 => 0,
-            _ => self.interactions.pair_index(a, b),
-        };
+        let k = self.pair_index(a, b);
         self.with_context(k, since, stats)
     }
 
@@ -526,6 +523,14 @@ impl Rules {
             _ => self.interactions.wall_index(a, w),
         };
         self.with_context(k, since, stats)
+    }
+
+    /// The index of the rule of species `a` against species `b`.
+    fn pair_index(&self, a: u32, b: u32) -> usize {
+        match self.rules.len() {
+            1 => 0,
+            _ => self.interactions.pair_index(a, b),
+        }
     }
 
     fn with_context<'a>(
@@ -591,12 +596,9 @@ impl Rules {
     /// (species `a` and `b`), if it is frictional (not under the TC model, which may
     /// make it elastic).
     pub fn solve_ahead(&mut self, predicted: Predicted, (a, b): (u32, u32), parties: &[Party; 2]) {
+        let k = self.pair_index(a, b);
         let Some(ahead) = self.ahead.as_mut() else {
             return;
-        };
-        let k = match self.rules.len() {
-            1 => 0,
-            _ => self.interactions.pair_index(a, b),
         };
         if let (None, Rule::EmdStarFrictional { law, spring }) = (self.tc, &self.rules[k]) {
             ahead.submit(predicted, law, spring, frictional::contact(parties));
