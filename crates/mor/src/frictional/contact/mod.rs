@@ -160,7 +160,13 @@ struct Stretch<'a, const M: usize> {
 impl<const M: usize> System<M> for Stretch<'_, M> {
     #[inline(always)]
     fn rhs(&self, _x: f64, y: &[f64; M]) -> Option<[f64; M]> {
-        let e = self.contact.eval::<false, M>(y, self.mode.get());
+        let c = self.contact;
+        // One branch per evaluation: each arm is compiled for its mode alone.
+        let e = match self.mode.get() {
+            Mode::Stick => c.eval::<false, M>(y, Mode::Stick),
+            Mode::Slide => c.eval::<false, M>(y, Mode::Slide),
+            Mode::Tail | Mode::Head => c.eval::<false, M>(y, Mode::Tail),
+        };
         let end = if e.rate < 0.0 { e.end } else { f64::INFINITY };
         self.samples.record(e.mode, end);
         self.last.set((e.f_n, e.growth));
