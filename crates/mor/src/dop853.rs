@@ -33,6 +33,10 @@ pub(crate) trait System<const N: usize> {
     /// Whether the Runge–Kutta sums are fused multiply-adds (one rounding per term:
     /// the same bits wherever the CPU has FMA or not, fast only where it has).
     const FUSED: bool = false;
+
+    /// Whether the error norm is summed in lanes ([`lane_norms`]): fewer instructions, the
+    /// last bits of the norm (and so of the steps) differ from the plain sum.
+    const LANE_SUMS: bool = false;
 }
 
 /// Per-step error control: a step is accepted when the weighted error norm is ≤ 1, with
@@ -280,14 +284,22 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         let e5 = weighted(&self.k, &E5, S::FUSED);
         let (mut err5, mut err3) = (0.0, 0.0);
         let (mut e5s, mut e3s) = ([0.0; N], [0.0; N]);
-        for n in 0..N {
-            // A component that is identically zero (atol 0) must not divide by zero.
-            let scale =
-                (self.tol.atol[n] + self.tol.rtol * m0[n].max(m1[n])).max(f64::MIN_POSITIVE);
-            e3s[n] = b[n] - bhh[n];
-            e5s[n] = e5[n];
-            err5 += (e5s[n] / scale).powi(2);
-            err3 += (e3s[n] / scale).powi(2);
+        if S::LANE_SUMS {
+            for n in 0..N {
+                e3s[n] = b[n] - bhh[n];
+                e5s[n] = e5[n];
+            }
+            (err5, err3) = lane_norms(&self.tol, (&m0, &m1), (&e5s, &e3s));
+        } else {
+            for n in 0..N {
+                // A component that is identically zero (atol 0) must not divide by zero.
+                let scale =
+                    (self.tol.atol[n] + self.tol.rtol * m0[n].max(m1[n])).max(f64::MIN_POSITIVE);
+                e3s[n] = b[n] - bhh[n];
+                e5s[n] = e5[n];
+                err5 += (e5s[n] / scale).powi(2);
+                err3 += (e3s[n] / scale).powi(2);
+            }
         }
         let mut count = N as f64;
         if let (Some((q0, grad)), Some((q1, _))) = (self.sys.monitored(&y), self.sys.monitored(&y1))
@@ -311,6 +323,38 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         }
         Some((y1, h.abs() * err5 * (1.0 / (count * deno)).sqrt()))
     }
+}
+
+/// The weighted sums of squares of the 5th- and 3rd-order error estimates, as in
+/// [`Dop853::trial`] but summed in four lanes, components side by side (so that they
+/// vectorise; the same terms in another order). The magnitudes are finite here.
+#[inline(always)]
+fn lane_norms<const N: usize>(
+    tol: &Tolerances<N>,
+    (m0, m1): (&[f64; N], &[f64; N]),
+    (e5, e3): (&[f64; N], &[f64; N]),
+) -> (f64, f64) {
+    let (mut w5, mut w3) = ([0.0; N], [0.0; N]);
+    for n in 0..N {
+        let m = if m0[n] > m1[n] { m0[n] } else { m1[n] };
+        let scale = tol.atol[n] + tol.rtol * m;
+        // A component that is identically zero (atol 0) must not divide by zero.
+        let scale = if scale > f64::MIN_POSITIVE {
+            scale
+        } else {
+            f64::MIN_POSITIVE
+        };
+        w5[n] = e5[n] / scale;
+        w3[n] = e3[n] / scale;
+    }
+    let lanes = |w: &[f64; N]| {
+        let mut sum = [0.0; 4];
+        for (k, x) in w.iter().enumerate() {
+            sum[k % 4] += x * x;
+        }
+        (sum[0] + sum[2]) + (sum[1] + sum[3])
+    };
+    (lanes(&w5), lanes(&w3))
 }
 
 /// Σ_j a_j k_j for every component, summed in the order of the row (components side by
