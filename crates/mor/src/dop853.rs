@@ -34,9 +34,11 @@ pub(crate) trait System<const N: usize> {
     /// the same bits wherever the CPU has FMA or not, fast only where it has).
     const FUSED: bool = false;
 
-    /// Whether the error norm is summed in lanes ([`lane_norms`]): fewer instructions, the
-    /// last bits of the norm (and so of the steps) differ from the plain sum.
-    const LANE_SUMS: bool = false;
+    /// Whether the trial step is laid out for vectors: each stage's state and slope are
+    /// kept in memory (so that the Runge–Kutta sums run on whole vectors where f reads
+    /// the components one by one), and the error norm is summed in four lanes
+    /// ([`lane_norms`]; its last bits, and so the steps', differ from the plain sum).
+    const LANES: bool = false;
 }
 
 /// Per-step error control: a step is accepted when the weighted error norm is ≤ 1, with
@@ -173,13 +175,14 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             if self.t + h <= self.t || !h.is_finite() {
                 return Err(StepFailure::Underflow { t: self.t });
             }
-            let Some((y1, err)) = self.trial(h) else {
+            let Some((mut y1, err)) = self.trial(h) else {
                 self.reject(DOMAIN_SHRINK * h);
                 rejected_before = true;
                 continue;
             };
             let fac = err.powf(0.125) / self.safety;
             if err <= 1.0 {
+                in_memory(S::LANES, &mut y1);
                 let Some(f1) = self.eval(self.t + h, &y1) else {
                     self.reject(DOMAIN_SHRINK * h);
                     rejected_before = true;
@@ -262,8 +265,10 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         // Unrolled, so that each row of the tableau is a compile-time constant.
         macro_rules! stages {
             ($($i:literal)*) => {$(
-                let yi = combine(&y, h, &self.k, A[$i], S::FUSED);
+                let mut yi = combine(&y, h, &self.k, A[$i], S::FUSED);
+                in_memory(S::LANES, &mut yi);
                 self.k[$i] = self.eval(t + NODES[$i] * h, &yi)?;
+                in_memory(S::LANES, &mut self.k[$i]);
             )*};
         }
         stages!(1 2 3 4 5 6 7 8 9 10 11);
@@ -284,7 +289,7 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         let e5 = weighted(&self.k, &E5, S::FUSED);
         let (mut err5, mut err3) = (0.0, 0.0);
         let (mut e5s, mut e3s) = ([0.0; N], [0.0; N]);
-        if S::LANE_SUMS {
+        if S::LANES {
             for n in 0..N {
                 e3s[n] = b[n] - bhh[n];
                 e5s[n] = e5[n];
@@ -322,6 +327,16 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
             deno = 1.0;
         }
         Some((y1, h.abs() * err5 * (1.0 / (count * deno)).sqrt()))
+    }
+}
+
+/// Where `on`, an opaque use of `x` ([`System::LANES`]): the compiler keeps it in memory,
+/// and reads it from there afterwards, rather than forwarding the components one by one
+/// (which turns the Runge–Kutta sums of the next stages into scalar code).
+#[inline(always)]
+fn in_memory<T>(on: bool, x: &mut T) {
+    if on {
+        std::hint::black_box(x);
     }
 }
 

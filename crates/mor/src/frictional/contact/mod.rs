@@ -179,7 +179,7 @@ impl<const M: usize> System<M> for Stretch<'_, M> {
 
     /// The steps run in [`Contact::integrate_avx2`], with FMA.
     const FUSED: bool = true;
-    const LANE_SUMS: bool = true;
+    const LANES: bool = true;
 }
 
 impl Contact {
