@@ -37,7 +37,7 @@ pub(crate) trait System<const N: usize> {
     /// Whether the trial step is laid out for vectors: each stage's state and slope are
     /// kept in memory (so that the Runge–Kutta sums run on whole vectors where f reads
     /// the components one by one), and the error norm is summed in four lanes
-    /// ([`lane_norms`]; its last bits, and so the steps', differ from the plain sum).
+    /// ([`sum_of_squares`]; its last bits, and so the steps', differ from the plain sum).
     const LANES: bool = false;
 }
 
@@ -287,25 +287,17 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
         let (m0, m1) = (self.sys.magnitude(&y), self.sys.magnitude(&y1));
         let bhh = weighted(&self.k, &BHH, S::FUSED);
         let e5 = weighted(&self.k, &E5, S::FUSED);
-        let (mut err5, mut err3) = (0.0, 0.0);
-        let (mut e5s, mut e3s) = ([0.0; N], [0.0; N]);
-        if S::LANES {
-            for n in 0..N {
-                e3s[n] = b[n] - bhh[n];
-                e5s[n] = e5[n];
-            }
-            (err5, err3) = lane_norms(&self.tol, (&m0, &m1), (&e5s, &e3s));
-        } else {
-            for n in 0..N {
-                // A component that is identically zero (atol 0) must not divide by zero.
-                let scale =
-                    (self.tol.atol[n] + self.tol.rtol * m0[n].max(m1[n])).max(f64::MIN_POSITIVE);
-                e3s[n] = b[n] - bhh[n];
-                e5s[n] = e5[n];
-                err5 += (e5s[n] / scale).powi(2);
-                err3 += (e3s[n] / scale).powi(2);
-            }
+        // The errors in units of each component's tolerance.
+        let (mut e3, mut w5, mut w3) = ([0.0; N], [0.0; N], [0.0; N]);
+        for n in 0..N {
+            // A component that is identically zero (atol 0) must not divide by zero.
+            let scale =
+                (self.tol.atol[n] + self.tol.rtol * m0[n].max(m1[n])).max(f64::MIN_POSITIVE);
+            e3[n] = b[n] - bhh[n];
+            w5[n] = e5[n] / scale;
+            w3[n] = e3[n] / scale;
         }
+        let (mut err5, mut err3) = (sum_of_squares(S::LANES, &w5), sum_of_squares(S::LANES, &w3));
         let mut count = N as f64;
         if let (Some((q0, grad)), Some((q1, _))) = (self.sys.monitored(&y), self.sys.monitored(&y1))
         {
@@ -318,8 +310,8 @@ impl<'s, S: System<N>, const N: usize> Dop853<'s, S, N> {
                 }
                 sum
             };
-            err5 += (project(&e5s) / scale).powi(2);
-            err3 += (project(&e3s) / scale).powi(2);
+            err5 += (project(&e5) / scale).powi(2);
+            err3 += (project(&e3) / scale).powi(2);
             count += 1.0;
         }
         let mut deno = err5 + 0.01 * err3;
@@ -340,36 +332,24 @@ fn in_memory<T>(on: bool, x: &mut T) {
     }
 }
 
-/// The weighted sums of squares of the 5th- and 3rd-order error estimates, as in
-/// [`Dop853::trial`] but summed in four lanes, components side by side (so that they
-/// vectorise; the same terms in another order). The magnitudes are finite here.
+/// Σ w_n², in the order of the components, or where `lanes` ([`System::LANES`]) in four
+/// lanes, components side by side (so that it vectorises; the same terms in another
+/// order).
 #[inline(always)]
-fn lane_norms<const N: usize>(
-    tol: &Tolerances<N>,
-    (m0, m1): (&[f64; N], &[f64; N]),
-    (e5, e3): (&[f64; N], &[f64; N]),
-) -> (f64, f64) {
-    let (mut w5, mut w3) = ([0.0; N], [0.0; N]);
-    for n in 0..N {
-        let m = if m0[n] > m1[n] { m0[n] } else { m1[n] };
-        let scale = tol.atol[n] + tol.rtol * m;
-        // A component that is identically zero (atol 0) must not divide by zero.
-        let scale = if scale > f64::MIN_POSITIVE {
-            scale
-        } else {
-            f64::MIN_POSITIVE
-        };
-        w5[n] = e5[n] / scale;
-        w3[n] = e3[n] / scale;
-    }
-    let lanes = |w: &[f64; N]| {
+fn sum_of_squares<const N: usize>(lanes: bool, w: &[f64; N]) -> f64 {
+    if lanes {
         let mut sum = [0.0; 4];
         for (k, x) in w.iter().enumerate() {
             sum[k % 4] += x * x;
         }
         (sum[0] + sum[2]) + (sum[1] + sum[3])
-    };
-    (lanes(&w5), lanes(&w3))
+    } else {
+        let mut sum = 0.0;
+        for x in w {
+            sum += x.powi(2);
+        }
+        sum
+    }
 }
 
 /// Σ_j a_j k_j for every component, summed in the order of the row (components side by
